@@ -1,0 +1,146 @@
+# dermis — one plain Makefile.
+#   make [config=release|debug|sanitize]   build every library, tool, test and benchmark
+#   make test     install missing packages, build, run every test binary
+#   make bench    run the accuracy-versus-time benchmarks, tables in bench/results/
+#   make demo     install, build, bake and render the bundled head
+#   make deps     install the Debian packages that are missing (scripts/deps.sh)
+#   make fuzz     build the libFuzzer targets (clang)
+#   make clean
+# Outputs go under build/$(config)/. New files are picked up by wildcard: a C file in
+# lib/<side>/ joins that side's library, tools/NAME.c becomes build/$(config)/bin/NAME,
+# tests/<group>/NAME.c becomes a Criterion binary, bench/NAME.c a benchmark.
+
+config  ?= release
+SHARED  ?= ../shared
+ASSETS  ?= $(SHARED)/assets
+BUILD   := build/$(config)
+
+CC      ?= gcc
+CXX     ?= g++
+PKG     ?= pkg-config
+
+ifeq ($(config),release)
+  OPT := -O2 -g
+else ifeq ($(config),debug)
+  OPT := -O0 -g3
+else ifeq ($(config),sanitize)
+  OPT := -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+else
+  $(error config must be release, debug or sanitize, not '$(config)')
+endif
+
+WARN     := -Wall -Wextra -Wpedantic
+CPPFLAGS := -Ilib -I$(BUILD)/gen -D_POSIX_C_SOURCE=200809L -MMD -MP
+CFLAGS   := -std=c11 $(OPT) $(WARN) -pthread
+CXXFLAGS := -std=c++17 $(OPT) $(WARN) -pthread
+LDFLAGS  := $(OPT) -pthread
+
+# Dependencies, by side. lib/core needs libc, cJSON and xxHash only.
+CORE_CFLAGS   := $(shell $(PKG) --cflags libcjson libxxhash 2>/dev/null)
+CORE_LIBS     := $(shell $(PKG) --libs libcjson libxxhash 2>/dev/null) -lm
+BAKE_CFLAGS   := $(shell $(PKG) --cflags OpenEXR OpenImageIO openmesh 2>/dev/null)
+BAKE_LIBS     := $(shell $(PKG) --libs OpenImageIO openmesh 2>/dev/null) -lOpenEXRCore-3_1 -lz
+OSMESA_LIBS   := $(shell $(PKG) --libs osmesa 2>/dev/null)
+GLFW_LIBS     := $(shell $(PKG) --libs glfw3 2>/dev/null) -lGL
+TEST_CFLAGS   := $(shell $(PKG) --cflags criterion 2>/dev/null)
+TEST_LIBS     := $(shell $(PKG) --libs criterion 2>/dev/null)
+
+CORE_SRC   := $(sort $(wildcard lib/core/*.c))
+BAKE_SRC   := $(sort $(wildcard lib/bake/*.c lib/bake/*.cpp))
+RENDER_SRC := $(sort $(wildcard lib/render/*.c))
+
+obj = $(patsubst %,$(BUILD)/obj/%.o,$(1))
+
+CORE_LIB   := $(BUILD)/lib/libdermis_core.a
+BAKE_LIB   := $(BUILD)/lib/libdermis_bake.a
+RENDER_LIB := $(BUILD)/lib/libdermis_render.a
+
+# Runtime tools never link the offline side (DESIGN.md): they are listed by name.
+RUNTIME_TOOLS := dermis-render dermis-view
+ALL_TOOLS     := $(basename $(notdir $(wildcard tools/*.c)))
+BAKE_TOOLS    := $(filter-out $(RUNTIME_TOOLS),$(ALL_TOOLS))
+BAKE_BINS     := $(addprefix $(BUILD)/bin/,$(BAKE_TOOLS))
+RENDER_BINS   := $(addprefix $(BUILD)/bin/,$(filter dermis-render,$(ALL_TOOLS)))
+
+UNIT_TESTS   := $(patsubst tests/unit/%.c,$(BUILD)/tests/unit/%,$(wildcard tests/unit/*.c))
+RENDER_TESTS := $(patsubst tests/render/%.c,$(BUILD)/tests/render/%,$(wildcard tests/render/*.c))
+BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
+
+.PHONY: all test bench demo deps clean fuzz tools
+all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(BENCHES)
+tools: $(BAKE_BINS) $(RENDER_BINS)
+
+# --- objects -----------------------------------------------------------------------
+$(BUILD)/obj/lib/core/%.c.o: lib/core/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/lib/bake/%.c.o: lib/bake/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(BAKE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/lib/bake/%.cpp.o: lib/bake/%.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(CORE_CFLAGS) $(BAKE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/lib/render/%.c.o: lib/render/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/tools/%.c.o: tools/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/tests/%.c.o: tests/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(TEST_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@
+$(BUILD)/obj/bench/%.c.o: bench/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@
+
+# --- libraries ---------------------------------------------------------------------
+$(CORE_LIB): $(call obj,$(CORE_SRC))
+	@mkdir -p $(@D)
+	rm -f $@ && ar rcs $@ $^
+$(BAKE_LIB): $(call obj,$(BAKE_SRC))
+	@mkdir -p $(@D)
+	rm -f $@ && ar rcs $@ $^
+$(RENDER_LIB): $(call obj,$(RENDER_SRC))
+	@mkdir -p $(@D)
+	rm -f $@ && ar rcs $@ $(or $^,/dev/null)
+
+# --- executables (the offline side links with g++ for the C++ adapters) -------------
+$(BAKE_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(BAKE_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) -o $@
+$(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -o $@
+$(UNIT_TESTS): $(BUILD)/tests/unit/%: $(BUILD)/obj/tests/unit/%.c.o $(BAKE_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) $(TEST_LIBS) -o $@
+$(RENDER_TESTS): $(BUILD)/tests/render/%: $(BUILD)/obj/tests/render/%.c.o $(RENDER_LIB) $(BAKE_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) $(TEST_LIBS) -o $@
+$(BENCHES): $(BUILD)/bench/%: $(BUILD)/obj/bench/%.c.o $(BAKE_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) -o $@
+
+# --- entry points ------------------------------------------------------------------
+deps:
+	@bash scripts/deps.sh
+
+test: deps
+	@$(MAKE) --no-print-directory all
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS)
+
+bench: deps
+	@$(MAKE) --no-print-directory all
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-bench.sh $(BENCHES)
+
+demo: deps
+	@$(MAKE) --no-print-directory tools
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/demo.sh
+
+fuzz:
+	@echo "fuzz: no fuzz targets yet"
+
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

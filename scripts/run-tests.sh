@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Runs each Criterion test binary given, then prints one synthesis line over all of them.
+# Exit 0 only when every binary ran and every test passed.
+set -u
+tested=0 passing=0 failing=0 crashing=0 broken=0
+jobs=${DERMIS_TEST_JOBS:-2}
+for t in "$@"; do
+  name=${t#"$BUILD"/tests/}
+  echo "== $name" >&2
+  log=$(mktemp)
+  "$t" -j"$jobs" 2>&1 | tee "$log" | grep -vE '^\[====\] Synthesis' >&2
+  rc=${PIPESTATUS[0]}
+  line=$(grep -E '^\[====\] Synthesis: Tested:' "$log" | tail -n 1)
+  rm -f "$log"
+  if [ -z "$line" ]; then
+    echo "error: $name printed no synthesis line (exit $rc)" >&2
+    broken=$((broken + 1)); continue
+  fi
+  read -r t_ p_ f_ c_ <<<"$(echo "$line" | sed -E 's/.*Tested: ([0-9]+) \| Passing: ([0-9]+) \| Failing: ([0-9]+) \| Crashing: ([0-9]+).*/\1 \2 \3 \4/')"
+  tested=$((tested + t_)); passing=$((passing + p_)); failing=$((failing + f_)); crashing=$((crashing + c_))
+  echo "   $name: $p_/$t_ passed" >&2
+  if [ "$rc" -ne 0 ] && [ "$f_" -eq 0 ] && [ "$c_" -eq 0 ]; then broken=$((broken + 1)); fi
+done
+echo "[====] Synthesis: Tested: $tested | Passing: $passing | Failing: $failing | Crashing: $crashing"
+echo "$passing passed, $((failing + crashing + broken)) failed"
+[ "$failing" -eq 0 ] && [ "$crashing" -eq 0 ] && [ "$broken" -eq 0 ] && [ "$tested" -gt 0 ]
