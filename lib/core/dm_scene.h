@@ -1,0 +1,106 @@
+/* dm_scene.h — the scene: what to show and which effects to simulate.
+ *
+ * A scene file (JSON, strict) names the mesh and maps, the lights, the environment, the
+ * camera, the output size and the effects. From the effects follow what is baked and
+ * packed (dermis-pack) and which passes run (lib/render): an effect that is off costs
+ * nothing anywhere. This struct is the parsed, validated form; zero-initialised fields
+ * are not valid on their own: use dm_scene_defaults() then override.
+ *
+ * Units: mm_per_unit converts mesh units to millimetres; variances in mm²; angles in
+ * degrees; colours linear RGB; intensities are multipliers of colour.
+ * Paths are stored resolved against the scene file's folder.
+ */
+#ifndef DM_SCENE_H
+#define DM_SCENE_H
+
+#include <stdbool.h>
+
+#include "core/dm_profile.h"
+#include "core/dm_result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { DM_SCENE_PATH_SIZE = 1024, DM_SCENE_MAX_LIGHTS = 8 };
+
+typedef enum dm_effect {
+    DM_EFFECT_SPECULAR = 0,         /* KS specular (Beckmann LUT, Fresnel, spec map) */
+    DM_EFFECT_SUBSURFACE,           /* texture-space diffusion (irradiance, blurs, stretch) */
+    DM_EFFECT_ENERGY_CONSERVATION,  /* 1 − ρs·ρdt on light in and out (rho_dt LUT) */
+    DM_EFFECT_SHADOWS,              /* shadow maps for lights that cast */
+    DM_EFFECT_ENVIRONMENT_LIGHTING, /* SH diffuse + prefiltered specular (env bake, env-BRDF) */
+    DM_EFFECT_GLOW,                 /* bright pass, blur, add */
+    DM_EFFECT_TONEMAP,              /* exposure, filmic curve, sRGB */
+    DM_EFFECT_COUNT
+} dm_effect;
+
+/* "specular", "subsurface", ... as in the scene file; NULL for out-of-range values. */
+const char *dm_effect_name(dm_effect e);
+
+typedef enum dm_light_type { DM_LIGHT_DIRECTIONAL, DM_LIGHT_POINT } dm_light_type;
+
+typedef struct dm_light {
+    dm_light_type type;
+    float direction[3]; /* directional: unit vector the light travels *from* the head towards
+                         * the light (i.e. L), mesh space */
+    float position[3];  /* point: mesh units */
+    float color[3];     /* linear RGB */
+    float intensity;
+    bool casts_shadow;
+} dm_light;
+
+typedef struct dm_scene {
+    char path[DM_SCENE_PATH_SIZE]; /* the scene file itself */
+    /* mesh and maps */
+    char mesh[DM_SCENE_PATH_SIZE];
+    char albedo[DM_SCENE_PATH_SIZE];        /* sRGB colour map, or "" for constant white */
+    char normal_map[DM_SCENE_PATH_SIZE];    /* tangent-space, green up, or "" */
+    char specular_map[DM_SCENE_PATH_SIZE];  /* grey intensity (scales rho_s), or "" */
+    char roughness_map[DM_SCENE_PATH_SIZE]; /* grey m in [0, 1], or "" to use roughness */
+    float roughness;                        /* constant m when no map (default 0.3) */
+    float rho_s;                            /* specular scale (default 0.18) */
+    double mm_per_unit;                     /* default 50 (the Lee Perry-Smith head) */
+
+    int light_count;
+    dm_light lights[DM_SCENE_MAX_LIGHTS];
+
+    /* environment */
+    char environment[DM_SCENE_PATH_SIZE]; /* equirect .hdr/.exr, or "" */
+    float env_intensity;                  /* default 1 */
+    float env_rotation_deg;               /* about +Y, default 0 */
+    bool env_background;                  /* shown behind the head, default true */
+
+    bool effects[DM_EFFECT_COUNT];
+    /* subsurface */
+    dm_profile profile;      /* default gems3-skin; from "profile": "gems3-skin" or a JSON path */
+    char profile_source[DM_SCENE_PATH_SIZE];
+    int blur_taps;           /* taps per separable pass, odd, default 7 (the chapter's) */
+    int irradiance_size;     /* texture-space resolution, default 1024 */
+    float mix;               /* pre/post-scatter albedo mix, default 0.5 */
+    /* tonemap */
+    float exposure;          /* stops, default 0 */
+    /* glow */
+    float glow_threshold;    /* default 1 */
+    float glow_intensity;    /* default 0.1 */
+
+    /* camera (look-at, mesh units) */
+    float camera_eye[3], camera_target[3], camera_up[3];
+    float fov_y_deg;         /* default 30 */
+    int width, height;       /* output size, default 1280x720 */
+} dm_scene;
+
+/* Fills s with every default (all effects on, no lights, gems3-skin, 1280x720 ...). */
+void dm_scene_defaults(dm_scene *s);
+
+/* Parses a scene file strictly: an unknown key, a wrong type or an out-of-range value is
+ * an error naming the JSON path, the value and what was expected, as
+ * "FILE: $.effects.subsurface.taps: 4 is not an odd integer in [3, 63]". */
+dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err);
+/* The same from a string; `path` is used for messages and to resolve relative paths. */
+dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
