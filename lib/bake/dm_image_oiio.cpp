@@ -8,7 +8,6 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "core/dm_file.h"
 
 using namespace OIIO;
 
@@ -21,49 +20,6 @@ static TypeDesc to_oiio(dm_pixel_type t)
     }
 }
 
-extern "C" size_t dm_image_size(const dm_image *img)
-{
-    return (size_t)img->width * (size_t)img->height * (size_t)img->channels * (size_t)img->type;
-}
-
-extern "C" dm_result dm_png_write(const char *path, const dm_image *img, const dm_provenance *prov, dm_error *err)
-{
-    assert(path && img && prov);
-    if (img->type != DM_PIXEL_U8 && img->type != DM_PIXEL_U16)
-        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: PNG holds 8 or 16 bits per channel only", path);
-    if (img->width <= 0 || img->height <= 0 || img->channels < 1 || img->channels > 4 || !img->pixels)
-        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: image %dx%dx%d is empty or has no pixels", path,
-                       img->width, img->height, img->channels);
-    char json[16384];
-    dm_result r = dm_prov_to_json(prov, json, sizeof json, err);
-    if (r != DM_OK) return r;
-    dm_atomic_file af;
-    if ((r = dm_atomic_begin(&af, path, err)) != DM_OK) return r;
-
-    auto out = ImageOutput::create("png"); // by format name: the temporary name has no .png
-    if (!out) {
-        dm_atomic_abort(&af);
-        return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: OpenImageIO has no PNG writer (%s)", path,
-                       OIIO::geterror().c_str());
-    }
-    ImageSpec spec(img->width, img->height, img->channels, to_oiio(img->type));
-    spec.attribute("Software", std::string(prov->tool) + " " + prov->version);
-    spec.attribute("dermis:provenance", json);
-    spec.attribute("png:compressionLevel", 6);
-    if (img->channels == 4) spec.attribute("oiio:UnassociatedAlpha", 1);
-    const size_t row_bytes = (size_t)img->width * img->channels * img->type;
-    const unsigned char *last_row = (const unsigned char *)img->pixels + row_bytes * (img->height - 1);
-    bool ok = out->open(af.tmp_path, spec) &&
-              out->write_image(to_oiio(img->type), last_row, AutoStride, -(stride_t)row_bytes, AutoStride);
-    std::string msg = ok ? std::string() : out->geterror();
-    ok = out->close() && ok;
-    if (!ok) {
-        if (msg.empty()) msg = out->geterror();
-        dm_atomic_abort(&af);
-        return dm_fail(err, DM_ERR_FILE_WRITE, "%s: %s", path, msg.c_str());
-    }
-    return dm_atomic_commit(&af, err);
-}
 
 extern "C" void dm_image_free(dm_image *img)
 {

@@ -175,10 +175,37 @@ double dm_lut_bilinear_u8(const uint8_t *t, int w, int h, double s, double tt)
 
 /* ---- error reports ----------------------------------------------------------------- */
 
+/* Per sampled row: its m and its statistics; bands are sums over rows with m ≥ m_min. */
 typedef struct row_stats {
+    double t;
     int64_t n;
     double max_rel, sum_sq, max_abs, max_abs_c, max_w, ws, wt;
 } row_stats;
+
+static void merge_rows(const row_stats *rows, int row_count, int stride, int offset, double m_min, dm_lut_error *o)
+{
+    double sum_sq = 0.0;
+    memset(o, 0, sizeof *o);
+    for (int r = 0; r < row_count; ++r) {
+        const row_stats *q = &rows[r * stride + offset];
+        if (q->t < m_min) continue;
+        o->samples += q->n;
+        sum_sq += q->sum_sq;
+        if (q->max_rel > o->max_rel) {
+            o->max_rel = q->max_rel;
+            o->worst_s = q->ws;
+            o->worst_t = q->wt;
+        }
+        if (q->max_abs > o->max_abs) {
+            o->max_abs = q->max_abs;
+            o->worst_s = q->ws;
+            o->worst_t = q->wt;
+        }
+        if (q->max_abs_c > o->max_abs_centres) o->max_abs_centres = q->max_abs_c;
+        if (q->max_w > o->max_abs_weighted) o->max_abs_weighted = q->max_w;
+    }
+    o->rms_rel = o->samples ? sqrt(sum_sq / (double)o->samples) : 0.0;
+}
 
 typedef struct beckmann_err_job {
     const dm_beckmann_lut *lut;
@@ -192,8 +219,8 @@ static void beckmann_err_rows(void *ctx, size_t begin, size_t end)
     const dm_beckmann_lut *lut = job->lut;
     int nx = job->nx;
     for (size_t r = begin; r < end; ++r) {
-        double t = (r + 0.5) / (double)job->nx; /* same density on both axes (square grid) */
-        row_stats st = {0};
+        double t = (r + 0.5) / (double)nx; /* same density on both axes */
+        row_stats st = {.t = t};
         double peak = 0.0;
         for (int k = 0; k < nx; ++k) {
             double d = dm_beckmann((k + 0.5) / nx, t);
@@ -217,87 +244,82 @@ static void beckmann_err_rows(void *ctx, size_t begin, size_t end)
     }
 }
 
-void dm_lut_beckmann_error(const dm_beckmann_lut *lut, int supersample, int threads, dm_lut_error *out)
+void dm_lut_beckmann_error(const dm_beckmann_lut *lut, int supersample, const double *m_min, int band_count,
+                           int threads, dm_lut_error *out)
 {
-    assert(lut && out && lut->texels);
-    memset(out, 0, sizeof *out);
+    assert(lut && lut->texels && m_min && out && band_count > 0);
     double t0 = dm_now_ms();
     if (supersample < 1) supersample = 1;
     int nx = (lut->width > lut->height ? lut->width : lut->height) * supersample;
     row_stats *rows = calloc((size_t)nx, sizeof *rows);
-    if (!rows) return;
+    if (!rows) {
+        memset(out, 0, sizeof *out * band_count);
+        return;
+    }
     beckmann_err_job job = {lut, nx, rows};
     dm_parallel_for((size_t)nx, 0, threads, beckmann_err_rows, &job);
-    double sum_sq = 0.0;
-    for (int r = 0; r < nx; ++r) {
-        out->samples += rows[r].n;
-        sum_sq += rows[r].sum_sq;
-        if (rows[r].max_rel > out->max_rel) {
-            out->max_rel = rows[r].max_rel;
-            out->worst_s = rows[r].ws;
-            out->worst_t = rows[r].wt;
-        }
+    double ms = dm_now_ms() - t0;
+    for (int b = 0; b < band_count; ++b) {
+        merge_rows(rows, nx, 1, 0, m_min[b], &out[b]);
+        out[b].max_abs = 0.0; /* relative figures only for this table */
+        out[b].ms = ms;
     }
-    out->rms_rel = out->samples ? sqrt(sum_sq / out->samples) : 0.0;
     free(rows);
-    out->ms = dm_now_ms() - t0;
 }
 
 typedef struct dir_err_job {
     const dm_directional_lut *lut;
-    int channel;
-    row_stats *rows;
+    row_stats *rows; /* 3 per row: rho_dt, scale, bias */
 } dir_err_job;
 
 static void directional_err_rows(void *ctx, size_t begin, size_t end)
 {
     dir_err_job *job = ctx;
     const dm_directional_lut *lut = job->lut;
-    const float *table = job->channel == 0 ? lut->rho_dt : job->channel == 1 ? lut->scale : lut->bias;
+    const float *tables[3] = {lut->rho_dt, lut->scale, lut->bias};
     int nx = 2 * lut->width, ny = 2 * lut->height;
     for (size_t r = begin; r < end; ++r) {
         double t = (double)r / ny; /* odd r: texel centres; even r: midpoints and borders */
-        row_stats st = {0};
+        row_stats st[3] = {{.t = t}, {.t = t}, {.t = t}};
         for (int k = 0; k <= nx; ++k) {
             double s = (double)k / nx;
             double sc, b;
             dm_ks_directional(s, t, DM_LUT_REFERENCE_NODES, &sc, &b);
-            double exact = job->channel == 0 ? lut->f0 * sc + b : job->channel == 1 ? sc : b;
-            double got = dm_lut_bilinear_f32(table, lut->width, lut->height, s, t);
-            double e = fabs(got - exact);
-            ++st.n;
-            if (e > st.max_abs) {
-                st.max_abs = e;
-                st.ws = s;
-                st.wt = t;
+            double exact[3] = {lut->f0 * sc + b, sc, b};
+            for (int c = 0; c < 3; ++c) {
+                double e = fabs(dm_lut_bilinear_f32(tables[c], lut->width, lut->height, s, t) - exact[c]);
+                ++st[c].n;
+                if (e > st[c].max_abs) {
+                    st[c].max_abs = e;
+                    st[c].ws = s;
+                    st[c].wt = t;
+                }
+                if ((k & 1) && (r & 1) && e > st[c].max_abs_c) st[c].max_abs_c = e;
+                if (s * e > st[c].max_w) st[c].max_w = s * e;
             }
-            if ((k & 1) && (r & 1) && e > st.max_abs_c) st.max_abs_c = e;
-            if (s * e > st.max_w) st.max_w = s * e;
         }
-        job->rows[r] = st;
+        for (int c = 0; c < 3; ++c) job->rows[3 * r + c] = st[c];
     }
 }
 
-void dm_lut_directional_error(const dm_directional_lut *lut, int channel, int threads, dm_lut_error *out)
+void dm_lut_directional_error(const dm_directional_lut *lut, const double *m_min, int band_count, int threads,
+                              dm_lut_error *out)
 {
-    assert(lut && out && channel >= 0 && channel <= 2);
-    memset(out, 0, sizeof *out);
+    assert(lut && m_min && out && band_count > 0);
     double t0 = dm_now_ms();
     int ny = 2 * lut->height + 1;
-    row_stats *rows = calloc((size_t)ny, sizeof *rows);
-    if (!rows) return;
-    dir_err_job job = {lut, channel, rows};
-    dm_parallel_for((size_t)ny, 1, threads, directional_err_rows, &job);
-    for (int r = 0; r < ny; ++r) {
-        out->samples += rows[r].n;
-        if (rows[r].max_abs > out->max_abs) {
-            out->max_abs = rows[r].max_abs;
-            out->worst_s = rows[r].ws;
-            out->worst_t = rows[r].wt;
-        }
-        if (rows[r].max_abs_c > out->max_abs_centres) out->max_abs_centres = rows[r].max_abs_c;
-        if (rows[r].max_w > out->max_abs_weighted) out->max_abs_weighted = rows[r].max_w;
+    row_stats *rows = calloc((size_t)ny * 3, sizeof *rows);
+    if (!rows) {
+        memset(out, 0, sizeof *out * 3 * band_count);
+        return;
     }
+    dir_err_job job = {lut, rows};
+    dm_parallel_for((size_t)ny, 1, threads, directional_err_rows, &job);
+    double ms = dm_now_ms() - t0;
+    for (int b = 0; b < band_count; ++b)
+        for (int c = 0; c < 3; ++c) {
+            merge_rows(rows, ny, 3, c, m_min[b], &out[3 * b + c]);
+            out[3 * b + c].ms = ms;
+        }
     free(rows);
-    out->ms = dm_now_ms() - t0;
 }

@@ -73,12 +73,16 @@ typedef struct dm_lut_error {
     double ms;               /* time taken by the comparison */
 } dm_lut_error;
 
-/* supersample: sample points per texel per axis (≥ 1). */
-void dm_lut_beckmann_error(const dm_beckmann_lut *lut, int supersample, int threads, dm_lut_error *out);
-/* Compares `channel` 0 = rho_dt, 1 = scale, 2 = bias at every texel centre, every
- * midpoint between centres and the borders, against dm_ks_directional with
- * DM_LUT_REFERENCE_NODES nodes. */
-void dm_lut_directional_error(const dm_directional_lut *lut, int channel, int threads, dm_lut_error *out);
+/* Errors per roughness band: out[b] counts only samples with m ≥ m_min[b] (band_count
+ * bands, m_min[b] = 0 for all). supersample: sample points per texel per axis (≥ 1). */
+void dm_lut_beckmann_error(const dm_beckmann_lut *lut, int supersample, const double *m_min, int band_count,
+                           int threads, dm_lut_error *out);
+/* Compares the three channels at every texel centre, every midpoint between centres and
+ * the borders, against dm_ks_directional with DM_LUT_REFERENCE_NODES nodes (one reference
+ * evaluation for all channels and bands): out[3*b + 0] rho_dt, out[3*b + 1] scale,
+ * out[3*b + 2] bias, for band b. */
+void dm_lut_directional_error(const dm_directional_lut *lut, const double *m_min, int band_count, int threads,
+                              dm_lut_error *out);
 
 /* Bilinear lookup as the GPU does it with GL_LINEAR + CLAMP_TO_EDGE; exposed for tests. */
 double dm_lut_bilinear_f32(const float *table, int width, int height, double s, double t);
