@@ -89,7 +89,8 @@ $(BUILD)/obj/tools/%.c.o: tools/%.c
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
 $(BUILD)/obj/tests/%.c.o: tests/%.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(TEST_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(TEST_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' \
+	  -DDERMIS_BIN='"$(abspath $(BUILD)/bin)"' -c $< -o $@
 $(BUILD)/obj/bench/%.c.o: bench/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@

@@ -1,0 +1,54 @@
+/* tmpdir.h — a fresh temporary folder per test, and running a tool with its exit code. */
+#ifndef TEST_TMPDIR_H
+#define TEST_TMPDIR_H
+
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+static const char *test_tmpdir(char *buf, size_t size)
+{
+    snprintf(buf, size, "/tmp/dermis-test-XXXXXX");
+    return mkdtemp(buf);
+}
+
+/* Runs a shell command line, stdout/stderr to log (may be NULL: discarded); returns the
+ * exit code, or -1 if it did not exit normally. */
+static int test_run(const char *cmd, const char *log)
+{
+    char line[8192];
+    snprintf(line, sizeof line, "%s >%s 2>&1", cmd, log ? log : "/dev/null");
+    int st = system(line);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* Number of entries of a folder whose name contains `part` (NULL: all). */
+static int test_count_files(const char *dir, const char *part)
+{
+    DIR *d = opendir(dir);
+    if (!d) return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (e->d_name[0] != '.' && (!part || strstr(e->d_name, part))) ++n;
+    closedir(d);
+    return n;
+}
+
+static char *test_slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    size_t got = fread(s, 1, (size_t)n, f);
+    s[got] = 0;
+    fclose(f);
+    return s;
+}
+
+#endif
