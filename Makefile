@@ -93,7 +93,7 @@ $(BUILD)/obj/tests/%.c.o: tests/%.c
 	  -DDERMIS_BIN='"$(abspath $(BUILD)/bin)"' -c $< -o $@
 $(BUILD)/obj/bench/%.c.o: bench/%.c
 	@mkdir -p $(@D)
-	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@
+	$(CC) $(CPPFLAGS) -Ibench $(CFLAGS) $(CORE_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' -c $< -o $@
 
 # --- libraries ---------------------------------------------------------------------
 $(CORE_LIB): $(call obj,$(CORE_SRC))

@@ -11,19 +11,19 @@
 #include <string.h>
 #include <zlib.h>
 
-static uint32_t tpng_be32(const unsigned char *p)
+static inline uint32_t tpng_be32(const unsigned char *p)
 {
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
 }
 
-static int tpng_paeth(int a, int b, int c)
+static inline int tpng_paeth(int a, int b, int c)
 {
     int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
     return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
 /* *samples gets width*height*channels values (uint16 for both depths). */
-static uint16_t *tpng_read(const char *path, int *width, int *height, int *channels, int *bits)
+static inline uint16_t *tpng_read(const char *path, int *width, int *height, int *channels, int *bits)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;

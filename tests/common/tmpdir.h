@@ -8,7 +8,7 @@
 #include <string.h>
 #include <sys/wait.h>
 
-static const char *test_tmpdir(char *buf, size_t size)
+static inline const char *test_tmpdir(char *buf, size_t size)
 {
     snprintf(buf, size, "/tmp/dermis-test-XXXXXX");
     return mkdtemp(buf);
@@ -16,7 +16,7 @@ static const char *test_tmpdir(char *buf, size_t size)
 
 /* Runs a shell command line, stdout/stderr to log (may be NULL: discarded); returns the
  * exit code, or -1 if it did not exit normally. */
-static int test_run(const char *cmd, const char *log)
+static inline int test_run(const char *cmd, const char *log)
 {
     char line[8192];
     snprintf(line, sizeof line, "%s >%s 2>&1", cmd, log ? log : "/dev/null");
@@ -25,7 +25,7 @@ static int test_run(const char *cmd, const char *log)
 }
 
 /* Number of entries of a folder whose name contains `part` (NULL: all). */
-static int test_count_files(const char *dir, const char *part)
+static inline int test_count_files(const char *dir, const char *part)
 {
     DIR *d = opendir(dir);
     if (!d) return -1;
@@ -37,7 +37,7 @@ static int test_count_files(const char *dir, const char *part)
     return n;
 }
 
-static char *test_slurp(const char *path)
+static inline char *test_slurp(const char *path)
 {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
