@@ -8,6 +8,92 @@
 #include <cJSON.h>
 
 #include "core/dm_file.h"
+#include "core/dm_math.h"
+
+const double DM_BLUR_TAPS_GEMS3[DM_BLUR_TAPS_GEMS3_COUNT] = {0.006, 0.061, 0.242, 0.383, 0.242, 0.061, 0.006};
+
+double dm_gaussian(double variance_mm2, double r_mm)
+{
+    /* exp(−x) for x ≥ 0 is in [0, 1]; r = inf gives exp(−inf) = 0, and r² overflowing to
+     * inf does the same, so no guard is needed beyond the contract v > 0. */
+    return exp(-(r_mm * r_mm) / (2.0 * variance_mm2)) / (DM_2PI * variance_mm2);
+}
+
+void dm_profile_eval(const dm_profile *p, double r_mm, double rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    for (int k = 0; k < p->count; ++k) {
+        double g = dm_gaussian(p->variance_mm2[k], r_mm);
+        for (int c = 0; c < 3; ++c) rgb[c] += p->weight[k][c] * g;
+    }
+}
+
+void dm_profile_channel_sums(const dm_profile *p, double sums[3])
+{
+    sums[0] = sums[1] = sums[2] = 0.0;
+    for (int k = 0; k < p->count; ++k)
+        for (int c = 0; c < 3; ++c) sums[c] += p->weight[k][c];
+}
+
+dm_result dm_profile_normalize_white(dm_profile *p, double sums_before[3], dm_error *err)
+{
+    double s[3];
+    dm_profile_channel_sums(p, s);
+    for (int c = 0; c < 3; ++c)
+        if (!(s[c] > 0.0) || !isfinite(s[c]))
+            return dm_fail(err, DM_ERR_RANGE, "profile '%s': channel %d weights sum to %g, expected > 0 to normalise",
+                           p->name, c, s[c]);
+    for (int k = 0; k < p->count; ++k)
+        for (int c = 0; c < 3; ++c) p->weight[k][c] /= s[c];
+    if (sums_before)
+        for (int c = 0; c < 3; ++c) sums_before[c] = s[c];
+    return DM_OK;
+}
+
+void dm_profile_incremental_variances(const dm_profile *p, double *out_mm2)
+{
+    for (int k = 0; k < p->count; ++k) out_mm2[k] = p->variance_mm2[k] - (k ? p->variance_mm2[k - 1] : 0.0);
+}
+
+int dm_profile_blur_passes(int gaussian_count)
+{
+    return gaussian_count > 1 ? 2 * (gaussian_count - 1) : 0;
+}
+
+/* P(X > x) for a standard normal X, accurate in the far tail (erfc, not 1 − erf). */
+static double upper_tail(double x)
+{
+    return 0.5 * erfc(x / DM_SQRT2);
+}
+
+dm_result dm_blur_taps(int tap_count, double spacing_sigma, int fold_tails, double *weight, double *tail,
+                       dm_error *err)
+{
+    if (tap_count < 1 || tap_count > DM_BLUR_TAPS_MAX || tap_count % 2 == 0)
+        return dm_fail(err, DM_ERR_RANGE, "blur kernel: %d taps, expected an odd count in 1..%d", tap_count,
+                       DM_BLUR_TAPS_MAX);
+    if (!isfinite(spacing_sigma) || !(spacing_sigma > 0.0))
+        return dm_fail(err, DM_ERR_RANGE, "blur kernel: tap spacing %g sigma, expected a finite value > 0",
+                       spacing_sigma);
+    int half = tap_count / 2;
+    /* Symmetric: compute one side as differences of upper tails (no cancellation against 1). */
+    for (int i = 0; i <= half; ++i) {
+        double lo = (i - 0.5) * spacing_sigma, hi = (i + 0.5) * spacing_sigma;
+        double w = i == 0 ? 1.0 - 2.0 * upper_tail(hi) : upper_tail(lo) - upper_tail(hi);
+        weight[half + i] = weight[half - i] = w;
+    }
+    double t = 2.0 * upper_tail((half + 0.5) * spacing_sigma);
+    if (fold_tails) {
+        if (tap_count == 1) {
+            weight[0] += t;
+        } else {
+            weight[0] += 0.5 * t;
+            weight[tap_count - 1] += 0.5 * t;
+        }
+    }
+    if (tail) *tail = t;
+    return DM_OK;
+}
 
 void dm_profile_gems3_skin(dm_profile *p)
 {

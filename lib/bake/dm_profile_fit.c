@@ -1,0 +1,636 @@
+#include "bake/dm_profile_fit.h"
+
+#include <assert.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/dm_math.h"
+
+enum { NMAX = DM_PROFILE_MAX_GAUSSIANS };
+
+/* ---- sources ------------------------------------------------------------------------ */
+
+dm_result dm_profile_source_validate(const dm_profile_source *s, const char *what, dm_error *err)
+{
+    if (s->kind == DM_SOURCE_GAUSSIANS) return dm_profile_validate(&s->gaussians, what, err);
+    if (s->kind == DM_SOURCE_MEDIUM) return dm_medium_validate(&s->medium, what, err);
+    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: source kind %d, expected Gaussians or a medium", what,
+                   (int)s->kind);
+}
+
+void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3])
+{
+    if (s->kind == DM_SOURCE_GAUSSIANS)
+        dm_profile_eval(&s->gaussians, r_mm, rgb);
+    else
+        dm_medium_eval(&s->medium, r_mm, rgb);
+}
+
+void dm_profile_source_total(const dm_profile_source *s, double rgb[3])
+{
+    if (s->kind == DM_SOURCE_GAUSSIANS)
+        dm_profile_channel_sums(&s->gaussians, rgb);
+    else
+        dm_medium_total(&s->medium, rgb);
+}
+
+/* Smallest and largest length scales of the source, mm: the Gaussians' σ, or the
+ * medium's real and virtual source depths. */
+static void source_scales(const dm_profile_source *s, double *lo, double *hi)
+{
+    if (s->kind == DM_SOURCE_GAUSSIANS) {
+        *lo = sqrt(s->gaussians.variance_mm2[0]);
+        *hi = sqrt(s->gaussians.variance_mm2[s->gaussians.count - 1]);
+        return;
+    }
+    const dm_medium *m = &s->medium;
+    double fdr = dm_fresnel_diffuse_reflectance(m->eta), a = (1.0 + fdr) / (1.0 - fdr);
+    *lo = INFINITY;
+    *hi = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        double zr = 1.0 / (m->sigma_a_per_mm[c] + m->sigma_s_prime_per_mm[c]);
+        double zv = zr * (1.0 + 4.0 * a / 3.0);
+        *lo = fmin(*lo, zr);
+        *hi = fmax(*hi, zv);
+    }
+}
+
+/* ---- quadrature grid ----------------------------------------------------------------- */
+
+typedef struct grid {
+    int m;
+    double r_min, r_max;
+    double *r;         /* m radii, log-spaced */
+    double *q;         /* ∫ r f dr ≈ Σ q_i f(r_i) */
+    double *sq;        /* √q_i */
+    double *b[3];      /* √q_i R_c(r_i) */
+    double energy[3];  /* E_c = Σ q_i R_c(r_i)² ≈ ∫ r R_c² dr */
+    double *mem;
+} grid;
+
+static void grid_free(grid *g)
+{
+    free(g->mem);
+    memset(g, 0, sizeof *g);
+}
+
+static double peak_r2(const dm_profile_source *s, double r)
+{
+    double v[3];
+    dm_profile_source_eval(s, r, v);
+    return r * r * fmax(v[0], fmax(v[1], v[2]));
+}
+
+static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error *err)
+{
+    memset(g, 0, sizeof *g);
+    double lo, hi;
+    source_scales(s, &lo, &hi);
+    g->r_min = 1e-3 * lo;
+    /* r_max: walk out by √2 until r²R(r) (the profile's mass per unit ln r) has fallen
+     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min. */
+    double cap = 1e6 * g->r_min, peak = 0.0, r = g->r_min;
+    for (;;) {
+        double p = peak_r2(s, r);
+        if (!isfinite(p)) return dm_fail(err, DM_ERR_NON_FINITE, "profile source: R(%g mm) is not finite", r);
+        peak = fmax(peak, p);
+        if ((r >= 3.0 * hi && p <= 1e-10 * peak) || r >= cap) break;
+        r *= DM_SQRT2;
+    }
+    g->r_max = fmin(r, cap);
+    g->m = m;
+    g->mem = malloc(sizeof(double) * (size_t)m * 6);
+    if (!g->mem) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile fit: %d quadrature nodes", m);
+    g->r = g->mem;
+    g->q = g->r + m;
+    g->sq = g->q + m;
+    for (int c = 0; c < 3; ++c) g->b[c] = g->sq + (size_t)m * (1 + c);
+    double u0 = log(g->r_min), h = (log(g->r_max) - u0) / (m - 1);
+    for (int i = 0; i < m; ++i) {
+        double ri = i == m - 1 ? g->r_max : exp(u0 + i * h);
+        double coef = (i == 0 || i == m - 1) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        g->r[i] = ri;
+        g->q[i] = coef * h / 3.0 * ri * ri; /* dr = r du, and the weight r */
+    }
+    g->q[0] += 0.5 * g->r_min * g->r_min; /* the disc [0, r_min], f taken as f(r_min) */
+    for (int c = 0; c < 3; ++c) g->energy[c] = 0.0;
+    for (int i = 0; i < m; ++i) {
+        double v[3];
+        dm_profile_source_eval(s, g->r[i], v);
+        g->sq[i] = sqrt(g->q[i]);
+        for (int c = 0; c < 3; ++c) {
+            if (!isfinite(v[c]))
+                return dm_fail(err, DM_ERR_NON_FINITE, "profile source: R[%d](%g mm) = %g, expected finite", c, g->r[i],
+                               v[c]);
+            g->b[c][i] = g->sq[i] * v[c];
+            g->energy[c] += g->q[i] * v[c] * v[c];
+        }
+    }
+    return DM_OK;
+}
+
+/* ---- small dense linear algebra ------------------------------------------------------ */
+
+/* Householder QR in place of a (rows × cols, column-major, rows ≥ cols). The reflector of
+ * column k is stored in a[k][k..rows) with its scale in beta[k]; R's diagonal in rdiag,
+ * R's upper part above the diagonal of a. */
+static void qr(double *a, int rows, int cols, double *beta, double *rdiag)
+{
+    for (int k = 0; k < cols; ++k) {
+        double *v = a + (size_t)k * rows;
+        double norm = 0.0;
+        for (int i = k; i < rows; ++i) norm += v[i] * v[i];
+        norm = sqrt(norm);
+        double alpha = v[k] > 0 ? -norm : norm;
+        rdiag[k] = alpha;
+        v[k] -= alpha;
+        double vv = 0.0;
+        for (int i = k; i < rows; ++i) vv += v[i] * v[i];
+        beta[k] = vv > 0.0 ? 2.0 / vv : 0.0;
+        for (int j = k + 1; j < cols; ++j) {
+            double *x = a + (size_t)j * rows, d = 0.0;
+            for (int i = k; i < rows; ++i) d += v[i] * x[i];
+            d *= beta[k];
+            for (int i = k; i < rows; ++i) x[i] -= d * v[i];
+        }
+    }
+}
+
+/* y ← Qᵀ y with the reflectors of qr(). */
+static void qr_apply(const double *a, int rows, int cols, const double *beta, double *y)
+{
+    for (int k = 0; k < cols; ++k) {
+        const double *v = a + (size_t)k * rows;
+        double d = 0.0;
+        for (int i = k; i < rows; ++i) d += v[i] * y[i];
+        d *= beta[k];
+        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
+    }
+}
+
+/* y ← Q y: the reflectors of qr() in reverse order. */
+static void qr_apply_q(const double *a, int rows, int cols, const double *beta, double *y)
+{
+    for (int k = cols - 1; k >= 0; --k) {
+        const double *v = a + (size_t)k * rows;
+        double d = 0.0;
+        for (int i = k; i < rows; ++i) d += v[i] * y[i];
+        d *= beta[k];
+        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
+    }
+}
+
+/* min ‖A z − y‖ for a small A (rows × cols ≤ NMAX × NMAX, column-major); columns whose R
+ * diagonal is negligible (dependent) get z = 0. */
+static void small_lsq(const double *a_in, int rows, int cols, const double *y_in, double *z)
+{
+    double a[NMAX * NMAX], y[NMAX], beta[NMAX], rd[NMAX];
+    memcpy(a, a_in, sizeof(double) * (size_t)rows * cols);
+    memcpy(y, y_in, sizeof(double) * (size_t)rows);
+    qr(a, rows, cols, beta, rd);
+    qr_apply(a, rows, cols, beta, y);
+    double big = 0.0;
+    for (int k = 0; k < cols; ++k) big = fmax(big, fabs(rd[k]));
+    for (int k = cols - 1; k >= 0; --k) {
+        if (!(fabs(rd[k]) > 1e-14 * big)) {
+            z[k] = 0.0;
+            continue;
+        }
+        double s = y[k];
+        for (int j = k + 1; j < cols; ++j) s -= a[(size_t)j * rows + k] * z[j];
+        z[k] = s / rd[k];
+    }
+}
+
+/* Lawson–Hanson NNLS: min ‖R w − c‖, w ≥ 0, for the n × n upper-triangular R (column-major,
+ * full storage, zeros below) left by the QR of the full problem. */
+static void nnls(const double *rm, int n, const double *c, double *w)
+{
+    int in_p[NMAX] = {0};
+    for (int k = 0; k < n; ++k) w[k] = 0.0;
+    double gmax0 = 0.0;
+    for (int k = 0; k < n; ++k) {
+        double gk = 0.0;
+        for (int i = 0; i < n; ++i) gk += rm[(size_t)k * n + i] * c[i];
+        gmax0 = fmax(gmax0, fabs(gk));
+    }
+    double tol = 1e-13 * gmax0;
+    for (int outer = 0; outer < 3 * n; ++outer) {
+        double res[NMAX];
+        for (int i = 0; i < n; ++i) {
+            res[i] = c[i];
+            for (int k = 0; k < n; ++k) res[i] -= rm[(size_t)k * n + i] * w[k];
+        }
+        int j = -1;
+        double best = tol;
+        for (int k = 0; k < n; ++k) {
+            if (in_p[k]) continue;
+            double gk = 0.0;
+            for (int i = 0; i < n; ++i) gk += rm[(size_t)k * n + i] * res[i];
+            if (gk > best) best = gk, j = k;
+        }
+        if (j < 0) break;
+        in_p[j] = 1;
+        int first = 1;
+        for (int inner = 0; inner < 3 * n; ++inner) {
+            double sub[NMAX * NMAX], z[NMAX], zp[NMAX];
+            int idx[NMAX], p = 0;
+            for (int k = 0; k < n; ++k)
+                if (in_p[k]) {
+                    memcpy(sub + (size_t)p * n, rm + (size_t)k * n, sizeof(double) * (size_t)n);
+                    idx[p++] = k;
+                }
+            small_lsq(sub, n, p, c, zp);
+            for (int k = 0; k < n; ++k) z[k] = 0.0;
+            for (int t = 0; t < p; ++t) z[idx[t]] = zp[t];
+            if (first && !(z[j] > 0.0)) { /* rounding: the new column does not help */
+                in_p[j] = 0;
+                return;
+            }
+            first = 0;
+            int feasible = 1;
+            for (int t = 0; t < p; ++t) feasible &= z[idx[t]] > 0.0;
+            if (feasible) {
+                memcpy(w, z, sizeof(double) * (size_t)n);
+                break;
+            }
+            double alpha = 1.0;
+            for (int t = 0; t < p; ++t) {
+                int k = idx[t];
+                if (z[k] <= 0.0) alpha = fmin(alpha, w[k] / (w[k] - z[k]));
+            }
+            for (int t = 0; t < p; ++t) {
+                int k = idx[t];
+                w[k] += alpha * (z[k] - w[k]);
+                if (w[k] <= 1e-300 || (z[k] <= 0.0 && w[k] <= DBL_EPSILON * fabs(z[k]))) {
+                    w[k] = 0.0;
+                    in_p[k] = 0;
+                }
+            }
+        }
+    }
+}
+
+/* Cholesky solve of the SPD n × n system m x = y (row-major); 0 when not positive definite. */
+static int cholesky_solve(const double *m_in, int n, const double *y, double *x)
+{
+    double l[NMAX * NMAX] = {0};
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j <= i; ++j) {
+            double s = m_in[i * n + j];
+            for (int k = 0; k < j; ++k) s -= l[i * n + k] * l[j * n + k];
+            if (i == j) {
+                if (!(s > 0.0)) return 0;
+                l[i * n + i] = sqrt(s);
+            } else {
+                l[i * n + j] = s / l[j * n + j];
+            }
+        }
+    }
+    double t[NMAX];
+    for (int i = 0; i < n; ++i) {
+        double s = y[i];
+        for (int k = 0; k < i; ++k) s -= l[i * n + k] * t[k];
+        t[i] = s / l[i * n + i];
+    }
+    for (int i = n - 1; i >= 0; --i) {
+        double s = t[i];
+        for (int k = i + 1; k < n; ++k) s -= l[k * n + i] * x[k];
+        x[i] = s / l[i * n + i];
+    }
+    return 1;
+}
+
+/* ---- variable projection ------------------------------------------------------------- */
+
+typedef struct state {
+    double x[NMAX];   /* ln v, ascending */
+    double w[3][NMAX];
+    double f;         /* Σ_c e_c / E_c */
+    double fc[3];     /* e_c */
+    double *res[3];   /* m each: A w_c − b_c */
+    double *a, *d;    /* m × n: √q G and √q ∂G/∂ln v */
+} state;
+
+typedef struct fitter {
+    const grid *g;
+    int n;
+    double x_lo, x_hi, gap;
+    double *qrbuf, *ybuf, *jbuf; /* m × NMAX, m, m × NMAX scratch */
+    int evaluations, iterations;
+} fitter;
+
+static void evaluate(fitter *ft, state *st)
+{
+    const grid *g = ft->g;
+    int m = g->m, n = ft->n;
+    ++ft->evaluations;
+    for (int k = 0; k < n; ++k) {
+        double v = exp(st->x[k]);
+        double *ak = st->a + (size_t)k * m, *dk = st->d + (size_t)k * m;
+        for (int i = 0; i < m; ++i) {
+            double r = g->r[i];
+            double gi = g->sq[i] * dm_gaussian(v, r);
+            ak[i] = gi;
+            dk[i] = gi * (r * r / (2.0 * v) - 1.0);
+        }
+    }
+    double beta[NMAX], rd[NMAX], rm[NMAX * NMAX];
+    memcpy(ft->qrbuf, st->a, sizeof(double) * (size_t)m * n);
+    qr(ft->qrbuf, m, n, beta, rd);
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < n; ++i)
+            rm[(size_t)k * n + i] = i < k ? ft->qrbuf[(size_t)k * m + i] : i == k ? rd[k] : 0.0;
+    st->f = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        memcpy(ft->ybuf, g->b[c], sizeof(double) * (size_t)m);
+        qr_apply(ft->qrbuf, m, n, beta, ft->ybuf);
+        nnls(rm, n, ft->ybuf, st->w[c]);
+        double e = 0.0;
+        for (int i = 0; i < m; ++i) {
+            double s = -g->b[c][i];
+            for (int k = 0; k < n; ++k) s += st->a[(size_t)k * m + i] * st->w[c][k];
+            st->res[c][i] = s;
+            e += s * s;
+        }
+        st->fc[c] = e;
+        if (g->energy[c] > 0.0) st->f += e / g->energy[c];
+    }
+}
+
+/* Keeps the log-variances sorted, inside [x_lo, x_hi] and at least gap apart. */
+static void project(const fitter *ft, double *x)
+{
+    int n = ft->n;
+    for (int k = 0; k < n; ++k) x[k] = dm_clamp(x[k], ft->x_lo, ft->x_hi);
+    for (int k = 1; k < n; ++k) /* insertion sort: n ≤ 8, deterministic */
+        for (int j = k; j > 0 && x[j] < x[j - 1]; --j) {
+            double t = x[j];
+            x[j] = x[j - 1];
+            x[j - 1] = t;
+        }
+    for (int k = 1; k < n; ++k) x[k] = fmax(x[k], x[k - 1] + ft->gap);
+    if (x[n - 1] > ft->x_hi) {
+        x[n - 1] = ft->x_hi;
+        for (int k = n - 2; k >= 0; --k) x[k] = fmin(x[k], x[k + 1] - ft->gap);
+    }
+}
+
+static void copy_state(const fitter *ft, state *dst, const state *src)
+{
+    size_t m = (size_t)ft->g->m, n = (size_t)NMAX;
+    memcpy(dst->x, src->x, sizeof src->x);
+    memcpy(dst->w, src->w, sizeof src->w);
+    memcpy(dst->fc, src->fc, sizeof src->fc);
+    dst->f = src->f;
+    for (int c = 0; c < 3; ++c) memcpy(dst->res[c], src->res[c], sizeof(double) * m);
+    memcpy(dst->a, src->a, sizeof(double) * m * n);
+    memcpy(dst->d, src->d, sizeof(double) * m * n);
+}
+
+/* Levenberg–Marquardt on the log-variances from cur (evaluated); trial is scratch. */
+static void levenberg_marquardt(fitter *ft, state *cur, state *trial, int iterations)
+{
+    const grid *g = ft->g;
+    int m = g->m, n = ft->n;
+    double lambda = 1e-3;
+    int stalled = 0;
+    for (int it = 0; it < iterations && cur->f > 1e-30; ++it) {
+        /* Kaufman's Jacobian of the variable-projection residual: for channel c,
+         * J_c,k = w_kc P⊥_c D_k, P⊥_c the projector off the span of the columns of A in
+         * that channel's passive set (w > 0). The gradient Jᵀr needs no projector (r is
+         * already orthogonal to that span). Scaled by 1/E_c like the objective. */
+        double jtj[NMAX * NMAX] = {0}, jtr[NMAX] = {0};
+        for (int c = 0; c < 3; ++c) {
+            if (!(g->energy[c] > 0.0)) continue;
+            int idx[NMAX], p = 0;
+            for (int k = 0; k < n; ++k)
+                if (cur->w[c][k] > 0.0) {
+                    memcpy(ft->qrbuf + (size_t)p * m, cur->a + (size_t)k * m, sizeof(double) * (size_t)m);
+                    idx[p++] = k;
+                }
+            if (p == 0) continue;
+            double beta[NMAX], rd[NMAX];
+            qr(ft->qrbuf, m, p, beta, rd);
+            for (int t = 0; t < p; ++t) {
+                int k = idx[t];
+                double *jk = ft->jbuf + (size_t)t * m;
+                const double *dk = cur->d + (size_t)k * m;
+                for (int i = 0; i < m; ++i) jk[i] = cur->w[c][k] * dk[i];
+                qr_apply(ft->qrbuf, m, p, beta, jk);
+                for (int i = 0; i < p; ++i) jk[i] = 0.0;
+                qr_apply_q(ft->qrbuf, m, p, beta, jk);
+                double s = 0.0;
+                for (int i = 0; i < m; ++i) s += dk[i] * cur->res[c][i];
+                jtr[k] += cur->w[c][k] * s / g->energy[c];
+            }
+            for (int t = 0; t < p; ++t)
+                for (int u = 0; u <= t; ++u) {
+                    const double *jt = ft->jbuf + (size_t)t * m, *ju = ft->jbuf + (size_t)u * m;
+                    double s = 0.0;
+                    for (int i = 0; i < m; ++i) s += jt[i] * ju[i];
+                    s /= g->energy[c];
+                    jtj[idx[t] * n + idx[u]] += s;
+                    if (u != t) jtj[idx[u] * n + idx[t]] += s;
+                }
+        }
+        double trace = 0.0;
+        for (int k = 0; k < n; ++k) trace += jtj[k * n + k];
+        double floor_diag = 1e-9 * trace / n + 1e-300;
+        int accepted = 0;
+        while (lambda < 1e12) {
+            double sys[NMAX * NMAX], rhs[NMAX], step[NMAX];
+            memcpy(sys, jtj, sizeof sys);
+            for (int k = 0; k < n; ++k) {
+                sys[k * n + k] += lambda * fmax(jtj[k * n + k], floor_diag);
+                rhs[k] = -jtr[k];
+            }
+            if (!cholesky_solve(sys, n, rhs, step)) {
+                lambda *= 4.0;
+                continue;
+            }
+            for (int k = 0; k < n; ++k) trial->x[k] = cur->x[k] + dm_clamp(step[k], -2.0, 2.0);
+            project(ft, trial->x);
+            evaluate(ft, trial);
+            if (trial->f < cur->f) {
+                double gain = (cur->f - trial->f) / cur->f;
+                state t = *cur;
+                *cur = *trial;
+                *trial = t;
+                lambda = fmax(lambda / 3.0, 1e-9);
+                accepted = 1;
+                ++ft->iterations;
+                stalled = gain < 1e-10 ? stalled + 1 : 0;
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if (!accepted || stalled >= 3) break;
+    }
+}
+
+static int state_alloc(state *st, int m, int n, double *mem)
+{
+    for (int c = 0; c < 3; ++c) st->res[c] = mem + (size_t)m * c;
+    st->a = mem + (size_t)m * 3;
+    st->d = st->a + (size_t)m * n;
+    return 3 * m + 2 * m * n;
+}
+
+static dm_result check_options(const dm_fit_options *opt, int *n, int *m, int *iters, dm_error *err)
+{
+    dm_fit_options o = {0};
+    if (opt) o = *opt;
+    *n = o.gaussian_count ? o.gaussian_count : DM_FIT_GAUSSIANS_DEFAULT;
+    *m = o.node_count ? o.node_count : DM_FIT_NODES_DEFAULT;
+    *iters = o.iterations ? o.iterations : DM_FIT_ITERATIONS_DEFAULT;
+    if (*n < 1 || *n > NMAX)
+        return dm_fail(err, DM_ERR_RANGE, "profile fit: %d Gaussians, expected 1..%d", *n, NMAX);
+    if (*m < DM_FIT_NODES_MIN || *m > DM_FIT_NODES_MAX || *m % 2 == 0)
+        return dm_fail(err, DM_ERR_RANGE, "profile fit: %d quadrature nodes, expected an odd count in %d..%d", *m,
+                       DM_FIT_NODES_MIN, DM_FIT_NODES_MAX);
+    if (*iters < 1 || *iters > 10000)
+        return dm_fail(err, DM_ERR_RANGE, "profile fit: %d iterations, expected 1..10000", *iters);
+    return DM_OK;
+}
+
+dm_result dm_profile_fit(const dm_profile_source *s, const dm_fit_options *opt, const char *name,
+                         dm_fit_result *out, dm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    int n, m, iters;
+    dm_result r = check_options(opt, &n, &m, &iters, err);
+    if (r == DM_OK) r = dm_profile_source_validate(s, "profile source", err);
+    if (r != DM_OK) return r;
+    grid g;
+    if ((r = grid_init(&g, s, m, err)) != DM_OK) {
+        grid_free(&g);
+        return r;
+    }
+    if (!(g.energy[0] > 0.0 || g.energy[1] > 0.0 || g.energy[2] > 0.0)) {
+        grid_free(&g);
+        return dm_fail(err, DM_ERR_EMPTY, "profile source: R(r) is zero in every channel, nothing to fit");
+    }
+
+    /* Seeds: the narrowest scale from R(0) (a Gaussian has v = Rd / (2π R(0))), the widest
+     * from the second moment (a Gaussian has ∫ 2πr r² G dr / Rd = 2v). */
+    double seed_lo = INFINITY, seed_hi = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        double t = 0.0, m2 = 0.0, r0 = g.b[c][0] / g.sq[0];
+        for (int i = 0; i < m; ++i) {
+            double ri = g.b[c][i] / g.sq[i];
+            t += g.q[i] * ri;
+            m2 += g.q[i] * g.r[i] * g.r[i] * ri;
+        }
+        if (!(t > 0.0) || !(r0 > 0.0)) continue;
+        seed_lo = fmin(seed_lo, t / (DM_2PI * r0));
+        seed_hi = fmax(seed_hi, m2 / (2.0 * t));
+    }
+    if (!(seed_lo < INFINITY)) seed_lo = g.r_min * g.r_min * 100.0; /* a channel with R(0) = 0 only */
+    if (!(seed_hi > seed_lo)) seed_hi = seed_lo * 10.0;
+
+    fitter ft = {.g = &g, .n = n};
+    ft.x_lo = log(100.0 * g.r_min * g.r_min);
+    ft.x_hi = log(g.r_max * g.r_max / 16.0);
+    ft.gap = log(DM_FIT_MIN_RATIO);
+    size_t per_state = (size_t)(3 * m + 2 * m * NMAX);
+    double *mem = malloc(sizeof(double) * (per_state * 4 + (size_t)m * NMAX * 2 + (size_t)m));
+    if (!mem) {
+        grid_free(&g);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile fit: %d nodes x %d Gaussians", m, n);
+    }
+    state cur, trial, best, level;
+    double *p = mem;
+    p += state_alloc(&cur, m, NMAX, p);
+    p += state_alloc(&trial, m, NMAX, p);
+    p += state_alloc(&best, m, NMAX, p);
+    p += state_alloc(&level, m, NMAX, p);
+    ft.qrbuf = p;
+    ft.ybuf = p + (size_t)m * NMAX;
+    ft.jbuf = ft.ybuf + m;
+
+    /* Continuation in the count: the best fit with k − 1 Gaussians plus one new Gaussian
+     * tried in every gap and beyond either end; the best of those seeds k. At k = n the
+     * geometric starts compete as well, and the winner is polished. */
+    static const double spread[DM_FIT_STARTS][2] = {{1.0, 1.0}, {0.25, 4.0}, {1.0 / 16.0, 2.0}, {0.5, 16.0}};
+    double prev[NMAX];
+    for (int k = 1; k <= n; ++k) {
+        ft.n = k;
+        level.f = INFINITY;
+        int cands = k == 1 ? 0 : k;
+        for (int j = 0; j < cands; ++j) {
+            int t = 0;
+            for (int i = 0; i < k - 1; ++i) {
+                if (i == j) cur.x[t++] = i == 0 ? prev[0] - 1.5 : 0.5 * (prev[i - 1] + prev[i]);
+                cur.x[t++] = prev[i];
+            }
+            if (j == k - 1) cur.x[t++] = prev[k - 2] + 1.5;
+            project(&ft, cur.x);
+            evaluate(&ft, &cur);
+            levenberg_marquardt(&ft, &cur, &trial, iters / 2 + 1);
+            if (cur.f < level.f) copy_state(&ft, &level, &cur);
+        }
+        if (k == 1 || k == n) {
+            for (int st = 0; st < DM_FIT_STARTS; ++st) {
+                double a = log(seed_lo * spread[st][0]), b = log(seed_hi * spread[st][1]);
+                for (int i = 0; i < k; ++i) cur.x[i] = a + (i + 0.5) / k * (b - a);
+                project(&ft, cur.x);
+                evaluate(&ft, &cur);
+                levenberg_marquardt(&ft, &cur, &trial, iters / 2 + 1);
+                if (cur.f < level.f) copy_state(&ft, &level, &cur);
+            }
+        }
+        if (k == n) {
+            copy_state(&ft, &best, &level);
+            levenberg_marquardt(&ft, &best, &trial, iters);
+        }
+        memcpy(prev, level.x, sizeof prev);
+    }
+
+    dm_profile *pf = &out->profile;
+    snprintf(pf->name, sizeof pf->name, "%s", name ? name : "");
+    pf->count = n;
+    for (int k = 0; k < n; ++k) {
+        pf->variance_mm2[k] = exp(best.x[k]);
+        for (int c = 0; c < 3; ++c) pf->weight[k][c] = best.w[c][k];
+    }
+    for (int c = 0; c < 3; ++c) {
+        out->error_relative[c] = g.energy[c] > 0.0 ? sqrt(best.fc[c] / g.energy[c]) : 0.0;
+        out->error_relative_max = fmax(out->error_relative_max, out->error_relative[c]);
+    }
+    out->r_min_mm = g.r_min;
+    out->r_max_mm = g.r_max;
+    out->iterations = ft.iterations;
+    out->evaluations = ft.evaluations;
+    free(mem);
+    grid_free(&g);
+    return dm_profile_validate(pf, "profile fit result", err);
+}
+
+dm_result dm_profile_fit_error(const dm_profile_source *s, const dm_profile *p, const dm_fit_options *opt,
+                               double error_relative[3], dm_error *err)
+{
+    int n, m, iters;
+    dm_result r = check_options(opt, &n, &m, &iters, err);
+    if (r == DM_OK) r = dm_profile_source_validate(s, "profile source", err);
+    if (r == DM_OK) r = dm_profile_validate(p, "profile", err);
+    if (r != DM_OK) return r;
+    grid g;
+    if ((r = grid_init(&g, s, m, err)) == DM_OK) {
+        for (int c = 0; c < 3; ++c) {
+            double e = 0.0;
+            for (int i = 0; i < m; ++i) {
+                double v[3];
+                dm_profile_eval(p, g.r[i], v);
+                double d = g.b[c][i] - g.sq[i] * v[c];
+                e += d * d;
+            }
+            error_relative[c] = g.energy[c] > 0.0 ? sqrt(e / g.energy[c]) : 0.0;
+        }
+    }
+    grid_free(&g);
+    return r;
+}

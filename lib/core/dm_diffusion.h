@@ -1,0 +1,95 @@
+/* dm_diffusion.h — physical diffusion profiles R(r) from bulk optical parameters.
+ *
+ * Units: σa (absorption) and σs′ (reduced scattering) in mm⁻¹, r and thickness in mm,
+ * η the relative index of refraction (medium over air, dimensionless). R(r) is the radial
+ * diffuse reflectance in mm⁻² for unit incident flux, so ∫ 2πr R(r) dr is the total
+ * diffuse reflectance (albedo) Rd, in [0, 1].
+ *
+ * Dipole — Jensen, Marschner, Levoy, Hanrahan, "A Practical Model for Subsurface Light
+ * Transport", SIGGRAPH 2001, eq. 4–5:
+ *   σt′ = σa + σs′, α′ = σs′/σt′, σtr = √(3 σa σt′), D = 1/(3σt′),
+ *   Fdr = −1.440/η² + 0.710/η + 0.668 + 0.0636 η, A = (1 + Fdr)/(1 − Fdr),
+ *   zr = 1/σt′, zv = zr + 4AD, dr = √(r² + zr²), dv = √(r² + zv²),
+ *   R(r) = α′/4π [ zr (σtr dr + 1) e^(−σtr dr)/dr³ + zv (σtr dv + 1) e^(−σtr dv)/dv³ ].
+ *   Rd = (α′/2) (1 + e^(−(4/3) A √(3(1−α′)))) e^(−√(3(1−α′)))   (closed form, eq. 6).
+ *
+ * Multipole for a slab of thickness d — Donner & Jensen, "Light Diffusion in Multi-Layered
+ * Translucent Materials", SIGGRAPH 2005, eq. 8 (same η and so the same extrapolation
+ * distance zb = 2AD on both faces):
+ *   z_r,i = 2i(d + 2zb) + zr,  z_v,i = 2i(d + 2zb) − zr − 2zb,  i = −n..n,
+ *   R(r) = α′/4π Σ_i [ z_r,i (σtr d_r,i + 1) e^(−σtr d_r,i)/d_r,i³
+ *                     − z_v,i (σtr d_v,i + 1) e^(−σtr d_v,i)/d_v,i³ ],  d_·,i = √(r² + z_·,i²).
+ *   Each term integrates in closed form (∫ 2πr z(σ d + 1)e^(−σd)/d³ dr = 2π sgn(z) e^(−σ|z|)),
+ *   which gives dm_multipole_total. As d → ∞ only i = 0 remains: the dipole.
+ *
+ * Hard cases (each tested): r = 0 is finite (dr = zr > 0); r huge or +inf gives 0, not
+ * NaN; σa = 0 (σtr = 0) gives the r⁻³ tail and Rd = 1 for the dipole; η = 1 (Fdr ≈ 0.003);
+ * thin and thick slabs. Invalid parameters are refused by dm_medium_validate, which the
+ * R(r) functions assume has passed (they assert nothing and return NaN for NaN input).
+ */
+#ifndef DM_DIFFUSION_H
+#define DM_DIFFUSION_H
+
+#include "core/dm_result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define DM_ETA_MIN 1.0 /* Jensen's Fdr polynomial is a fit for η ≥ 1 */
+#define DM_ETA_MAX 3.0
+#define DM_SIGMA_MAX_PER_MM 1e4 /* beyond this the diffusion scale is under 0.1 µm */
+#define DM_THICKNESS_MAX_MM 1e4
+
+enum {
+    DM_MULTIPOLE_PAIRS_DEFAULT = 20, /* n: dipoles i = −n..n */
+    DM_MULTIPOLE_PAIRS_MAX = 1000,
+    DM_MEDIUM_NAME_SIZE = 32
+};
+
+typedef enum dm_diffusion_model { DM_MODEL_DIPOLE, DM_MODEL_MULTIPOLE } dm_diffusion_model;
+
+/* A homogeneous medium, per RGB channel. Zero-initialised is invalid (σs′ must be > 0). */
+typedef struct dm_medium {
+    char name[DM_MEDIUM_NAME_SIZE];  /* preset name, or "" when given by numbers */
+    dm_diffusion_model model;
+    double sigma_a_per_mm[3];        /* ≥ 0, ≤ DM_SIGMA_MAX_PER_MM */
+    double sigma_s_prime_per_mm[3];  /* > 0, ≤ DM_SIGMA_MAX_PER_MM */
+    double eta;                      /* [DM_ETA_MIN, DM_ETA_MAX] */
+    double thickness_mm;             /* multipole only: (0, DM_THICKNESS_MAX_MM] */
+    int pair_count;                  /* multipole only: 1..DM_MULTIPOLE_PAIRS_MAX; 0 = default */
+} dm_medium;
+
+/* Refuses negative, NaN, infinite or out-of-range parameters with a message that names
+ * `what`, the field, the channel, the value and the accepted range. */
+dm_result dm_medium_validate(const dm_medium *m, const char *what, dm_error *err);
+
+/* Measured media of Jensen et al. 2001 (Figure 5's table, η = 1.3, σa and σs′ in mm⁻¹):
+ * "skin1", "skin2", "marble", "wholemilk", "skimmilk", "apple", "ketchup". Fills the dipole
+ * model; set model/thickness_mm afterwards for a slab. DM_ERR_INVALID_ARGUMENT (message
+ * lists the names) for an unknown name. */
+dm_result dm_medium_preset(const char *name, dm_medium *m, dm_error *err);
+/* The preset names, NULL-terminated, for --help. */
+const char *const *dm_medium_preset_names(void);
+
+/* Fdr, the average diffuse Fresnel reflectance for η ≥ 1 (Jensen 2001, eq. 5's fit). */
+double dm_fresnel_diffuse_reflectance(double eta);
+
+/* One channel's dipole R(r), mm⁻²; parameters as validated by dm_medium_validate. */
+double dm_dipole(double sigma_a, double sigma_s_prime, double eta, double r_mm);
+/* Its closed-form total diffuse reflectance ∫ 2πr R dr. */
+double dm_dipole_total(double sigma_a, double sigma_s_prime, double eta);
+/* One channel's multipole R(r) for a slab of thickness_mm with dipoles i = −pairs..pairs. */
+double dm_multipole(double sigma_a, double sigma_s_prime, double eta, double thickness_mm, int pairs, double r_mm);
+/* Its total diffuse reflectance, summed term by term in closed form (same truncation). */
+double dm_multipole_total(double sigma_a, double sigma_s_prime, double eta, double thickness_mm, int pairs);
+
+/* R(r) of a validated medium for all three channels (its model and pair_count). */
+void dm_medium_eval(const dm_medium *m, double r_mm, double rgb[3]);
+/* Rd of a validated medium for all three channels. */
+void dm_medium_total(const dm_medium *m, double rgb[3]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
