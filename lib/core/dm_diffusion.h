@@ -20,7 +20,10 @@
  *   R(r) = α′/4π Σ_i [ z_r,i (σtr d_r,i + 1) e^(−σtr d_r,i)/d_r,i³
  *                     − z_v,i (σtr d_v,i + 1) e^(−σtr d_v,i)/d_v,i³ ],  d_·,i = √(r² + z_·,i²).
  *   Each term integrates in closed form (∫ 2πr z(σ d + 1)e^(−σd)/d³ dr = 2π sgn(z) e^(−σ|z|)),
- *   which gives dm_multipole_total. As d → ∞ only i = 0 remains: the dipole.
+ *   which gives dm_multipole_total. As d → ∞ only i = 0 remains: the dipole. As d → 0 the
+ *   model tends to a finite limit, not to 0 (its source stays at depth 1/σt′ however thin
+ *   the slab): diffusion theory does not hold for d σt′ ≪ 1, so treat thin-slab numbers
+ *   as the model's, not as measurements.
  *
  * Hard cases (each tested): r = 0 is finite (dr = zr > 0); r huge or +inf gives 0, not
  * NaN; σa = 0 (σtr = 0) gives the r⁻³ tail and Rd = 1 for the dipole; η = 1 (Fdr ≈ 0.003);
