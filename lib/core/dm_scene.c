@@ -437,9 +437,8 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
     static const char *const glow_keys[] = {"threshold", "intensity", NULL};
     static const char *const tone_keys[] = {"exposure", NULL};
     bool ok;
-    const cJSON *fx = get_object(c, root, "$", "effects", false, &ok);
+    const cJSON *fx = get_object(c, root, "$", "effects", true, &ok); /* a scene names its effects */
     if (!ok) return false;
-    if (!fx) return true; /* no "effects": the defaults, every effect on */
     const char *keys[DM_EFFECT_COUNT + 1];
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) keys[e] = dm_effect_name((dm_effect)e);
     keys[DM_EFFECT_COUNT] = NULL;

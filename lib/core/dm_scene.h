@@ -103,11 +103,11 @@ typedef struct dm_scene {
  *     "lights": [ { "type": "directional"|"point" REQUIRED, "direction"|"position" REQUIRED,
  *                   "color": [3 × [0, 1e6]], "intensity": [0, 1e6], "casts_shadow": bool } ] (≤ 8),
  *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background" },
- *     "effects": { NAME: true | false | { "enabled": bool (default true), params } },
+ *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
  *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
  *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1];
  *        glow: "threshold" [0, 1e6], "intensity" [0, 100]; tonemap: "exposure" [-20, 20].
- *        Without "effects" every effect is on; with it, exactly the effects listed as on.
+ *        Exactly the effects listed as on are on; the others are off.
  *     "camera": { "eye", "target", "up" (not parallel to the view), "fov_y_deg": [1, 179] },
  *     "output": { "width", "height": [1, 16384] } }
  * Directional light directions are normalised on reading. environment_lighting needs an
