@@ -131,7 +131,7 @@ static uint8_t *build_valid(size_t *size)
  * when code is DM_OK) with a message containing needle. */
 static void expect_refused(const uint8_t *bytes, size_t size, dm_result code, const char *needle)
 {
-    uint8_t *copy = aligned_alloc(64, size + 64);
+    uint8_t *copy = aligned_alloc(64, (size / 64 + 1) * 64); /* C11: a multiple of the alignment */
     if (size) memcpy(copy, bytes, size);
     dm_pack pack;
     dm_error err = {0};
@@ -566,4 +566,52 @@ Test(lut_check, corrupted_texel_and_wrong_f0_fail)
     cr_assert_gt(c.failures, 50);
     dm_beckmann_lut_free(&b);
     dm_directional_lut_free(&d);
+}
+
+/* --- already-baked LUT files: provenance matching ----------------------------------- */
+
+#include "bake/dm_exr.h"
+#include "bake/dm_image.h"
+#include "bake/dm_lut_prov.h"
+
+Test(lut_prov, matching_and_mismatching_files)
+{
+    dm_provenance want, have;
+    dm_error err = {0};
+    dm_lut_prov_directional(&want, "dermis-pack", "rho_dt", 64, 64, DM_SKIN_F0, 32);
+    dm_lut_prov_directional(&have, "dermis-bake-lut", "rho_dt", 64, 64, DM_SKIN_F0, 32);
+    cr_assert_eq(dm_lut_prov_match(&have, &want, "a.exr", &err), DM_OK, "%s", err.detail); /* tool may differ */
+    dm_lut_prov_directional(&have, "dermis-bake-lut", "rho_dt", 64, 64, DM_SKIN_F0, 48);
+    cr_assert_eq(dm_lut_prov_match(&have, &want, "a.exr", &err), DM_ERR_MISMATCH);
+    cr_assert(strstr(err.detail, "a.exr: nodes is 48, expected 32"), "%s", err.detail);
+    dm_lut_prov_directional(&have, "dermis-bake-lut", "env_brdf", 64, 64, DM_SKIN_F0, 32);
+    cr_assert_eq(dm_lut_prov_match(&have, &want, "a.exr", &err), DM_ERR_MISMATCH);
+    cr_assert(strstr(err.detail, "table is \"env_brdf\", expected \"rho_dt\""), "%s", err.detail);
+    dm_lut_prov_directional(&have, "dermis-bake-lut", "rho_dt", 64, 64, DM_SKIN_F0, 32);
+    snprintf(have.version, sizeof have.version, "0.0.1");
+    cr_assert_eq(dm_lut_prov_match(&have, &want, "a.exr", &err), DM_ERR_MISMATCH);
+    cr_assert(strstr(err.detail, "baked by dermis 0.0.1"), "%s", err.detail);
+}
+
+Test(lut_prov, provenance_survives_png_and_exr_files)
+{
+    dm_error err = {0};
+    dm_beckmann_lut b;
+    cr_assert_eq(dm_lut_bake_beckmann(32, 32, 0, 1, &b, &err), DM_OK);
+    dm_provenance p;
+    dm_lut_prov_beckmann(&p, "dermis-bake-lut", 32, 32);
+    dm_image img = {.width = 32, .height = 32, .channels = 1, .type = DM_PIXEL_U8, .pixels = b.texels};
+    char png[64];
+    snprintf(png, sizeof png, "/tmp/dermis-test-lut-%ld.png", (long)getpid());
+    cr_assert_eq(dm_png_write(png, &img, &p, &err), DM_OK, "%s", err.detail);
+    dm_image back;
+    cr_assert_eq(dm_image_read(png, DM_PIXEL_U8, &back, &err), DM_OK, "%s", err.detail);
+    cr_assert(back.has_provenance);
+    cr_assert_eq(dm_lut_prov_match(&back.prov, &p, png, &err), DM_OK, "%s", err.detail);
+    dm_lut_check c;
+    dm_lut_check_beckmann(back.pixels, 32, 32, &c);
+    cr_assert_eq(c.failures, 0);
+    dm_image_free(&back);
+    dm_beckmann_lut_free(&b);
+    unlink(png);
 }
