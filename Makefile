@@ -4,7 +4,7 @@
 #   make bench    run the accuracy-versus-time benchmarks, tables in bench/results/
 #   make demo     install, build, bake and render the bundled head
 #   make deps     install the Debian packages that are missing (scripts/deps.sh)
-#   make fuzz     build the libFuzzer targets (clang)
+#   make fuzz     build the libFuzzer targets (clang); make test runs each for FUZZ_SECONDS
 #   make clean
 # Outputs go under build/$(config)/. New files are picked up by wildcard: a C file in
 # lib/<side>/ joins that side's library, tools/NAME.c becomes build/$(config)/bin/NAME,
@@ -129,7 +129,8 @@ deps:
 
 test: deps
 	@$(MAKE) --no-print-directory all
-	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS)
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS); rc=$$?; \
+	  FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)) || rc=1; exit $$rc
 
 bench: deps
 	@$(MAKE) --no-print-directory all
@@ -139,8 +140,15 @@ demo: deps
 	@$(MAKE) --no-print-directory tools
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/demo.sh
 
-fuzz:
-	@echo "fuzz: no fuzz targets yet"
+# libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan.
+FUZZ_CC      ?= clang
+FUZZ_SECONDS ?= 5
+FUZZ_TARGETS := $(patsubst fuzz/%.c,build/fuzz/%,$(wildcard fuzz/*.c))
+fuzz: $(FUZZ_TARGETS)
+build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
+	  $(CORE_CFLAGS) $< $(CORE_SRC) $(CORE_LIBS) -o $@
 
 clean:
 	rm -rf build

@@ -11,6 +11,18 @@ uint64_t dm_hash64(const void *data, size_t size)
     return XXH3_64bits(data, size);
 }
 
+uint64_t dm_hash64_pair(const void *a, size_t a_size, const void *b, size_t b_size)
+{
+    XXH3_state_t *st = XXH3_createState(); /* a few hundred bytes; NULL only when out of memory */
+    if (!st) return 0;                     /* then a checksum mismatch is reported */
+    XXH3_64bits_reset(st);
+    if (a_size) XXH3_64bits_update(st, a, a_size);
+    if (b_size) XXH3_64bits_update(st, b, b_size);
+    uint64_t h = XXH3_64bits_digest(st);
+    XXH3_freeState(st);
+    return h;
+}
+
 static void format128(XXH128_hash_t h, char out[DM_HASH_HEX_SIZE])
 {
     snprintf(out, DM_HASH_HEX_SIZE, "xxh3-128:%016llx%016llx", (unsigned long long)h.high64,

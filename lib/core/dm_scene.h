@@ -37,8 +37,13 @@ typedef enum dm_effect {
 
 /* "specular", "subsurface", ... as in the scene file; NULL for out-of-range values. */
 const char *dm_effect_name(dm_effect e);
+/* The effect with that scene-file name, or -1. */
+int dm_effect_from_name(const char *name);
 
 typedef enum dm_light_type { DM_LIGHT_DIRECTIONAL, DM_LIGHT_POINT } dm_light_type;
+
+/* "directional" or "point"; NULL for out-of-range values. */
+const char *dm_light_type_name(dm_light_type t);
 
 typedef struct dm_light {
     dm_light_type type;
@@ -90,6 +95,24 @@ typedef struct dm_scene {
     int width, height;       /* output size, default 1280x720 */
 } dm_scene;
 
+/* Scene file (JSON), every key optional unless marked; see docs/scene-and-pack.md:
+ *   { "format": "dermis-scene", "version": 1,
+ *     "mesh": { "path": REQUIRED, "mm_per_unit": (0, 1e6] },
+ *     "material": { "albedo", "normal_map", "specular_map", "roughness_map": paths or "",
+ *                   "roughness": [0, 1], "rho_s": [0, 1] },
+ *     "lights": [ { "type": "directional"|"point" REQUIRED, "direction"|"position" REQUIRED,
+ *                   "color": [3 × [0, 1e6]], "intensity": [0, 1e6], "casts_shadow": bool } ] (≤ 8),
+ *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background" },
+ *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
+ *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
+ *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1];
+ *        glow: "threshold" [0, 1e6], "intensity" [0, 100]; tonemap: "exposure" [-20, 20].
+ *        Exactly the effects listed as on are on; the others are off.
+ *     "camera": { "eye", "target", "up" (not parallel to the view), "fov_y_deg": [1, 179] },
+ *     "output": { "width", "height": [1, 16384] } }
+ * Directional light directions are normalised on reading. environment_lighting needs an
+ * environment path. Unknown keys and keys given twice are errors. */
+
 /* Fills s with every default (all effects on, no lights, gems3-skin, 1280x720 ...). */
 void dm_scene_defaults(dm_scene *s);
 
@@ -99,6 +122,11 @@ void dm_scene_defaults(dm_scene *s);
 dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err);
 /* The same from a string; `path` is used for messages and to resolve relative paths. */
 dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err);
+
+/* The scene as a complete, self-contained scene file (every key written, the profile
+ * inline, paths as stored): dm_scene_parse of it gives back the same struct. *out is
+ * malloc'd, NUL-terminated; free it with free(). */
+dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,46 @@
+#include "bake/dm_lut_prov.h"
+
+#include <string.h>
+
+void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int height)
+{
+    dm_prov_init(p, tool);
+    dm_prov_add_string(p, "table", "beckmann");
+    dm_prov_add_int(p, "width", width);
+    dm_prov_add_int(p, "height", height);
+    dm_prov_add_string(p, "encoding", "u8 0.5*D^0.1");
+}
+
+void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
+                             int nodes)
+{
+    dm_prov_init(p, tool);
+    dm_prov_add_string(p, "table", table);
+    dm_prov_add_int(p, "width", width);
+    dm_prov_add_int(p, "height", height);
+    dm_prov_add_string(p, "encoding", strcmp(table, "rho_dt") == 0 ? "f32 rho_dt" : "f32 scale,bias");
+    dm_prov_add_double(p, "f0", f0);
+    dm_prov_add_int(p, "nodes", nodes);
+}
+
+dm_result dm_lut_prov_match(const dm_provenance *have, const dm_provenance *want, const char *file, dm_error *err)
+{
+    if (strcmp(have->version, want->version) != 0)
+        return dm_fail(err, DM_ERR_MISMATCH, "%s: baked by dermis %s, expected %s (re-bake it)", file, have->version,
+                       want->version);
+    for (int k = 0; k < want->param_count; ++k) {
+        const dm_param *w = &want->params[k];
+        const dm_param *h = dm_prov_find(have, w->name);
+        if (!h)
+            return dm_fail(err, DM_ERR_MISMATCH, "%s: provenance has no \"%s\", expected it", file, w->name);
+        if (w->type == DM_PARAM_STRING) {
+            if (h->type != DM_PARAM_STRING || strcmp(h->s, w->s) != 0)
+                return dm_fail(err, DM_ERR_MISMATCH, "%s: %s is \"%s\", expected \"%s\"", file, w->name,
+                               h->type == DM_PARAM_STRING ? h->s : "(a number)", w->s);
+        } else if (h->type == DM_PARAM_STRING || h->d != w->d) {
+            return dm_fail(err, DM_ERR_MISMATCH, "%s: %s is %.17g, expected %.17g", file, w->name,
+                           h->type == DM_PARAM_STRING ? 0.0 : h->d, w->d);
+        }
+    }
+    return DM_OK;
+}

@@ -1,0 +1,34 @@
+/* dm_lut_prov.h — the provenance a baked LUT file carries, and the test that an
+ * already-baked file is the table a consumer (dermis-pack) would bake itself.
+ *
+ * Parameters (all written, all compared):
+ *   "table"    "beckmann" | "rho_dt" | "env_brdf"
+ *   "width", "height"   texels
+ *   "encoding" beckmann: "u8 0.5*D^0.1"; rho_dt: "f32 rho_dt"; env_brdf: "f32 scale,bias"
+ *   "f0", "nodes"       directional tables only: Schlick F0, Gauss–Legendre nodes
+ * File forms: Beckmann = 8-bit one-channel PNG; rho_dt = EXR with one channel "rho_dt";
+ * env_brdf = EXR with channels "scale" and "bias" (rho = F0·scale + bias). Rows bottom-up.
+ */
+#ifndef DM_LUT_PROV_H
+#define DM_LUT_PROV_H
+
+#include "core/dm_prov.h"
+#include "core/dm_result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int height);
+/* table: "rho_dt" or "env_brdf". */
+void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
+                             int nodes);
+
+/* DM_OK when `have` (read from `file`) has the same dermis version and every parameter of
+ * `want` with the same value; otherwise DM_ERR_MISMATCH naming the first difference. */
+dm_result dm_lut_prov_match(const dm_provenance *have, const dm_provenance *want, const char *file, dm_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

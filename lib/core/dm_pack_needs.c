@@ -1,0 +1,80 @@
+#include "core/dm_pack_needs.h"
+
+#include <string.h>
+
+/* The table. Order is the order dermis-pack writes entries and --explain lists them. */
+static const dm_pack_need needs[] = {
+    {"scene", DM_PACK_SCENE, -1, 0, DM_NEED_ALWAYS, false, "the scene itself: effects, lights, camera, parameters"},
+    {"mesh.vertices", DM_PACK_MESH_VERTICES, -1, 0, DM_NEED_ALWAYS, true,
+     "the head, split by (position, uv, normal), with tangent frames"},
+    {"mesh.indices", DM_PACK_MESH_INDICES, -1, 0, DM_NEED_ALWAYS, true, "its triangles"},
+    {"albedo", DM_PACK_TEXTURE, DM_TEX_RGBA8_SRGB, 0, DM_NEED_IF_ALBEDO, false, "diffuse colour (sRGB)"},
+    {"normal", DM_PACK_TEXTURE, DM_TEX_RGBA8, 0, DM_NEED_IF_NORMAL_MAP, false,
+     "tangent-space normal map, lighting in every pass"},
+    {"specular", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SPECULAR) | DM_FX(DM_EFFECT_ENERGY_CONSERVATION),
+     DM_NEED_IF_SPECULAR_MAP, false, "specular intensity map (scales rho_s)"},
+    {"roughness", DM_PACK_TEXTURE, DM_TEX_R8,
+     DM_FX(DM_EFFECT_SPECULAR) | DM_FX(DM_EFFECT_ENERGY_CONSERVATION) | DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING),
+     DM_NEED_IF_ROUGHNESS_MAP, false, "Beckmann roughness map"},
+    {"lut.beckmann", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SPECULAR), DM_NEED_ALWAYS, false,
+     "Beckmann D(N.H, m) as 0.5*D^0.1, 8-bit (KS specular)"},
+    {"lut.rho_dt", DM_PACK_TEXTURE, DM_TEX_R32F, DM_FX(DM_EFFECT_ENERGY_CONSERVATION), DM_NEED_ALWAYS, false,
+     "rho_dt(N.L, m): light the specular takes, 1 - rho_s*rho_dt in and out"},
+    {"lut.env_brdf", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, false,
+     "split-sum scale and bias of F0 for environment specular"},
+    {"profile", DM_PACK_PROFILE, -1, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, false,
+     "sum-of-Gaussians diffusion profile: blur variances and weights"},
+    {"stretch", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, true,
+     "UV stretch (u, v per mm) and its blurred chain, one layer per Gaussian"},
+    {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, true,
+     "chart coverage mask (gutter handling)"},
+    {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, true,
+     "diffuse environment light, 9 RGB SH coefficients"},
+    {"env.specular", DM_PACK_TEXTURE, DM_TEX_RGBA16F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, true,
+     "environment prefiltered for Beckmann roughness levels"},
+    {"env.background", DM_PACK_TEXTURE, DM_TEX_RGBA16F, 0, DM_NEED_IF_BACKGROUND, true,
+     "the environment shown behind the head"},
+};
+
+const dm_pack_need *dm_pack_needs(int *count)
+{
+    *count = (int)(sizeof needs / sizeof needs[0]);
+    return needs;
+}
+
+const dm_pack_need *dm_pack_need_find(const char *entry)
+{
+    for (size_t k = 0; k < sizeof needs / sizeof needs[0]; ++k)
+        if (strcmp(needs[k].entry, entry) == 0) return &needs[k];
+    return NULL;
+}
+
+bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s)
+{
+    bool fx = n->effects == 0;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        if ((n->effects & DM_FX(e)) && s->effects[e]) fx = true;
+    if (!fx) return false;
+    switch (n->when) {
+    case DM_NEED_ALWAYS: return true;
+    case DM_NEED_IF_ALBEDO: return s->albedo[0] != '\0';
+    case DM_NEED_IF_NORMAL_MAP: return s->normal_map[0] != '\0';
+    case DM_NEED_IF_SPECULAR_MAP: return s->specular_map[0] != '\0';
+    case DM_NEED_IF_ROUGHNESS_MAP: return s->roughness_map[0] != '\0';
+    case DM_NEED_IF_BACKGROUND: return s->environment[0] != '\0' && s->env_background;
+    }
+    return false;
+}
+
+const char *dm_need_when_text(dm_need_when w)
+{
+    switch (w) {
+    case DM_NEED_ALWAYS: return "";
+    case DM_NEED_IF_ALBEDO: return "albedo map";
+    case DM_NEED_IF_NORMAL_MAP: return "normal map";
+    case DM_NEED_IF_SPECULAR_MAP: return "specular map";
+    case DM_NEED_IF_ROUGHNESS_MAP: return "roughness map";
+    case DM_NEED_IF_BACKGROUND: return "environment with background";
+    }
+    return "";
+}

@@ -1,0 +1,691 @@
+#include "core/dm_scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <cJSON.h>
+
+#include "core/dm_file.h"
+
+static const char *const effect_names[DM_EFFECT_COUNT] = {
+    "specular", "subsurface", "energy_conservation", "shadows", "environment_lighting", "glow", "tonemap",
+};
+
+const char *dm_effect_name(dm_effect e)
+{
+    return (unsigned)e < DM_EFFECT_COUNT ? effect_names[e] : NULL;
+}
+
+int dm_effect_from_name(const char *name)
+{
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        if (name && strcmp(name, effect_names[e]) == 0) return e;
+    return -1;
+}
+
+const char *dm_light_type_name(dm_light_type t)
+{
+    return t == DM_LIGHT_DIRECTIONAL ? "directional" : t == DM_LIGHT_POINT ? "point" : NULL;
+}
+
+void dm_scene_defaults(dm_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    s->roughness = 0.3f;
+    s->rho_s = 0.18f;
+    s->mm_per_unit = 50.0;
+    s->env_intensity = 1.0f;
+    s->env_background = true;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = true;
+    dm_profile_gems3_skin(&s->profile);
+    snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
+    s->blur_taps = 7;
+    s->irradiance_size = 1024;
+    s->mix = 0.5f;
+    s->glow_threshold = 1.0f;
+    s->glow_intensity = 0.1f;
+    s->camera_eye[2] = 20.0f;
+    s->camera_up[1] = 1.0f;
+    s->fov_y_deg = 30.0f;
+    s->width = 1280;
+    s->height = 720;
+}
+
+/* --- strict reading helpers ------------------------------------------------------
+ * Every helper returns false after filling ctx->err; callers stop at the first error. */
+
+typedef struct ctx {
+    const char *file;
+    char dir[DM_SCENE_PATH_SIZE];
+    dm_error *err;
+    dm_result r;
+} ctx;
+
+enum { JPATH_SIZE = 160 };
+
+/* The JSON text of a value, shortened for messages. */
+static void value_text(const cJSON *v, char *out, size_t out_size)
+{
+    char *t = v ? cJSON_PrintUnformatted(v) : NULL;
+    if (!t) {
+        snprintf(out, out_size, "(nothing)");
+        return;
+    }
+    if (strlen(t) > 60)
+        snprintf(out, out_size, "%.57s...", t);
+    else
+        snprintf(out, out_size, "%s", t);
+    cJSON_free(t);
+}
+
+static bool fail_value(ctx *c, dm_result code, const char *jpath, const cJSON *v, const char *expected)
+{
+    char vt[80];
+    value_text(v, vt, sizeof vt);
+    c->r = dm_fail(c->err, code, "%s: %s: %s is not %s", c->file, jpath, vt, expected);
+    return false;
+}
+
+static void child_path(char *out, const char *parent, const char *key)
+{
+    if (snprintf(out, JPATH_SIZE, "%s.%s", parent, key) >= JPATH_SIZE) out[JPATH_SIZE - 1] = '\0';
+}
+
+/* Refuses keys outside `allowed` (NULL-terminated) and keys given twice. */
+static bool check_keys(ctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
+{
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        bool ok = false;
+        for (const char *const *a = allowed; *a; ++a)
+            if (strcmp(it->string, *a) == 0) ok = true;
+        if (!ok) {
+            char list[512] = "";
+            size_t n = 0;
+            for (const char *const *a = allowed; *a && n < sizeof list; ++a)
+                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", a == allowed ? "" : ", ", *a);
+            c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s.%s: unknown key, expected one of: %s", c->file, jpath,
+                           it->string, list);
+            return false;
+        }
+        for (const cJSON *jt = it->next; jt; jt = jt->next)
+            if (strcmp(it->string, jt->string) == 0) {
+                c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s.%s: key given twice, expected once", c->file, jpath,
+                               it->string);
+                return false;
+            }
+    }
+    return true;
+}
+
+static const cJSON *get(const cJSON *obj, const char *key)
+{
+    return cJSON_GetObjectItemCaseSensitive(obj, key);
+}
+
+/* An object member that must be an object (NULL with *ok = true when absent and optional). */
+static const cJSON *get_object(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool required, bool *ok)
+{
+    char p[JPATH_SIZE];
+    child_path(p, jpath, key);
+    const cJSON *v = get(obj, key);
+    *ok = true;
+    if (!v) {
+        if (!required) return NULL;
+        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected an object", c->file, p);
+        *ok = false;
+        return NULL;
+    }
+    if (!cJSON_IsObject(v)) {
+        *ok = fail_value(c, DM_ERR_FORMAT, p, v, "an object");
+        return NULL;
+    }
+    return v;
+}
+
+static bool get_double(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi,
+                       double *out)
+{
+    const cJSON *v = get(obj, key);
+    if (!v) return true;
+    char p[JPATH_SIZE], want[96];
+    child_path(p, jpath, key);
+    snprintf(want, sizeof want, "a number in [%g, %g]", lo, hi);
+    if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+    if (!isfinite(v->valuedouble) || v->valuedouble < lo || v->valuedouble > hi)
+        return fail_value(c, DM_ERR_RANGE, p, v, want);
+    *out = v->valuedouble;
+    return true;
+}
+
+static bool get_float(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi, float *out)
+{
+    double d = *out;
+    if (!get_double(c, obj, jpath, key, lo, hi, &d)) return false;
+    *out = (float)d;
+    return true;
+}
+
+/* An integer in [lo, hi]; odd_only refuses even values. */
+static bool get_int(ctx *c, const cJSON *obj, const char *jpath, const char *key, int lo, int hi, bool odd_only,
+                    int *out)
+{
+    const cJSON *v = get(obj, key);
+    if (!v) return true;
+    char p[JPATH_SIZE], want[96];
+    child_path(p, jpath, key);
+    snprintf(want, sizeof want, "%s integer in [%d, %d]", odd_only ? "an odd" : "an", lo, hi);
+    if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+    double d = v->valuedouble;
+    if (!isfinite(d) || d != floor(d) || d < lo || d > hi || (odd_only && fmod(d, 2.0) == 0.0))
+        return fail_value(c, DM_ERR_RANGE, p, v, want);
+    *out = (int)d;
+    return true;
+}
+
+static bool get_bool(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool *out)
+{
+    const cJSON *v = get(obj, key);
+    if (!v) return true;
+    char p[JPATH_SIZE];
+    child_path(p, jpath, key);
+    if (!cJSON_IsBool(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "true or false");
+    *out = cJSON_IsTrue(v);
+    return true;
+}
+
+/* Three finite numbers, each in [lo, hi]; nonzero refuses the zero vector. */
+static bool get_vec3(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi,
+                     bool nonzero, float out[3])
+{
+    const cJSON *v = get(obj, key);
+    if (!v) return true;
+    char p[JPATH_SIZE], want[128];
+    child_path(p, jpath, key);
+    snprintf(want, sizeof want, "an array of 3 numbers in [%g, %g]%s", lo, hi, nonzero ? ", not all zero" : "");
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+    float t[3];
+    double len2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        const cJSON *x = cJSON_GetArrayItem(v, k);
+        if (!cJSON_IsNumber(x)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+        double d = x->valuedouble;
+        if (!isfinite(d) || d < lo || d > hi) return fail_value(c, DM_ERR_RANGE, p, v, want);
+        t[k] = (float)d;
+        len2 += d * d;
+    }
+    if (nonzero && !(len2 > 1e-12)) return fail_value(c, DM_ERR_RANGE, p, v, want);
+    memcpy(out, t, sizeof t);
+    return true;
+}
+
+/* Resolves a path relative to the scene's folder into out; "" stays "". */
+static bool resolve(ctx *c, const char *jpath, const char *value, char out[DM_SCENE_PATH_SIZE])
+{
+    int n;
+    if (!*value || value[0] == '/')
+        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s", value);
+    else if (strcmp(c->dir, ".") == 0)
+        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s", value);
+    else
+        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s/%s", c->dir, value);
+    if (n < 0 || n >= DM_SCENE_PATH_SIZE) {
+        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: %s: \"%.60s...\" is too long, expected a path under %d bytes",
+                       c->file, jpath, value, DM_SCENE_PATH_SIZE);
+        return false;
+    }
+    return true;
+}
+
+static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool allow_empty,
+                     char out[DM_SCENE_PATH_SIZE])
+{
+    const cJSON *v = get(obj, key);
+    if (!v) return true;
+    char p[JPATH_SIZE];
+    child_path(p, jpath, key);
+    if (!cJSON_IsString(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "a file path string");
+    if (!allow_empty && !*v->valuestring) return fail_value(c, DM_ERR_RANGE, p, v, "a non-empty file path");
+    return resolve(c, p, v->valuestring, out);
+}
+
+/* --- sections ---------------------------------------------------------------------- */
+
+static bool parse_mesh(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const keys[] = {"path", "mm_per_unit", NULL};
+    bool ok;
+    const cJSON *m = get_object(c, root, "$", "mesh", true, &ok);
+    if (!ok || !check_keys(c, m, "$.mesh", keys)) return false;
+    if (!get(m, "path")) {
+        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: $.mesh.path: missing, expected the mesh file's path", c->file);
+        return false;
+    }
+    return get_path(c, m, "$.mesh", "path", false, s->mesh) &&
+           get_double(c, m, "$.mesh", "mm_per_unit", 1e-6, 1e6, &s->mm_per_unit);
+}
+
+static bool parse_material(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const keys[] = {"albedo", "normal_map", "specular_map", "roughness_map", "roughness", "rho_s",
+                                       NULL};
+    bool ok;
+    const cJSON *m = get_object(c, root, "$", "material", false, &ok);
+    if (!ok) return false;
+    if (!m) return true;
+    return check_keys(c, m, "$.material", keys) && get_path(c, m, "$.material", "albedo", true, s->albedo) &&
+           get_path(c, m, "$.material", "normal_map", true, s->normal_map) &&
+           get_path(c, m, "$.material", "specular_map", true, s->specular_map) &&
+           get_path(c, m, "$.material", "roughness_map", true, s->roughness_map) &&
+           get_float(c, m, "$.material", "roughness", 0.0, 1.0, &s->roughness) &&
+           get_float(c, m, "$.material", "rho_s", 0.0, 1.0, &s->rho_s);
+}
+
+static bool parse_light(ctx *c, const cJSON *l, const char *jpath, dm_light *out)
+{
+    static const char *const dir_keys[] = {"type", "direction", "color", "intensity", "casts_shadow", NULL};
+    static const char *const point_keys[] = {"type", "position", "color", "intensity", "casts_shadow", NULL};
+    if (!cJSON_IsObject(l)) return fail_value(c, DM_ERR_FORMAT, jpath, l, "an object");
+    const cJSON *t = get(l, "type");
+    char p[JPATH_SIZE];
+    child_path(p, jpath, "type");
+    if (!t) {
+        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected \"directional\" or \"point\"", c->file, p);
+        return false;
+    }
+    if (!cJSON_IsString(t) ||
+        (strcmp(t->valuestring, "directional") != 0 && strcmp(t->valuestring, "point") != 0))
+        return fail_value(c, DM_ERR_FORMAT, p, t, "\"directional\" or \"point\"");
+    memset(out, 0, sizeof *out);
+    out->type = strcmp(t->valuestring, "point") == 0 ? DM_LIGHT_POINT : DM_LIGHT_DIRECTIONAL;
+    out->color[0] = out->color[1] = out->color[2] = 1.0f;
+    out->intensity = 1.0f;
+    out->casts_shadow = true;
+    const char *need = out->type == DM_LIGHT_POINT ? "position" : "direction";
+    if (!check_keys(c, l, jpath, out->type == DM_LIGHT_POINT ? point_keys : dir_keys)) return false;
+    if (!get(l, need)) {
+        child_path(p, jpath, need);
+        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected an array of 3 numbers (a %s light needs it)",
+                       c->file, p, t->valuestring);
+        return false;
+    }
+    if (out->type == DM_LIGHT_POINT) {
+        if (!get_vec3(c, l, jpath, "position", -1e6, 1e6, false, out->position)) return false;
+    } else {
+        if (!get_vec3(c, l, jpath, "direction", -1e6, 1e6, true, out->direction)) return false;
+        double n = sqrt((double)out->direction[0] * out->direction[0] + (double)out->direction[1] * out->direction[1] +
+                        (double)out->direction[2] * out->direction[2]);
+        for (int k = 0; k < 3; ++k) out->direction[k] = (float)(out->direction[k] / n);
+    }
+    return get_vec3(c, l, jpath, "color", 0.0, 1e6, false, out->color) &&
+           get_float(c, l, jpath, "intensity", 0.0, 1e6, &out->intensity) &&
+           get_bool(c, l, jpath, "casts_shadow", &out->casts_shadow);
+}
+
+static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
+{
+    const cJSON *ls = get(root, "lights");
+    if (!ls) return true;
+    char want[64];
+    snprintf(want, sizeof want, "an array of at most %d lights", DM_SCENE_MAX_LIGHTS);
+    if (!cJSON_IsArray(ls)) return fail_value(c, DM_ERR_FORMAT, "$.lights", ls, want);
+    int n = cJSON_GetArraySize(ls);
+    if (n > DM_SCENE_MAX_LIGHTS) {
+        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.lights: %d lights, expected at most %d", c->file, n,
+                       DM_SCENE_MAX_LIGHTS);
+        return false;
+    }
+    s->light_count = 0;
+    int k = 0;
+    for (const cJSON *l = ls->child; l; l = l->next, ++k) {
+        char p[JPATH_SIZE];
+        snprintf(p, sizeof p, "$.lights[%d]", k);
+        if (!parse_light(c, l, p, &s->lights[k])) return false;
+        s->light_count = k + 1;
+    }
+    return true;
+}
+
+static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const keys[] = {"path", "intensity", "rotation_deg", "background", NULL};
+    bool ok;
+    const cJSON *e = get_object(c, root, "$", "environment", false, &ok);
+    if (!ok) return false;
+    if (!e) return true;
+    return check_keys(c, e, "$.environment", keys) && get_path(c, e, "$.environment", "path", true, s->environment) &&
+           get_float(c, e, "$.environment", "intensity", 0.0, 1e6, &s->env_intensity) &&
+           get_float(c, e, "$.environment", "rotation_deg", -360.0, 360.0, &s->env_rotation_deg) &&
+           get_bool(c, e, "$.environment", "background", &s->env_background);
+}
+
+static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
+{
+    if (cJSON_IsObject(v)) { /* inline, in the dm_profile.h JSON form (what dm_scene_to_json writes) */
+        char *text = cJSON_PrintUnformatted(v);
+        if (!text) {
+            c->r = dm_fail(c->err, DM_ERR_OUT_OF_MEMORY, "%s: %s: out of memory", c->file, jpath);
+            return false;
+        }
+        char what[DM_SCENE_PATH_SIZE + JPATH_SIZE];
+        snprintf(what, sizeof what, "%s: %s", c->file, jpath);
+        dm_result r = dm_profile_from_json(text, what, &s->profile, c->err);
+        cJSON_free(text);
+        if (r != DM_OK) {
+            c->r = r;
+            return false;
+        }
+        snprintf(s->profile_source, sizeof s->profile_source, "inline");
+        return true;
+    }
+    if (!cJSON_IsString(v) || !*v->valuestring)
+        return fail_value(c, DM_ERR_FORMAT, jpath, v, "\"gems3-skin\", a profile JSON path or a profile object");
+    if (strcmp(v->valuestring, "gems3-skin") == 0) {
+        dm_profile_gems3_skin(&s->profile);
+        snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
+        return true;
+    }
+    if (!resolve(c, jpath, v->valuestring, s->profile_source)) return false;
+    struct stat st;
+    if (stat(s->profile_source, &st) != 0 || !S_ISREG(st.st_mode)) {
+        char want[DM_SCENE_PATH_SIZE + 64];
+        snprintf(want, sizeof want, "\"gems3-skin\" or an existing profile file (looked for %s)", s->profile_source);
+        return fail_value(c, DM_ERR_FILE_OPEN, jpath, v, want);
+    }
+    dm_result r = dm_profile_read(s->profile_source, &s->profile, c->err);
+    if (r != DM_OK) {
+        char inner[sizeof c->err->detail];
+        snprintf(inner, sizeof inner, "%s", c->err ? c->err->detail : "");
+        c->r = dm_fail(c->err, r, "%s: %s: %s", c->file, jpath, inner);
+        return false;
+    }
+    return true;
+}
+
+/* An effect is `true`, `false`, or an object whose "enabled" defaults to true. */
+static bool parse_effect(ctx *c, const cJSON *effects, dm_effect e, const char *const *extra_keys, dm_scene *s,
+                         const cJSON **params)
+{
+    const char *name = dm_effect_name(e);
+    const cJSON *v = get(effects, name);
+    char p[JPATH_SIZE];
+    child_path(p, "$.effects", name);
+    *params = NULL;
+    if (!v) return true;
+    if (cJSON_IsBool(v)) {
+        s->effects[e] = cJSON_IsTrue(v);
+        return true;
+    }
+    if (!cJSON_IsObject(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "true, false or an object");
+    const char *keys[12] = {"enabled"};
+    int n = 1;
+    for (const char *const *k = extra_keys; k && *k && n < 11; ++k) keys[n++] = *k;
+    keys[n] = NULL;
+    if (!check_keys(c, v, p, keys)) return false;
+    bool on = true;
+    if (!get_bool(c, v, p, "enabled", &on)) return false;
+    s->effects[e] = on;
+    *params = v;
+    return true;
+}
+
+static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const sss_keys[] = {"profile", "taps", "irradiance_size", "mix", NULL};
+    static const char *const glow_keys[] = {"threshold", "intensity", NULL};
+    static const char *const tone_keys[] = {"exposure", NULL};
+    bool ok;
+    const cJSON *fx = get_object(c, root, "$", "effects", true, &ok); /* a scene names its effects */
+    if (!ok) return false;
+    const char *keys[DM_EFFECT_COUNT + 1];
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) keys[e] = dm_effect_name((dm_effect)e);
+    keys[DM_EFFECT_COUNT] = NULL;
+    if (!check_keys(c, fx, "$.effects", keys)) return false;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = false; /* listed effects only */
+    const cJSON *pm;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
+        const char *const *extra = e == DM_EFFECT_SUBSURFACE ? sss_keys
+                                   : e == DM_EFFECT_GLOW     ? glow_keys
+                                   : e == DM_EFFECT_TONEMAP  ? tone_keys
+                                                             : NULL;
+        if (!parse_effect(c, fx, (dm_effect)e, extra, s, &pm)) return false;
+        if (!pm) continue;
+        if (e == DM_EFFECT_SUBSURFACE) {
+            const char *p = "$.effects.subsurface";
+            const cJSON *prof = get(pm, "profile");
+            if (prof && !parse_profile(c, prof, "$.effects.subsurface.profile", s)) return false;
+            if (!get_int(c, pm, p, "taps", 3, 63, true, &s->blur_taps) ||
+                !get_int(c, pm, p, "irradiance_size", 64, 8192, false, &s->irradiance_size) ||
+                !get_float(c, pm, p, "mix", 0.0, 1.0, &s->mix))
+                return false;
+        } else if (e == DM_EFFECT_GLOW) {
+            if (!get_float(c, pm, "$.effects.glow", "threshold", 0.0, 1e6, &s->glow_threshold) ||
+                !get_float(c, pm, "$.effects.glow", "intensity", 0.0, 100.0, &s->glow_intensity))
+                return false;
+        } else if (e == DM_EFFECT_TONEMAP) {
+            if (!get_float(c, pm, "$.effects.tonemap", "exposure", -20.0, 20.0, &s->exposure)) return false;
+        }
+    }
+    return true;
+}
+
+static bool parse_camera(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const keys[] = {"eye", "target", "up", "fov_y_deg", NULL};
+    bool ok;
+    const cJSON *cam = get_object(c, root, "$", "camera", false, &ok);
+    if (!ok) return false;
+    if (!cam) return true;
+    if (!check_keys(c, cam, "$.camera", keys) || !get_vec3(c, cam, "$.camera", "eye", -1e6, 1e6, false, s->camera_eye) ||
+        !get_vec3(c, cam, "$.camera", "target", -1e6, 1e6, false, s->camera_target) ||
+        !get_vec3(c, cam, "$.camera", "up", -1e6, 1e6, true, s->camera_up) ||
+        !get_float(c, cam, "$.camera", "fov_y_deg", 1.0, 179.0, &s->fov_y_deg))
+        return false;
+    double d[3], len2 = 0.0, cr[3], cr2 = 0.0, up2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        d[k] = (double)s->camera_target[k] - s->camera_eye[k];
+        len2 += d[k] * d[k];
+        up2 += (double)s->camera_up[k] * s->camera_up[k];
+    }
+    if (!(len2 > 1e-12)) {
+        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.camera.eye: equals $.camera.target, expected a distinct point",
+                       c->file);
+        return false;
+    }
+    const float *u = s->camera_up;
+    cr[0] = d[1] * u[2] - d[2] * u[1];
+    cr[1] = d[2] * u[0] - d[0] * u[2];
+    cr[2] = d[0] * u[1] - d[1] * u[0];
+    for (int k = 0; k < 3; ++k) cr2 += cr[k] * cr[k];
+    if (!(cr2 > 1e-8 * len2 * up2)) {
+        c->r = dm_fail(c->err, DM_ERR_RANGE,
+                       "%s: $.camera.up: [%g, %g, %g] is parallel to the view direction, expected a vector across it",
+                       c->file, u[0], u[1], u[2]);
+        return false;
+    }
+    return true;
+}
+
+static bool parse_output(ctx *c, const cJSON *root, dm_scene *s)
+{
+    static const char *const keys[] = {"width", "height", NULL};
+    bool ok;
+    const cJSON *o = get_object(c, root, "$", "output", false, &ok);
+    if (!ok) return false;
+    if (!o) return true;
+    return check_keys(c, o, "$.output", keys) && get_int(c, o, "$.output", "width", 1, 16384, false, &s->width) &&
+           get_int(c, o, "$.output", "height", 1, 16384, false, &s->height);
+}
+
+static bool parse_header(ctx *c, const cJSON *root)
+{
+    const cJSON *f = get(root, "format"), *v = get(root, "version");
+    if (f && (!cJSON_IsString(f) || strcmp(f->valuestring, "dermis-scene") != 0))
+        return fail_value(c, DM_ERR_FORMAT, "$.format", f, "\"dermis-scene\"");
+    if (v && (!cJSON_IsNumber(v) || v->valuedouble != 1.0))
+        return fail_value(c, DM_ERR_UNSUPPORTED, "$.version", v, "1 (the only scene version)");
+    return true;
+}
+
+/* Line and column of byte `at` in text, for JSON syntax errors. */
+static void line_col(const char *text, const char *at, int *line, int *col)
+{
+    *line = 1;
+    *col = 1;
+    for (const char *p = text; p < at && *p; ++p) {
+        if (*p == '\n') {
+            ++*line;
+            *col = 1;
+        } else {
+            ++*col;
+        }
+    }
+}
+
+dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err)
+{
+    static const char *const keys[] = {"format", "version", "mesh",    "material", "lights",
+                                       "environment", "effects", "camera", "output", NULL};
+    dm_scene_defaults(s);
+    ctx c = {.file = path ? path : "(scene)", .err = err, .r = DM_OK};
+    snprintf(s->path, sizeof s->path, "%s", c.file);
+    dm_dirname(c.file, c.dir, sizeof c.dir);
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(json, &end, 1);
+    if (!root) {
+        int line, col;
+        const char *at = end ? end : cJSON_GetErrorPtr();
+        if (!at) at = json;
+        line_col(json, at, &line, &col);
+        return dm_fail(err, DM_ERR_FORMAT, "%s:%d:%d: invalid JSON near \"%.20s\", expected a JSON object", c.file,
+                       line, col, at);
+    }
+    bool ok = true;
+    if (!cJSON_IsObject(root)) ok = fail_value(&c, DM_ERR_FORMAT, "$", root, "a JSON object");
+    ok = ok && check_keys(&c, root, "$", keys) && parse_header(&c, root) && parse_mesh(&c, root, s) &&
+         parse_material(&c, root, s) && parse_lights(&c, root, s) && parse_environment(&c, root, s) &&
+         parse_effects(&c, root, s) && parse_camera(&c, root, s) && parse_output(&c, root, s);
+    if (ok && s->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] && !*s->environment) {
+        c.r = dm_fail(err, DM_ERR_MISMATCH,
+                      "%s: $.effects.environment_lighting: on, but $.environment.path is missing, expected an "
+                      "environment map or the effect turned off",
+                      c.file);
+        ok = false;
+    }
+    cJSON_Delete(root);
+    return ok ? DM_OK : c.r;
+}
+
+dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err)
+{
+    char *text = NULL;
+    size_t size = 0;
+    dm_scene_defaults(s);
+    dm_result r = dm_read_file(path, &text, &size, err);
+    if (r != DM_OK) return r;
+    if (strlen(text) != size) {
+        free(text);
+        return dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected JSON text", path);
+    }
+    r = dm_scene_parse(text, path, s, err);
+    free(text);
+    return r;
+}
+
+/* --- writing ----------------------------------------------------------------------- */
+
+static cJSON *vec3(const float v[3])
+{
+    double d[3] = {v[0], v[1], v[2]};
+    return cJSON_CreateDoubleArray(d, 3);
+}
+
+static cJSON *profile_json(const dm_profile *p)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "format", "dermis-profile");
+    cJSON_AddNumberToObject(o, "version", 1);
+    cJSON_AddStringToObject(o, "name", p->name);
+    cJSON *g = cJSON_AddArrayToObject(o, "gaussians");
+    for (int k = 0; k < p->count; ++k) {
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddNumberToObject(e, "variance_mm2", p->variance_mm2[k]);
+        cJSON_AddItemToObject(e, "weights", cJSON_CreateDoubleArray(p->weight[k], 3));
+        cJSON_AddItemToArray(g, e);
+    }
+    return o;
+}
+
+dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
+{
+    *out = NULL;
+    cJSON *r = cJSON_CreateObject();
+    cJSON_AddStringToObject(r, "format", "dermis-scene");
+    cJSON_AddNumberToObject(r, "version", 1);
+    cJSON *m = cJSON_AddObjectToObject(r, "mesh");
+    cJSON_AddStringToObject(m, "path", s->mesh);
+    cJSON_AddNumberToObject(m, "mm_per_unit", s->mm_per_unit);
+    cJSON *mat = cJSON_AddObjectToObject(r, "material");
+    cJSON_AddStringToObject(mat, "albedo", s->albedo);
+    cJSON_AddStringToObject(mat, "normal_map", s->normal_map);
+    cJSON_AddStringToObject(mat, "specular_map", s->specular_map);
+    cJSON_AddStringToObject(mat, "roughness_map", s->roughness_map);
+    cJSON_AddNumberToObject(mat, "roughness", s->roughness);
+    cJSON_AddNumberToObject(mat, "rho_s", s->rho_s);
+    cJSON *ls = cJSON_AddArrayToObject(r, "lights");
+    for (int k = 0; k < s->light_count; ++k) {
+        const dm_light *l = &s->lights[k];
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "type", dm_light_type_name(l->type));
+        if (l->type == DM_LIGHT_POINT)
+            cJSON_AddItemToObject(o, "position", vec3(l->position));
+        else
+            cJSON_AddItemToObject(o, "direction", vec3(l->direction));
+        cJSON_AddItemToObject(o, "color", vec3(l->color));
+        cJSON_AddNumberToObject(o, "intensity", l->intensity);
+        cJSON_AddBoolToObject(o, "casts_shadow", l->casts_shadow);
+        cJSON_AddItemToArray(ls, o);
+    }
+    cJSON *env = cJSON_AddObjectToObject(r, "environment");
+    cJSON_AddStringToObject(env, "path", s->environment);
+    cJSON_AddNumberToObject(env, "intensity", s->env_intensity);
+    cJSON_AddNumberToObject(env, "rotation_deg", s->env_rotation_deg);
+    cJSON_AddBoolToObject(env, "background", s->env_background);
+    cJSON *fx = cJSON_AddObjectToObject(r, "effects");
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
+        const char *name = dm_effect_name((dm_effect)e);
+        if (e == DM_EFFECT_SUBSURFACE) {
+            cJSON *o = cJSON_AddObjectToObject(fx, name);
+            cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
+            cJSON_AddItemToObject(o, "profile", profile_json(&s->profile));
+            cJSON_AddNumberToObject(o, "taps", s->blur_taps);
+            cJSON_AddNumberToObject(o, "irradiance_size", s->irradiance_size);
+            cJSON_AddNumberToObject(o, "mix", s->mix);
+        } else if (e == DM_EFFECT_GLOW) {
+            cJSON *o = cJSON_AddObjectToObject(fx, name);
+            cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
+            cJSON_AddNumberToObject(o, "threshold", s->glow_threshold);
+            cJSON_AddNumberToObject(o, "intensity", s->glow_intensity);
+        } else if (e == DM_EFFECT_TONEMAP) {
+            cJSON *o = cJSON_AddObjectToObject(fx, name);
+            cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
+            cJSON_AddNumberToObject(o, "exposure", s->exposure);
+        } else {
+            cJSON_AddBoolToObject(fx, name, s->effects[e]);
+        }
+    }
+    cJSON *cam = cJSON_AddObjectToObject(r, "camera");
+    cJSON_AddItemToObject(cam, "eye", vec3(s->camera_eye));
+    cJSON_AddItemToObject(cam, "target", vec3(s->camera_target));
+    cJSON_AddItemToObject(cam, "up", vec3(s->camera_up));
+    cJSON_AddNumberToObject(cam, "fov_y_deg", s->fov_y_deg);
+    cJSON *o = cJSON_AddObjectToObject(r, "output");
+    cJSON_AddNumberToObject(o, "width", s->width);
+    cJSON_AddNumberToObject(o, "height", s->height);
+    *out = cJSON_Print(r);
+    cJSON_Delete(r);
+    if (!*out) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot print the scene as JSON", s->path);
+    return DM_OK;
+}

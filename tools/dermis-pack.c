@@ -1,0 +1,589 @@
+/* dermis-pack — scene + sources → one .dpk pack holding only what the scene's effects need.
+ * parse → load scene → run the bake steps that apply → write. */
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_exr.h"
+#include "bake/dm_image.h"
+#include "bake/dm_lut.h"
+#include "bake/dm_lut_prov.h"
+#include "bake/dm_pack_write.h"
+#include "core/dm_brdf.h"
+#include "core/dm_cli.h"
+#include "core/dm_file.h"
+#include "core/dm_hash.h"
+#include "core/dm_pack.h"
+#include "core/dm_pack_needs.h"
+#include "core/dm_scene.h"
+#include "core/dm_version.h"
+
+#define TOOL "dermis-pack"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "Usage: dermis-pack SCENE.json -o FILE.dpk [options]\n"
+            "       dermis-pack --explain SCENE.json\n"
+            "Bakes what the scene's effects need and packs it, GPU-ready, into one .dpk file.\n"
+            "\n"
+            "Options:\n"
+            "  -o, --output FILE      the pack to write (required unless --explain)\n"
+            "  --explain              print which entries each enabled effect needs, and why; write nothing\n"
+            "  --beckmann FILE.png    take this baked Beckmann LUT instead of baking (provenance must match)\n"
+            "  --rho-dt FILE.exr      take this baked rho_dt LUT (channel \"rho_dt\"; provenance must match)\n"
+            "  --env-brdf FILE.exr    take this baked env-BRDF LUT (channels \"scale\", \"bias\")\n"
+            "  --beckmann-size N      Beckmann LUT size, N x N (default %d, range 16..%d)\n"
+            "  --lut-size N           rho_dt / env-BRDF LUT size, N x N (default %d, range 8..1024)\n"
+            "  --lut-nodes N          Gauss-Legendre nodes for rho_dt (default %d, range 8..128)\n"
+            "  --threads N            bake threads, 0 = all cores (default 0, range 0..256)\n"
+            "  -v, --verbose          print provenance of every entry\n"
+            "  --quiet                print nothing but errors\n"
+            "  -h, --help             this text\n"
+            "\n"
+            "Exit codes: 0 ok, 1 usage, 2 cannot load an input, 3 processing failed, 4 cannot save.\n",
+            DM_LUT_BECKMANN_SIZE_DEFAULT, DM_LUT_SIZE_MAX, DM_LUT_DIRECTIONAL_SIZE_DEFAULT, DM_LUT_NODES_DEFAULT);
+}
+
+typedef struct options {
+    const char *scene, *output, *beckmann, *rho_dt, *env_brdf;
+    bool explain, verbose, quiet;
+    int beckmann_size, lut_size, lut_nodes, threads;
+} options;
+
+typedef struct report_row {
+    char entry[DM_PACK_NAME_SIZE];
+    char source[160];
+    size_t size;
+    double ms;
+} report_row;
+
+typedef struct job {
+    const options *opt;
+    dm_scene scene;
+    char scene_hash[DM_HASH_HEX_SIZE];
+    dm_pack_writer w;
+    report_row rows[64];
+    int row_count;
+    double step_t0;
+} job;
+
+/* --- helpers ------------------------------------------------------------------------ */
+
+static bool wanted(const job *j, const char *entry)
+{
+    const dm_pack_need *n = dm_pack_need_find(entry);
+    return n && !n->pending && dm_pack_need_applies(n, &j->scene);
+}
+
+static dm_result add(job *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
+                     const char *source, dm_error *err)
+{
+    dm_result r = dm_pack_writer_add(&j->w, d, data, size, prov, err);
+    if (r != DM_OK) return r;
+    if (j->row_count < (int)(sizeof j->rows / sizeof j->rows[0])) {
+        report_row *row = &j->rows[j->row_count++];
+        snprintf(row->entry, sizeof row->entry, "%s", d->name);
+        snprintf(row->source, sizeof row->source, "%s", source);
+        row->size = size;
+        row->ms = dm_now_ms() - j->step_t0;
+    }
+    return DM_OK;
+}
+
+static dm_pack_entry texture_desc(const char *name, dm_tex_format f, int w, int h)
+{
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "%s", name);
+    d.kind = DM_PACK_TEXTURE;
+    d.format = f;
+    d.width = w;
+    d.height = h;
+    d.layers = 1;
+    d.levels = 1;
+    return d;
+}
+
+static const char *base_name(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+/* --- steps -------------------------------------------------------------------------- */
+
+static dm_result step_scene(job *j, dm_error *err)
+{
+    char *text = NULL;
+    dm_result r = dm_scene_to_json(&j->scene, &text, err);
+    if (r != DM_OK) return r;
+    dm_provenance p;
+    dm_prov_init(&p, TOOL);
+    snprintf(p.input_hash, sizeof p.input_hash, "%s", j->scene_hash);
+    dm_prov_add_string(&p, "scene", j->opt->scene);
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "scene");
+    d.kind = DM_PACK_SCENE;
+    r = add(j, &d, text, strlen(text), &p, "normalised from the scene file", err);
+    free(text);
+    return r;
+}
+
+/* A map from an image file: channels converted to the pack format, rows bottom-up. */
+static dm_result pack_map(job *j, const char *entry, const char *path, dm_tex_format f, dm_error *err)
+{
+    dm_image img;
+    dm_result r = dm_image_read(path, DM_PIXEL_U8, &img, err);
+    if (r != DM_OK) {
+        dm_image_free(&img);
+        return r;
+    }
+    const int out_c = dm_tex_format_get(f)->components;
+    size_t n = (size_t)img.width * img.height;
+    uint8_t *px = malloc(n * (size_t)out_c);
+    if (!px) {
+        dm_image_free(&img);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    const uint8_t *in = img.pixels;
+    const int c = img.channels;
+    for (size_t i = 0; i < n; ++i) {
+        const uint8_t *s = in + i * (size_t)c;
+        uint8_t *o = px + i * (size_t)out_c;
+        if (out_c == 1) {
+            /* grey maps: the mean of the colour channels (equal on a grey JPEG) */
+            int sum = 0, cc = c >= 3 ? 3 : 1;
+            for (int k = 0; k < cc; ++k) sum += s[k];
+            o[0] = (uint8_t)((sum + cc / 2) / cc);
+        } else {
+            for (int k = 0; k < 3; ++k) o[k] = s[c >= 3 ? k : 0];
+            o[3] = c == 4 ? s[3] : 255;
+        }
+    }
+    dm_provenance p;
+    dm_prov_init(&p, TOOL);
+    r = dm_hash_file_hex(path, p.input_hash, err);
+    dm_prov_add_string(&p, "source", path);
+    dm_prov_add_string(&p, "conversion", out_c == 1 ? "u8 mean of colour channels" : "u8 rgb + alpha (255 if none)");
+    dm_pack_entry d = texture_desc(entry, f, img.width, img.height);
+    if (f == DM_TEX_RGBA8) {
+        d.channel_count = 4;
+        snprintf(d.channels[0], sizeof d.channels[0], "x");
+        snprintf(d.channels[1], sizeof d.channels[1], "y");
+        snprintf(d.channels[2], sizeof d.channels[2], "z");
+        snprintf(d.channels[3], sizeof d.channels[3], "unused");
+    }
+    char src[160];
+    snprintf(src, sizeof src, "from %s", base_name(path));
+    if (r == DM_OK) r = add(j, &d, px, n * (size_t)out_c, &p, src, err);
+    free(px);
+    dm_image_free(&img);
+    return r;
+}
+
+static dm_result step_albedo(job *j, dm_error *err)
+{
+    return pack_map(j, "albedo", j->scene.albedo, DM_TEX_RGBA8_SRGB, err);
+}
+static dm_result step_normal(job *j, dm_error *err)
+{
+    return pack_map(j, "normal", j->scene.normal_map, DM_TEX_RGBA8, err);
+}
+static dm_result step_specular(job *j, dm_error *err)
+{
+    return pack_map(j, "specular", j->scene.specular_map, DM_TEX_R8, err);
+}
+static dm_result step_roughness(job *j, dm_error *err)
+{
+    return pack_map(j, "roughness", j->scene.roughness_map, DM_TEX_R8, err);
+}
+
+static dm_result step_beckmann(job *j, dm_error *err)
+{
+    const int n = j->opt->beckmann_size;
+    dm_provenance want;
+    dm_lut_prov_beckmann(&want, TOOL, n, n);
+    dm_pack_entry d = texture_desc("lut.beckmann", DM_TEX_R8, n, n);
+    if (j->opt->beckmann) { /* already baked: provenance must match what we would bake */
+        const char *f = j->opt->beckmann;
+        dm_image img;
+        dm_result r = dm_image_read(f, DM_PIXEL_U8, &img, err);
+        if (r == DM_OK && !img.has_provenance)
+            r = dm_fail(err, DM_ERR_MISMATCH, "%s: no dermis provenance, expected a LUT baked by dermis", f);
+        if (r == DM_OK) r = dm_lut_prov_match(&img.prov, &want, f, err);
+        if (r == DM_OK && (img.width != n || img.height != n || img.channels != 1))
+            r = dm_fail(err, DM_ERR_MISMATCH, "%s: %dx%d with %d channels, expected %dx%d with 1", f, img.width,
+                        img.height, img.channels, n, n);
+        char src[160];
+        snprintf(src, sizeof src, "from %s", base_name(f));
+        if (r == DM_OK) r = add(j, &d, img.pixels, (size_t)n * n, &img.prov, src, err);
+        dm_image_free(&img);
+        return r;
+    }
+    dm_beckmann_lut lut;
+    dm_result r = dm_lut_bake_beckmann(n, n, 0, j->opt->threads, &lut, err);
+    if (r == DM_OK) r = add(j, &d, lut.texels, (size_t)n * n, &want, "baked", err);
+    dm_beckmann_lut_free(&lut);
+    return r;
+}
+
+/* Loads an already-baked directional LUT into `out` (w*h*channels interleaved). */
+static dm_result load_directional(job *j, const char *file, const char *table, const char *const *channels, int nch,
+                                  float *out, dm_provenance *prov, dm_error *err)
+{
+    const int n = j->opt->lut_size;
+    dm_provenance want;
+    dm_lut_prov_directional(&want, TOOL, table, n, n, DM_SKIN_F0, j->opt->lut_nodes);
+    dm_exr_image img;
+    dm_result r = dm_exr_read(file, &img, err);
+    if (r == DM_OK && !img.has_provenance)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: no dermis provenance, expected a LUT baked by dermis", file);
+    if (r == DM_OK) r = dm_lut_prov_match(&img.prov, &want, file, err);
+    if (r == DM_OK && (img.width != n || img.height != n))
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: %dx%d, expected %dx%d", file, img.width, img.height, n, n);
+    for (int c = 0; c < nch && r == DM_OK; ++c) {
+        const float *plane = dm_exr_find(&img, channels[c]);
+        if (!plane) {
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: no channel \"%s\", expected it", file, channels[c]);
+            break;
+        }
+        for (size_t i = 0; i < (size_t)n * n; ++i) out[i * (size_t)nch + (size_t)c] = plane[i];
+    }
+    if (r == DM_OK) *prov = img.prov;
+    dm_exr_free(&img);
+    return r;
+}
+
+static dm_result step_directional(job *j, dm_error *err)
+{
+    const int n = j->opt->lut_size, nodes = j->opt->lut_nodes;
+    const size_t count = (size_t)n * n;
+    bool need_rho = wanted(j, "lut.rho_dt"), need_env = wanted(j, "lut.env_brdf");
+    bool bake = (need_rho && !j->opt->rho_dt) || (need_env && !j->opt->env_brdf);
+    dm_directional_lut lut;
+    memset(&lut, 0, sizeof lut);
+    float *rg = malloc(count * 2 * sizeof *rg), *r1 = malloc(count * sizeof *r1);
+    dm_result r = rg && r1 ? DM_OK : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "directional LUT: out of memory");
+    if (r == DM_OK && bake) r = dm_lut_bake_directional(n, n, DM_SKIN_F0, nodes, j->opt->threads, &lut, err);
+    if (r == DM_OK && need_rho) {
+        dm_pack_entry d = texture_desc("lut.rho_dt", DM_TEX_R32F, n, n);
+        d.channel_count = 1;
+        snprintf(d.channels[0], sizeof d.channels[0], "rho_dt");
+        dm_provenance p;
+        char src[160] = "baked";
+        if (j->opt->rho_dt) {
+            static const char *const ch[] = {"rho_dt"};
+            r = load_directional(j, j->opt->rho_dt, "rho_dt", ch, 1, r1, &p, err);
+            snprintf(src, sizeof src, "from %s", base_name(j->opt->rho_dt));
+        } else {
+            dm_lut_prov_directional(&p, TOOL, "rho_dt", n, n, DM_SKIN_F0, nodes);
+            memcpy(r1, lut.rho_dt, count * sizeof *r1);
+        }
+        if (r == DM_OK) r = add(j, &d, r1, count * sizeof *r1, &p, src, err);
+    }
+    if (r == DM_OK && need_env) {
+        dm_pack_entry d = texture_desc("lut.env_brdf", DM_TEX_RG32F, n, n);
+        d.channel_count = 2;
+        snprintf(d.channels[0], sizeof d.channels[0], "scale");
+        snprintf(d.channels[1], sizeof d.channels[1], "bias");
+        dm_provenance p;
+        char src[160] = "baked";
+        if (j->opt->env_brdf) {
+            static const char *const ch[] = {"scale", "bias"};
+            r = load_directional(j, j->opt->env_brdf, "env_brdf", ch, 2, rg, &p, err);
+            snprintf(src, sizeof src, "from %s", base_name(j->opt->env_brdf));
+        } else {
+            dm_lut_prov_directional(&p, TOOL, "env_brdf", n, n, DM_SKIN_F0, nodes);
+            for (size_t i = 0; i < count; ++i) {
+                rg[2 * i] = lut.scale[i];
+                rg[2 * i + 1] = lut.bias[i];
+            }
+        }
+        if (r == DM_OK) r = add(j, &d, rg, count * 2 * sizeof *rg, &p, src, err);
+    }
+    dm_directional_lut_free(&lut);
+    free(rg);
+    free(r1);
+    return r;
+}
+
+static dm_result step_profile(job *j, dm_error *err)
+{
+    const dm_profile *pr = &j->scene.profile;
+    dm_provenance p;
+    dm_prov_init(&p, TOOL);
+    dm_prov_add_string(&p, "source", j->scene.profile_source);
+    char *text = NULL;
+    size_t size = 0;
+    dm_result r = DM_OK;
+    bool from_file = strcmp(j->scene.profile_source, "gems3-skin") != 0 && strcmp(j->scene.profile_source, "inline") != 0;
+    if (from_file) { /* the file as it is: it keeps its fit error and its own provenance */
+        r = dm_read_file(j->scene.profile_source, &text, &size, err);
+        if (r == DM_OK) r = dm_hash_file_hex(j->scene.profile_source, p.input_hash, err);
+    } else {
+        size_t cap = 4096;
+        text = malloc(cap);
+        if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile: out of memory");
+        size_t n = (size_t)snprintf(text, cap,
+                                    "{\"format\": \"dermis-profile\", \"version\": 1, \"name\": \"%s\", \"gaussians\": [",
+                                    pr->name);
+        for (int k = 0; k < pr->count; ++k)
+            n += (size_t)snprintf(text + n, cap - n, "%s\n  {\"variance_mm2\": %.17g, \"weights\": [%.17g, %.17g, %.17g]}",
+                                  k ? "," : "", pr->variance_mm2[k], pr->weight[k][0], pr->weight[k][1], pr->weight[k][2]);
+        n += (size_t)snprintf(text + n, cap - n, "\n]}\n");
+        size = n;
+    }
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "profile");
+    d.kind = DM_PACK_PROFILE;
+    char src[160];
+    if (from_file)
+        snprintf(src, sizeof src, "from %.150s", base_name(j->scene.profile_source));
+    else
+        snprintf(src, sizeof src, "%s preset", pr->name);
+    if (r == DM_OK) r = add(j, &d, text, size, &p, src, err);
+    free(text);
+    return r;
+}
+
+/* The bake steps, in pack order. A step runs when one of its entries applies to the scene
+ * (dm_pack_needs.h); it adds only the entries that apply.
+ * TODO(issue 3): {"mesh", {"mesh.vertices", "mesh.indices"}} and
+ *                {"stretch", {"stretch", "stretch.mask"}}.
+ * TODO(issue 5): {"environment", {"env.sh", "env.specular", "env.background"}}. */
+typedef struct step {
+    const char *name;
+    const char *entries[3];
+    dm_result (*run)(job *j, dm_error *err);
+} step;
+
+static const step steps[] = {
+    {"scene", {"scene"}, step_scene},
+    {"albedo map", {"albedo"}, step_albedo},
+    {"normal map", {"normal"}, step_normal},
+    {"specular map", {"specular"}, step_specular},
+    {"roughness map", {"roughness"}, step_roughness},
+    {"Beckmann LUT", {"lut.beckmann"}, step_beckmann},
+    {"directional LUTs", {"lut.rho_dt", "lut.env_brdf"}, step_directional},
+    {"profile", {"profile"}, step_profile},
+};
+
+/* --- explain ------------------------------------------------------------------------ */
+
+static void explain(const dm_scene *s)
+{
+    printf("scene %s\neffects:", s->path);
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        printf(" %s=%s", dm_effect_name((dm_effect)e), s->effects[e] ? "on" : "off");
+    printf("\n\n%-8s %-15s %-19s %-52s %s\n", "status", "entry", "kind", "needed by", "what");
+    int n;
+    const dm_pack_need *needs = dm_pack_needs(&n);
+    for (int k = 0; k < n; ++k) {
+        const dm_pack_need *nd = &needs[k];
+        bool applies = dm_pack_need_applies(nd, s);
+        char kind[64], by[160] = "";
+        snprintf(kind, sizeof kind, "%s%s%s", dm_pack_kind_name(nd->kind), nd->format >= 0 ? " " : "",
+                 nd->format >= 0 ? dm_tex_format_get((dm_tex_format)nd->format)->name : "");
+        size_t m = 0;
+        if (!nd->effects) m += (size_t)snprintf(by, sizeof by, "always");
+        for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+            if (nd->effects & DM_FX(e))
+                m += (size_t)snprintf(by + m, m < sizeof by ? sizeof by - m : 0, "%s%s%s", m ? "|" : "",
+                                      dm_effect_name((dm_effect)e), s->effects[e] ? "" : "(off)");
+        if (nd->when && m < sizeof by)
+            snprintf(by + m, sizeof by - m, " if %s", dm_need_when_text(nd->when));
+        const char *status = !applies ? "skip" : nd->pending ? "PENDING" : "pack";
+        printf("%-8s %-15s %-19s %-52s %s\n", status, nd->entry, kind, by, nd->why);
+    }
+    printf("\npack = baked and packed; skip = no enabled effect or input needs it; PENDING = needed, but its\n"
+           "bake step is not wired into dermis-pack yet (mesh and stretch: issue 3; environment: issue 5).\n");
+}
+
+/* --- main --------------------------------------------------------------------------- */
+
+static int parse_args(int argc, char **argv, options *o)
+{
+    *o = (options){.beckmann_size = DM_LUT_BECKMANN_SIZE_DEFAULT,
+                   .lut_size = DM_LUT_DIRECTIONAL_SIZE_DEFAULT,
+                   .lut_nodes = DM_LUT_NODES_DEFAULT};
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        int64_t v;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            exit(DM_EXIT_OK);
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            if (!(o->output = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--explain")) {
+            o->explain = true;
+        } else if (!strcmp(a, "--beckmann")) {
+            if (!(o->beckmann = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--rho-dt")) {
+            if (!(o->rho_dt = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--env-brdf")) {
+            if (!(o->env_brdf = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--beckmann-size")) {
+            const char *t = dm_cli_value(argc, argv, &i);
+            if (!t || !dm_cli_int(a, t, 16, DM_LUT_SIZE_MAX, &v)) return DM_EXIT_USAGE;
+            o->beckmann_size = (int)v;
+        } else if (!strcmp(a, "--lut-size")) {
+            const char *t = dm_cli_value(argc, argv, &i);
+            if (!t || !dm_cli_int(a, t, 8, 1024, &v)) return DM_EXIT_USAGE;
+            o->lut_size = (int)v;
+        } else if (!strcmp(a, "--lut-nodes")) {
+            const char *t = dm_cli_value(argc, argv, &i);
+            if (!t || !dm_cli_int(a, t, 8, 128, &v)) return DM_EXIT_USAGE;
+            o->lut_nodes = (int)v;
+        } else if (!strcmp(a, "--threads")) {
+            const char *t = dm_cli_value(argc, argv, &i);
+            if (!t || !dm_cli_int(a, t, 0, 256, &v)) return DM_EXIT_USAGE;
+            o->threads = (int)v;
+        } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
+            o->verbose = true;
+        } else if (!strcmp(a, "--quiet")) {
+            o->quiet = true;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "error: unknown option '%s' (see --help)\n", a);
+            return DM_EXIT_USAGE;
+        } else if (o->scene) {
+            fprintf(stderr, "error: '%s': one scene only, '%s' already given\n", a, o->scene);
+            return DM_EXIT_USAGE;
+        } else {
+            o->scene = a;
+        }
+    }
+    if (!o->scene) {
+        fprintf(stderr, "error: no scene given\n");
+        usage(stderr);
+        return DM_EXIT_USAGE;
+    }
+    if (o->explain && o->output) {
+        fprintf(stderr, "error: --explain writes nothing: drop -o %s\n", o->output);
+        return DM_EXIT_USAGE;
+    }
+    if (!o->explain && !o->output) {
+        fprintf(stderr, "error: no output: give -o FILE.dpk (or --explain)\n");
+        return DM_EXIT_USAGE;
+    }
+    if (o->verbose && o->quiet) {
+        fprintf(stderr, "error: -v and --quiet conflict\n");
+        return DM_EXIT_USAGE;
+    }
+    return DM_EXIT_OK;
+}
+
+static void print_size(char *out, size_t n, size_t bytes)
+{
+    if (bytes >= (1u << 20))
+        snprintf(out, n, "%.2f MiB", bytes / 1048576.0);
+    else if (bytes >= 1024)
+        snprintf(out, n, "%.1f KiB", bytes / 1024.0);
+    else
+        snprintf(out, n, "%zu B", bytes);
+}
+
+int main(int argc, char **argv)
+{
+    options opt;
+    int rc = parse_args(argc, argv, &opt);
+    if (rc != DM_EXIT_OK) return rc;
+
+    job *j = calloc(1, sizeof *j);
+    if (!j) return DM_EXIT_PROCESS;
+    j->opt = &opt;
+    dm_error err = {0};
+    double t0 = dm_now_ms();
+    if (dm_scene_read(opt.scene, &j->scene, &err) != DM_OK ||
+        dm_hash_file_hex(opt.scene, j->scene_hash, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        free(j);
+        return DM_EXIT_LOAD;
+    }
+    if (opt.explain) {
+        explain(&j->scene);
+        free(j);
+        return DM_EXIT_OK;
+    }
+    /* Files given for entries the scene does not need are a mistake worth saying. */
+    const struct { const char *file, *entry, *opt; } given[] = {
+        {opt.beckmann, "lut.beckmann", "--beckmann"}, {opt.rho_dt, "lut.rho_dt", "--rho-dt"},
+        {opt.env_brdf, "lut.env_brdf", "--env-brdf"}};
+    for (size_t k = 0; k < sizeof given / sizeof given[0]; ++k)
+        if (given[k].file && !wanted(j, given[k].entry) && !opt.quiet)
+            fprintf(stderr, "warning: %s %s: the scene's effects do not need %s; ignored\n", given[k].opt,
+                    given[k].file, given[k].entry);
+
+    dm_pack_writer_init(&j->w);
+    for (size_t s = 0; s < sizeof steps / sizeof steps[0]; ++s) {
+        bool run = false;
+        for (int e = 0; e < 3 && steps[s].entries[e]; ++e) run = run || wanted(j, steps[s].entries[e]);
+        if (!run) continue;
+        j->step_t0 = dm_now_ms();
+        if (steps[s].run(j, &err) != DM_OK) {
+            fprintf(stderr, "error: %s: %s\n", steps[s].name, err.detail);
+            dm_pack_writer_free(&j->w);
+            free(j);
+            return err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT
+                       ? DM_EXIT_LOAD
+                       : DM_EXIT_PROCESS;
+        }
+    }
+    int n;
+    const dm_pack_need *needs = dm_pack_needs(&n);
+    char pending[512] = "";
+    size_t pm = 0;
+    for (int k = 0; k < n; ++k)
+        if (needs[k].pending && dm_pack_need_applies(&needs[k], &j->scene))
+            pm += (size_t)snprintf(pending + pm, pm < sizeof pending ? sizeof pending - pm : 0, "%s%s", pm ? ", " : "",
+                                   needs[k].entry);
+    if (pm && !opt.quiet)
+        fprintf(stderr, "warning: %s: not packed yet, their bake steps are not wired: %s\n", opt.scene, pending);
+
+    dm_provenance pp;
+    dm_prov_init(&pp, TOOL);
+    snprintf(pp.input_hash, sizeof pp.input_hash, "%s", j->scene_hash);
+    dm_prov_add_string(&pp, "scene", opt.scene);
+    dm_prov_add_int(&pp, "beckmann_size", opt.beckmann_size);
+    dm_prov_add_int(&pp, "lut_size", opt.lut_size);
+    dm_prov_add_int(&pp, "lut_nodes", opt.lut_nodes);
+    dm_prov_add_double(&pp, "f0", DM_SKIN_F0);
+    dm_prov_add_string(&pp, "beckmann_file", opt.beckmann ? opt.beckmann : "");
+    dm_prov_add_string(&pp, "rho_dt_file", opt.rho_dt ? opt.rho_dt : "");
+    dm_prov_add_string(&pp, "env_brdf_file", opt.env_brdf ? opt.env_brdf : "");
+    size_t total = 0;
+    double tw = dm_now_ms();
+    dm_result r = dm_pack_writer_write(&j->w, opt.output, &pp, &total, &err);
+    tw = dm_now_ms() - tw;
+    if (r != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_pack_writer_free(&j->w);
+        free(j);
+        return r == DM_ERR_FILE_WRITE ? DM_EXIT_SAVE : DM_EXIT_PROCESS;
+    }
+    if (!opt.quiet) {
+        printf("%s -> %s\n", opt.scene, opt.output);
+        printf("  %-14s %-20s %12s %9s  %s\n", "entry", "kind", "size", "ms", "source");
+        for (int k = 0; k < j->row_count; ++k) {
+            const dm_pack_blob *b = &j->w.blobs[k];
+            char kind[48], sz[32];
+            snprintf(kind, sizeof kind, "%s%s%s", dm_pack_kind_name(b->desc.kind),
+                     b->desc.kind == DM_PACK_TEXTURE ? " " : "",
+                     b->desc.kind == DM_PACK_TEXTURE ? dm_tex_format_get(b->desc.format)->name : "");
+            print_size(sz, sizeof sz, j->rows[k].size);
+            printf("  %-14s %-20s %12s %9.1f  %s\n", j->rows[k].entry, kind, sz, j->rows[k].ms, j->rows[k].source);
+            if (opt.verbose) printf("      provenance %s\n", b->provenance_json);
+        }
+        char sz[32];
+        print_size(sz, sizeof sz, total);
+        printf("  %d entries, %s, written and verified in %.1f ms, total %.1f ms\n", j->row_count, sz, tw,
+               dm_now_ms() - t0);
+    }
+    dm_pack_writer_free(&j->w);
+    free(j);
+    return DM_EXIT_OK;
+}
