@@ -9,6 +9,7 @@
 #include "bake/dm_exr.h"
 #include "bake/dm_image.h"
 #include "bake/dm_lut.h"
+#include "bake/dm_lut_prov.h"
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
@@ -170,29 +171,22 @@ static const char *out_path(char *buf, size_t size, const char *given, const cha
     return buf;
 }
 
-static void beckmann_prov(dm_provenance *p, const char *table, const options *o)
+/* The shared contract (bake/dm_lut_prov.h), so dermis-pack can take these files as they
+ * are; the descriptive parameters after it are for people. */
+static void beckmann_prov(dm_provenance *p, int exact, const options *o)
 {
-    dm_prov_init(p, TOOL);
-    dm_prov_add_string(p, "table", table);
-    dm_prov_add_int(p, "width", o->beckmann_w);
-    dm_prov_add_int(p, "height", o->beckmann_h);
+    if (exact) dm_lut_prov_beckmann_exact(p, TOOL, o->beckmann_w, o->beckmann_h);
+    else dm_lut_prov_beckmann(p, TOOL, o->beckmann_w, o->beckmann_h);
     dm_prov_add_string(p, "s", "N.H, texel centres");
     dm_prov_add_string(p, "t", "m, texel centres");
-    dm_prov_add_string(p, "encoding", strcmp(table, "beckmann") == 0 ? "round(255*0.5*D^0.1), decode (2v)^10"
-                                                                      : "float D");
     dm_prov_add_double(p, "d_max", DM_BECKMANN_LUT_D_MAX);
 }
 
 static void directional_prov(dm_provenance *p, const char *table, const options *o)
 {
-    dm_prov_init(p, TOOL);
-    dm_prov_add_string(p, "table", table);
-    dm_prov_add_int(p, "width", o->dir_w);
-    dm_prov_add_int(p, "height", o->dir_h);
+    dm_lut_prov_directional(p, TOOL, table, o->dir_w, o->dir_h, o->f0, o->nodes);
     dm_prov_add_string(p, "s", strcmp(table, "rho_dt") == 0 ? "N.L, texel centres" : "N.V, texel centres");
     dm_prov_add_string(p, "t", "m, texel centres");
-    dm_prov_add_double(p, "f0", o->f0);
-    dm_prov_add_int(p, "nodes", o->nodes);
     dm_prov_add_string(p, "integrator", "Gauss-Legendre in half-vector space, u = tan^2(theta_h)/m^2, horizon cut");
 }
 
@@ -274,13 +268,13 @@ int main(int argc, char **argv)
     dm_provenance prov;
     dm_result r = DM_OK;
     if (o.want_beckmann) {
-        beckmann_prov(&prov, "beckmann", &o);
+        beckmann_prov(&prov, 0, &o);
         dm_image img = {.width = bl.width, .height = bl.height, .channels = 1, .type = DM_PIXEL_U8, .pixels = bl.texels};
         const char *p = out_path(b1, sizeof b1, o.beckmann_path, o.out_dir, "beckmann.png");
         r = dm_png_write(p, &img, &prov, &err);
         if (r == DM_OK && !o.quiet) printf("wrote %s (%dx%d, 8-bit)\n", p, bl.width, bl.height);
         if (r == DM_OK && o.float_path) {
-            beckmann_prov(&prov, "beckmann_float", &o);
+            beckmann_prov(&prov, 1, &o);
             dm_exr_channel ch = {"D", bl.exact, DM_EXR_FLOAT};
             r = dm_exr_write(o.float_path, bl.width, bl.height, &ch, 1, &prov, &err);
             if (r == DM_OK && !o.quiet) printf("wrote %s (%dx%d, float D)\n", o.float_path, bl.width, bl.height);

@@ -11,6 +11,15 @@ void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int hei
     dm_prov_add_string(p, "encoding", "u8 0.5*D^0.1");
 }
 
+void dm_lut_prov_beckmann_exact(dm_provenance *p, const char *tool, int width, int height)
+{
+    dm_prov_init(p, tool);
+    dm_prov_add_string(p, "table", "beckmann_exact");
+    dm_prov_add_int(p, "width", width);
+    dm_prov_add_int(p, "height", height);
+    dm_prov_add_string(p, "encoding", "f32 D");
+}
+
 void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
                              int nodes)
 {

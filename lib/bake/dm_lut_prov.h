@@ -2,9 +2,10 @@
  * already-baked file is the table a consumer (dermis-pack) would bake itself.
  *
  * Parameters (all written, all compared):
- *   "table"    "beckmann" | "rho_dt" | "env_brdf"
+ *   "table"    "beckmann" | "beckmann_exact" | "rho_dt" | "env_brdf"
  *   "width", "height"   texels
- *   "encoding" beckmann: "u8 0.5*D^0.1"; rho_dt: "f32 rho_dt"; env_brdf: "f32 scale,bias"
+ *   "encoding" beckmann: "u8 0.5*D^0.1"; beckmann_exact: "f32 D"; rho_dt: "f32 rho_dt";
+ *              env_brdf: "f32 scale,bias"
  *   "f0", "nodes"       directional tables only: Schlick F0, Gauss–Legendre nodes
  * File forms: Beckmann = 8-bit one-channel PNG; rho_dt = EXR with one channel "rho_dt";
  * env_brdf = EXR with channels "scale" and "bias" (rho = F0·scale + bias). Rows bottom-up.
@@ -20,6 +21,8 @@ extern "C" {
 #endif
 
 void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int height);
+/* The float copy of the exact D (dermis-bake-lut --float): an EXR with one channel "D". */
+void dm_lut_prov_beckmann_exact(dm_provenance *p, const char *tool, int width, int height);
 /* table: "rho_dt" or "env_brdf". */
 void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
                              int nodes);
