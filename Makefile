@@ -129,8 +129,8 @@ deps:
 
 test: deps
 	@$(MAKE) --no-print-directory all
-	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS); rc=$$?; \
-	  FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)) || rc=1; exit $$rc
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
+	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS)
 
 bench: deps
 	@$(MAKE) --no-print-directory all

@@ -21,6 +21,12 @@ for t in "$@"; do
   echo "   $name: $p_/$t_ passed" >&2
   if [ "$rc" -ne 0 ] && [ "$f_" -eq 0 ] && [ "$c_" -eq 0 ]; then broken=$((broken + 1)); fi
 done
+# The bounded fuzz runs (scripts/run-fuzz.sh) ran before; a failure there counts here,
+# so this synthesis stays the last line of `make test`.
+if [ "${FUZZ_FAILED:-0}" -ne 0 ]; then
+  echo "error: a fuzz target failed (see above)" >&2
+  broken=$((broken + 1))
+fi
 echo "[====] Synthesis: Tested: $tested | Passing: $passing | Failing: $failing | Crashing: $crashing"
 echo "$passing passed, $((failing + crashing + broken)) failed"
 [ "$failing" -eq 0 ] && [ "$crashing" -eq 0 ] && [ "$broken" -eq 0 ] && [ "$tested" -gt 0 ]
