@@ -5,7 +5,6 @@
 uniform sampler2D u_src;
 uniform sampler2D u_stretch;
 uniform vec2 u_dir; // (1, 0) for u, (0, 1) for v
-uniform int u_taps;
 uniform float u_offset_mm[63];
 uniform float u_weight[63];
 #ifdef DM_VERTEX
@@ -22,7 +21,7 @@ void main()
     vec2 s = texture(u_stretch, v_uv).rg;
     vec2 step_uv = u_dir * dot(u_dir, s);
     vec4 sum = vec4(0.0);
-    for (int i = 0; i < u_taps; ++i)
+    for (int i = 0; i < DM_TAPS; ++i)
         sum += u_weight[i] * texture(u_src, v_uv + step_uv * u_offset_mm[i]);
     o_color = sum;
 }

@@ -92,8 +92,9 @@ vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
     return rl > 1e-12 ? r * inversesqrt(rl) : N;
 }
 
+// DM_LIGHTS (light count), DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
+// with constant bounds unroll (llvmpipe runs dynamic loops several times slower).
 // Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.
-uniform int u_light_count;
 uniform vec4 u_light_pos[DM_MAX_LIGHTS];
 uniform vec3 u_light_color[DM_MAX_LIGHTS];
 uniform int u_light_shadow[DM_MAX_LIGHTS]; // shadow map layer, -1 = none

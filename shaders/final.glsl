@@ -45,11 +45,9 @@ uniform sampler2D u_env_bias;
 uniform vec3 u_sh[9];
 uniform float u_env_intensity;
 uniform float u_env_rotation;
-uniform int u_env_level_count;
 uniform float u_env_level_m[6];
 uniform sampler2D u_env_level[6];
 uniform float u_mix;
-uniform int u_level_count;
 uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
 uniform sampler2D u_level[8];
 
@@ -82,7 +80,7 @@ vec3 env_level(int k, vec2 uv)
 vec3 env_specular(vec3 R, float m)
 {
     vec2 uv = dm_equirect_uv(R, u_env_rotation);
-    int n = u_env_level_count;
+    const int n = DM_ENV_LEVELS;
     if (n <= 0) return vec3(0.0);
     if (m <= u_env_level_m[0] || n == 1) return env_level(0, uv);
     for (int k = 1; k < n; ++k)
@@ -116,11 +114,11 @@ void main()
     vec3 diffuse = vec3(0.0), specular = vec3(0.0);
 #ifdef DM_SUBSURFACE
     vec3 sum = vec3(0.0);
-    for (int k = 0; k < u_level_count; ++k) sum += u_level_weight[k] * level(k, v_uv);
+    for (int k = 0; k < DM_LEVELS; ++k) sum += u_level_weight[k] * level(k, v_uv);
     diffuse = sum * pow(albedo, vec3(1.0 - u_mix));
 #else
     vec3 e = vec3(0.0);
-    for (int i = 0; i < u_light_count; ++i) {
+    for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;
@@ -139,7 +137,7 @@ void main()
     diffuse *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndv, m)).r, 0.0);
 #endif
 #ifdef DM_SPECULAR
-    for (int i = 0; i < u_light_count; ++i) {
+    for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         if (dot(N, L) <= 0.0) continue;
         specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));

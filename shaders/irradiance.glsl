@@ -46,7 +46,7 @@ void main()
     float m = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
     vec3 e = vec3(0.0);
-    for (int i = 0; i < u_light_count; ++i) {
+    for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;

@@ -285,12 +285,15 @@ static void set_sampler_units(GLuint p)
 
 static dm_result build_program(dm_renderer *r, const char *file, GLuint *out, dm_error *err)
 {
-    char defines[256];
+    char defines[512];
     const dm_render_plan *p = &r->plan;
-    snprintf(defines, sizeof defines, "%s%s%s%s", p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
+    snprintf(defines, sizeof defines,
+             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n",
+             p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
              p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
              p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
-             p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "");
+             p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
+             r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
@@ -447,11 +450,11 @@ static dm_result make_targets(dm_renderer *r, dm_error *err)
     if (p->effects[DM_EFFECT_SUBSURFACE]) {
         for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
             snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
-            rc = color_target(r, name, r->irr_size, r->irr_size, GL_RGBA16F, GL_CLAMP_TO_BORDER, &r->irr_tex[k],
+            rc = color_target(r, name, r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->irr_tex[k],
                               &r->irr_fbo[k], err);
         }
         if (rc == DM_OK && p->blur_levels > 1)
-            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, GL_RGBA16F, GL_CLAMP_TO_BORDER, &r->tmp_tex,
+            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->tmp_tex,
                               &r->tmp_fbo, err);
     }
     if (rc != DM_OK) return rc;
@@ -803,7 +806,6 @@ static void frame_camera(dm_renderer *r)
 static void set_light_uniforms(const dm_renderer *r, GLuint p)
 {
     const dm_scene *s = &r->scene;
-    u1i(p, "u_light_count", s->light_count);
     glUniform4fv(loc(p, "u_light_pos"), s->light_count, &r->light_pos[0][0]);
     glUniform3fv(loc(p, "u_light_color"), s->light_count, &r->light_color[0][0]);
     glUniform1iv(loc(p, "u_light_shadow"), s->light_count, r->light_shadow);
@@ -909,7 +911,6 @@ static void pass_blur(dm_renderer *r, int k, bool along_v)
     bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? r->tmp_tex : r->irr_tex[k - 1]);
     bind(UNIT_STRETCH, GL_TEXTURE_2D, r->tex_stretch[s]);
     u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
-    u1i(p, "u_taps", r->taps);
     glUniform1fv(loc(p, "u_offset_mm"), r->taps, r->blur_offset[k]);
     glUniform1fv(loc(p, "u_weight"), r->taps, r->blur_weight);
     draw_fullscreen(r);
@@ -937,10 +938,8 @@ static void pass_final(dm_renderer *r, int mode)
     set_light_uniforms(r, p);
     set_surface_uniforms(r, p);
     bind_surface(r);
-    u1i(p, "u_env_level_count", r->env_level_count);
     glUniform1fv(loc(p, "u_env_level_m"), DM_RENDER_ENV_LEVELS_MAX, r->env_level_m);
     int levels = r->plan.effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0;
-    u1i(p, "u_level_count", levels);
     if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
     for (int k = 0; k < 8; ++k) bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
     draw_mesh(r);

@@ -79,6 +79,7 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
     int rings = o->sphere_rings > 1 ? o->sphere_rings : 96;
     int cells = o->quad_cells > 0 ? o->quad_cells : 16;
     float side_mm = o->quad_side_mm > 0 ? o->quad_side_mm : 64.0f;
+    float inset = o->quad_uv_inset > 0 ? (o->quad_uv_inset < 0.45f ? o->quad_uv_inset : 0.45f) : 0.0f;
     int ss = o->stretch_size > 0 ? o->stretch_size : 256;
     int bs = o->beckmann_size > 0 ? o->beckmann_size : 256;
     int ds = o->directional_size > 0 ? o->directional_size : 32;
@@ -135,7 +136,8 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
             for (int i = 0; i <= cells; ++i) {
                 float u = (float)i / cells, v = (float)j / cells;
                 float p[3] = {(u - 0.5f) * side, (v - 0.5f) * side, 0.0f};
-                put_vertex(s->vertices + ((size_t)j * (cells + 1) + i) * DM_VERTEX_FLOATS, p, n, t, 1.0f, u, v);
+                put_vertex(s->vertices + ((size_t)j * (cells + 1) + i) * DM_VERTEX_FLOATS, p, n, t, 1.0f,
+                           inset + u * (1.0f - 2.0f * inset), inset + v * (1.0f - 2.0f * inset));
             }
         for (int j = 0; j < cells; ++j)
             for (int i = 0; i < cells; ++i) {
@@ -156,9 +158,11 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
                 st[0] = (float)(1.0 / (DM_2PI * sn * mmpu));
                 st[1] = (float)(1.0 / (DM_PI * mmpu));
             } else {
-                st[0] = st[1] = 1.0f / side_mm;
+                st[0] = st[1] = (1.0f - 2.0f * inset) / side_mm;
             }
-            s->mask[(size_t)j * ss + i] = 255;
+            double u = (i + 0.5) / ss, v = (j + 0.5) / ss;
+            bool in = sphere || (u > inset && u < 1.0 - inset && v > inset && v < 1.0 - inset);
+            s->mask[(size_t)j * ss + i] = in ? 255 : 0;
         }
 
     /* tables, as dm_lut.h lays them out, from core/dm_brdf.h */

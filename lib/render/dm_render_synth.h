@@ -30,6 +30,8 @@ typedef struct dm_synth_options {
     int sphere_segments, sphere_rings; /* 96 x 96: 18,240 triangles */
     int quad_cells;                    /* cells per side, 16 */
     float quad_side_mm;                /* 64 */
+    float quad_uv_inset;               /* the quad's UVs span [inset, 1 − inset]², leaving a
+                                        * gutter around one chart; 0, in [0, 0.45] */
     int stretch_size;                  /* stretch map texels per side, 256 */
     int beckmann_size;                 /* 256 */
     int directional_size;              /* 32 (rho_dt, env-BRDF scale and bias) */
