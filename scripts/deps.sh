@@ -8,7 +8,7 @@ required=(
   build-essential pkg-config
   libopenmesh-dev libopenimageio-dev openimageio-tools libopenexr-dev openexr
   libglfw3-dev libosmesa6-dev xvfb xauth
-  libcriterion-dev libcjson-dev libxxhash-dev
+  libcriterion-dev libcjson-dev libxxhash-dev zlib1g-dev
 )
 optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev)
 
