@@ -97,11 +97,24 @@ vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
 // Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.
 uniform vec4 u_light_pos[DM_MAX_LIGHTS];
 uniform vec3 u_light_color[DM_MAX_LIGHTS];
-uniform int u_light_shadow[DM_MAX_LIGHTS]; // shadow map layer, -1 = none
+uniform int u_light_shadow[DM_MAX_LIGHTS]; // shadow map 0..3, -1 = none
 uniform mat4 u_light_matrix[DM_MAX_LIGHTS]; // mesh space -> shadow clip space
 uniform float u_shadow_normal_offset;       // mesh units
 uniform float u_shadow_texel;               // 1 / shadow map size
-uniform sampler2DArrayShadow u_shadow;
+// Four 2D shadow maps, not one array: llvmpipe samples sampler2DArrayShadow ~4x slower.
+uniform sampler2DShadow u_shadow0;
+uniform sampler2DShadow u_shadow1;
+uniform sampler2DShadow u_shadow2;
+uniform sampler2DShadow u_shadow3;
+
+// GLSL 3.30 indexes samplers by constants only: choose the map by a (uniform) branch.
+float dm_shadow_tap(int map, vec3 p)
+{
+    if (map == 0) return texture(u_shadow0, p);
+    if (map == 1) return texture(u_shadow1, p);
+    if (map == 2) return texture(u_shadow2, p);
+    return texture(u_shadow3, p);
+}
 
 vec3 dm_light_dir(int i, vec3 P)
 {
@@ -123,6 +136,6 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
     float s = 0.0;
     for (int y = -1; y <= 1; ++y)
         for (int x = -1; x <= 1; ++x)
-            s += texture(u_shadow, vec4(p.xy + vec2(x, y) * u_shadow_texel, float(layer), p.z));
+            s += dm_shadow_tap(layer, vec3(p.xy + vec2(x, y) * u_shadow_texel, p.z));
     return s / 9.0;
 }

@@ -76,7 +76,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
 
     if (fx[DM_EFFECT_SHADOWS])
         for (int i = 0; i < s->light_count && i < DM_SCENE_MAX_LIGHTS; ++i)
-            if (s->lights[i].casts_shadow) p->shadow_light[p->shadow_count++] = i;
+            if (s->lights[i].casts_shadow && p->casting_lights++ < DM_PLAN_MAX_SHADOWS)
+                p->shadow_light[p->shadow_count++] = i;
 
     /* the view's requirements */
     const char *vname = dm_view_name(view);
@@ -227,6 +228,8 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
         }
     if (p->effects[DM_EFFECT_ENERGY_CONSERVATION] && !p->effects[DM_EFFECT_SPECULAR])
         put(&b, "note: energy_conservation is inactive without specular (no light is taken by the surface)\n");
+    if (p->casting_lights > p->shadow_count && p->shadow_count > 0)
+        put(&b, "note: %d lights cast; only the first %d get shadow maps\n", p->casting_lights, p->shadow_count);
     if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
         put(&b, "note: shadows on but no light casts: no shadow pass\n");
     return b.len;

@@ -4,7 +4,8 @@
  * Pure data, no GL: tests check the pass list of a scene without a context.
  *
  * Passes, in frame order, and the rule that puts each in the plan:
- *   shadow L         shadows on, light L casts (one per casting light, ≤ 8)
+ *   shadow L         shadows on, light L casts (one per casting light, the first
+ *                    DM_PLAN_MAX_SHADOWS = 4 casting lights; explain notes any beyond)
  *   irradiance       subsurface on (texture space: lights, shadow, env SH, albedo^mix)
  *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
  *   final            always (draws the head: diffuse, specular, environment terms)
@@ -66,7 +67,7 @@ typedef enum dm_pass_kind {
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 
-enum { DM_PLAN_MAX_PASSES = 48, DM_PLAN_NAME_SIZE = 32, DM_PLAN_WHY_SIZE = 320 };
+enum { DM_PLAN_MAX_SHADOWS = 4, DM_PLAN_MAX_PASSES = 48, DM_PLAN_NAME_SIZE = 32, DM_PLAN_WHY_SIZE = 320 };
 
 typedef struct dm_pass {
     dm_pass_kind kind;
@@ -82,7 +83,8 @@ typedef struct dm_render_plan {
     bool effects[DM_EFFECT_COUNT]; /* as in the scene */
     bool energy_conservation_active; /* energy_conservation and specular both on */
     bool env_specular_active;        /* environment_lighting and specular both on */
-    int shadow_count;                /* casting lights given a shadow map */
+    int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */
+    int casting_lights;              /* all lights that cast (more than shadow_count: no map) */
     int shadow_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */
     int blur_levels;                 /* Gaussians (levels incl. level 0), 0 without subsurface */
     dm_view view;
