@@ -92,7 +92,7 @@ vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
     return rl > 1e-12 ? r * inversesqrt(rl) : N;
 }
 
-// DM_LIGHTS (light count), DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
+// DM_LIGHTS (light count), DM_SHADOW_MAPS, DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
 // with constant bounds unroll (llvmpipe runs dynamic loops several times slower).
 // Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.
 uniform vec4 u_light_pos[DM_MAX_LIGHTS];
@@ -107,13 +107,20 @@ uniform sampler2DShadow u_shadow1;
 uniform sampler2DShadow u_shadow2;
 uniform sampler2DShadow u_shadow3;
 
-// GLSL 3.30 indexes samplers by constants only: choose the map by a (uniform) branch.
+// GLSL 3.30 indexes samplers by constants only: choose the map by a (uniform) branch, and
+// only among the DM_SHADOW_MAPS that exist (llvmpipe runs masked branches anyway).
 float dm_shadow_tap(int map, vec3 p)
 {
-    if (map == 0) return texture(u_shadow0, p);
+#if DM_SHADOW_MAPS > 1
     if (map == 1) return texture(u_shadow1, p);
+#endif
+#if DM_SHADOW_MAPS > 2
     if (map == 2) return texture(u_shadow2, p);
-    return texture(u_shadow3, p);
+#endif
+#if DM_SHADOW_MAPS > 3
+    if (map == 3) return texture(u_shadow3, p);
+#endif
+    return texture(u_shadow0, p);
 }
 
 vec3 dm_light_dir(int i, vec3 P)
@@ -128,6 +135,9 @@ vec3 dm_light_dir(int i, vec3 P)
 // 3x3 PCF over the hardware-compared (bilinear) shadow map: 1 lit, 0 shadowed.
 float dm_shadow(int i, vec3 P, vec3 Ng)
 {
+#if DM_SHADOW_MAPS == 0
+    return 1.0;
+#else
     int layer = u_light_shadow[i];
     if (layer < 0) return 1.0;
     vec4 c = u_light_matrix[i] * vec4(P + Ng * u_shadow_normal_offset, 1.0);
@@ -138,4 +148,5 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
         for (int x = -1; x <= 1; ++x)
             s += dm_shadow_tap(layer, vec3(p.xy + vec2(x, y) * u_shadow_texel, p.z));
     return s / 9.0;
+#endif
 }

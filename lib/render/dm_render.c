@@ -290,12 +290,12 @@ static dm_result build_program(dm_renderer *r, const char *file, GLuint *out, dm
     char defines[512];
     const dm_render_plan *p = &r->plan;
     snprintf(defines, sizeof defines,
-             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n",
+             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n",
              p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
              p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
              p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
              p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
-             r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count);
+             p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
