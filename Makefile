@@ -49,12 +49,18 @@ TEST_LIBS     := $(shell $(PKG) --libs criterion 2>/dev/null)
 CORE_SRC   := $(sort $(wildcard lib/core/*.c))
 BAKE_SRC   := $(sort $(wildcard lib/bake/*.c lib/bake/*.cpp))
 RENDER_SRC := $(sort $(wildcard lib/render/*.c))
+HOST_SRC   := $(sort $(wildcard lib/host/*.c))
+# Shaders are embedded at build time: scripts/embed-shaders.sh turns shaders/*.glsl into
+# one generated C file (byte arrays + a name table) that joins the render library.
+SHADERS    := $(sort $(wildcard shaders/*.glsl))
+SHADER_GEN := $(BUILD)/gen/dm_shaders_gen.c
 
 obj = $(patsubst %,$(BUILD)/obj/%.o,$(1))
 
 CORE_LIB   := $(BUILD)/lib/libdermis_core.a
 BAKE_LIB   := $(BUILD)/lib/libdermis_bake.a
 RENDER_LIB := $(BUILD)/lib/libdermis_render.a
+HOST_LIB   := $(BUILD)/lib/libdermis_host_osmesa.a
 
 # Runtime tools never link the offline side (DESIGN.md): they are listed by name.
 RUNTIME_TOOLS := dermis-render dermis-view
@@ -84,6 +90,15 @@ $(BUILD)/obj/lib/bake/%.cpp.o: lib/bake/%.cpp
 $(BUILD)/obj/lib/render/%.c.o: lib/render/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/lib/host/%.c.o: lib/host/%.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+$(SHADER_GEN): $(SHADERS) scripts/embed-shaders.sh
+	@mkdir -p $(@D)
+	bash scripts/embed-shaders.sh $(SHADERS) > $@.tmp && mv $@.tmp $@
+$(BUILD)/obj/gen/dm_shaders_gen.c.o: $(SHADER_GEN)
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 $(BUILD)/obj/tools/%.c.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
@@ -102,26 +117,29 @@ $(CORE_LIB): $(call obj,$(CORE_SRC))
 $(BAKE_LIB): $(call obj,$(BAKE_SRC))
 	@mkdir -p $(@D)
 	rm -f $@ && ar rcs $@ $^
-$(RENDER_LIB): $(call obj,$(RENDER_SRC))
+$(RENDER_LIB): $(call obj,$(RENDER_SRC)) $(BUILD)/obj/gen/dm_shaders_gen.c.o
 	@mkdir -p $(@D)
-	rm -f $@ && ar rcs $@ $(or $^,/dev/null)
+	rm -f $@ && ar rcs $@ $^
+$(HOST_LIB): $(call obj,$(HOST_SRC))
+	@mkdir -p $(@D)
+	rm -f $@ && ar rcs $@ $^
 
 # --- executables (the offline side links with g++ for the C++ adapters) -------------
 $(BAKE_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) -o $@
-$(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(CORE_LIB)
+$(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -o $@
+	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -lz -o $@
 $(UNIT_TESTS): $(BUILD)/tests/unit/%: $(BUILD)/obj/tests/unit/%.c.o $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) $(TEST_LIBS) -o $@
-$(RENDER_TESTS): $(BUILD)/tests/render/%: $(BUILD)/obj/tests/render/%.c.o $(RENDER_LIB) $(BAKE_LIB) $(CORE_LIB)
+$(RENDER_TESTS): $(BUILD)/tests/render/%: $(BUILD)/obj/tests/render/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) $(TEST_LIBS) -o $@
-$(BENCHES): $(BUILD)/bench/%: $(BUILD)/obj/bench/%.c.o $(BAKE_LIB) $(CORE_LIB)
+$(BENCHES): $(BUILD)/bench/%: $(BUILD)/obj/bench/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) -o $@
+	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
 
 # --- entry points ------------------------------------------------------------------
 deps:

@@ -1,0 +1,195 @@
+/* dm_render.h — the real-time skin renderer (GPU Gems 3 ch. 14, texture-space diffusion)
+ * on OpenGL 3.3 core. No window or context code: the caller makes a GL 3.3+ core context
+ * current (lib/host/dm_osmesa.h headless, a GLFW window in the viewer) and keeps it
+ * current for every call below.
+ *
+ *   dm_render_assets a = {...};                 // GPU-ready arrays + the scene
+ *   dm_renderer *r;
+ *   if (dm_renderer_create(&a, &(dm_render_desc){0}, &r, &err) != DM_OK) ...;
+ *   dm_render_frame(r, &(dm_frame_options){0}, &err);
+ *   dm_renderer_read_display(r, rgba8);         // width*height*4 bytes, bottom-up
+ *   dm_renderer_destroy(r);
+ *
+ * Inputs are exactly what a pack holds (DESIGN.md: the runtime maps and uploads, it does
+ * not bake). Every array is read during dm_renderer_create only (uploaded, not kept):
+ * the caller may free it afterwards. A pointer may be NULL (an absent texture has
+ * texels == NULL) when no enabled effect needs it; create fails with DM_ERR_MISMATCH,
+ * naming the missing input and the effect that needs it, otherwise.
+ *
+ * Pass graph (dm_render_plan.h): built from the scene's effects; a pass runs only when an
+ * enabled effect needs it. Units: mesh units for positions (scene->mm_per_unit converts),
+ * mm² for profile variances, UV units per mm for stretch.
+ *
+ * Light units (as in the chapter's shaders): a light of colour C and intensity I gives a
+ * white Lambertian surface facing it the radiance C·I; specular radiance is
+ * C·I·(N·L)·rho_s·f_KS. The environment's SH holds radiance; its diffuse radiance is
+ * albedo·E(N)/π with E the SH irradiance.
+ */
+#ifndef DM_RENDER_H
+#define DM_RENDER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/dm_profile.h"
+#include "core/dm_result.h"
+#include "core/dm_scene.h"
+#include "render/dm_render_plan.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Interleaved vertex: 12 float32 (48 bytes), in this order:
+ *   [0..2]  position, mesh units
+ *   [3..5]  normal, unit
+ *   [6..8]  tangent, unit, along +u in the surface
+ *   [9]     handedness ±1: bitangent B = handedness · cross(N, T), along +v
+ *   [10..11] uv, v = 0 at the bottom of the maps (OBJ/OpenGL convention)
+ * Vertices are split at UV seams (one vertex per distinct position/normal/uv). */
+enum { DM_VERTEX_FLOATS = 12, DM_VERTEX_STRIDE = 48 };
+enum { DM_VERTEX_POSITION = 0, DM_VERTEX_NORMAL = 3, DM_VERTEX_TANGENT = 6, DM_VERTEX_UV = 10 };
+
+/* Texel formats as stored in a pack. Rows are bottom-up, texels tightly packed (no row
+ * padding). "16f" formats hold IEEE half floats (uint16_t). */
+typedef enum dm_tex_format {
+    DM_TEX_NONE = 0,
+    DM_TEX_RGBA8_SRGB, /* colour maps: sRGB-encoded, linearized by the GPU on sampling */
+    DM_TEX_RGBA8,      /* linear 8-bit (normal maps: 0..255 → −1..1) */
+    DM_TEX_R8,         /* linear 8-bit grey (Beckmann LUT, specular, roughness, mask) */
+    DM_TEX_RG16F,
+    DM_TEX_RGBA16F,
+    DM_TEX_R32F,
+    DM_TEX_RG32F,
+    DM_TEX_RGBA32F,
+    DM_TEX_FORMAT_COUNT
+} dm_tex_format;
+
+/* "rgba8_srgb", ... ; NULL when out of range. */
+const char *dm_tex_format_name(dm_tex_format f);
+/* Bytes per texel (0 for DM_TEX_NONE). */
+size_t dm_tex_format_texel_size(dm_tex_format f);
+
+typedef struct dm_texture {
+    dm_tex_format format;
+    int width, height;  /* texels, 1..16384 */
+    const void *texels; /* width*height texels, bottom-up; NULL = absent */
+} dm_texture;
+
+enum { DM_RENDER_ENV_LEVELS_MAX = 6, DM_RENDER_SH_COUNT = 9 };
+
+typedef struct dm_render_assets {
+    const dm_scene *scene; /* effects, lights, camera, profile, sizes; never NULL */
+
+    /* mesh */
+    const float *vertices; /* vertex_count * DM_VERTEX_FLOATS */
+    int vertex_count;
+    const uint32_t *indices; /* index_count, triangles, counter-clockwise = front */
+    int index_count;
+
+    /* maps (all optional: absent albedo is white, absent normal map is (0,0,1), absent
+     * specular map is 1, absent roughness map uses scene->roughness) */
+    dm_texture albedo;        /* RGBA8_SRGB */
+    dm_texture normal_map;    /* RGBA8 (or RGBA16F/32F holding −1..1 already: not supported) */
+    dm_texture specular_map;  /* R8 or RGBA8 (red channel) */
+    dm_texture roughness_map; /* R8, m in [0, 1] */
+
+    /* specular tables (dm_lut.h layout: s = cosine, t = m, texel centres) */
+    dm_texture beckmann;       /* R8, 0.5·D^0.1; needed by specular */
+    dm_texture rho_dt;         /* R32F; needed by energy_conservation (with specular) */
+    dm_texture env_brdf_scale; /* R32F; needed by environment_lighting (with specular) */
+    dm_texture env_brdf_bias;  /* R32F */
+
+    /* subsurface: stretch chain, UV units per mm along u (R) and v (G). Level k is the
+     * stretch blurred like irradiance level k; the blur that makes level k reads stretch
+     * level k−1. One level is accepted (used for every blur). RG32F or RG16F. */
+    int stretch_level_count; /* 1..DM_PROFILE_MAX_GAUSSIANS */
+    dm_texture stretch[DM_PROFILE_MAX_GAUSSIANS];
+    dm_texture stretch_mask; /* R8 chart coverage; optional (coverage is also rasterized) */
+    const dm_profile *profile; /* NULL: scene->profile */
+
+    /* environment (mesh space; equirect: u = 0.5 + atan2(d.x, −d.z)/2π, v = 0.5 + asin(d.y)/π,
+     * so v = 1 is straight up; scene->env_rotation_deg turns it about +Y) */
+    bool has_env_sh;
+    float env_sh[DM_RENDER_SH_COUNT][3]; /* radiance SH, real basis, order (0,0) (1,−1) (1,0)
+                                          * (1,1) (2,−2) (2,−1) (2,0) (2,1) (2,2), RGB */
+    int env_level_count;                 /* prefiltered specular levels, 0..6 */
+    float env_level_m[DM_RENDER_ENV_LEVELS_MAX]; /* Beckmann m of each level, ascending */
+    dm_texture env_levels[DM_RENDER_ENV_LEVELS_MAX]; /* RGBA16F/32F equirect radiance */
+    dm_texture env_background;                       /* RGBA16F/32F equirect radiance */
+} dm_render_assets;
+
+/* Options of the renderer itself; zero means default. */
+typedef struct dm_render_desc {
+    const char *shader_dir; /* load shaders/<pass>.glsl from here; NULL = embedded copies */
+    int width, height;      /* output size; 0 = scene's */
+    int irradiance_size;    /* texture-space size; 0 = scene's irradiance_size */
+    int shadow_size;        /* shadow map size; 0 = 1024 */
+    bool timings;           /* time every pass (CPU clock around glFinish on software
+                             * renderers, GL_TIME_ELAPSED queries elsewhere) */
+} dm_render_desc;
+
+typedef struct dm_renderer dm_renderer;
+
+/* Builds the pass plan, checks the assets against it, compiles the shaders and uploads
+ * everything. Needs a current GL 3.3+ core context. Free with dm_renderer_destroy. */
+dm_result dm_renderer_create(const dm_render_assets *assets, const dm_render_desc *desc, dm_renderer **out,
+                             dm_error *err);
+void dm_renderer_destroy(dm_renderer *r);
+
+/* Per-frame options; zero means the final picture. */
+typedef struct dm_frame_options {
+    dm_view view;
+    int view_index;           /* blur/stretch level, shadow light */
+    float view_scale;         /* multiplies debug texture views; 0 = 1 */
+    float light_rotation_deg; /* turns every light about +Y (mesh space) */
+} dm_frame_options;
+
+/* Renders one frame. Fails with DM_ERR_INVALID_ARGUMENT when the view is not available
+ * for this scene (e.g. the irradiance view with subsurface off) and DM_ERR_GL on a GL
+ * error (the message names the pass). */
+dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error *err);
+
+/* The plan of the last frame (or of the final view before any frame). */
+const dm_render_plan *dm_renderer_plan(const dm_renderer *r);
+/* Milliseconds per pass of the last frame (plan order), and the frame total; zeros when
+ * desc.timings was false. pass_ms holds dm_renderer_plan(r)->pass_count values. */
+void dm_renderer_last_timings(const dm_renderer *r, double *pass_ms, double *frame_ms);
+/* The GL_RENDERER string and whether timings use the CPU clock (software renderer). */
+const char *dm_renderer_gl_name(const dm_renderer *r);
+bool dm_renderer_timing_on_cpu(const dm_renderer *r);
+
+void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradiance_size);
+
+/* The output of the last frame, bottom-up. Display: 8-bit sRGB RGBA (tonemapped when the
+ * tonemap effect is on and the view is a shaded one; otherwise the linear values clamped
+ * to [0, 1] and sRGB-encoded on the CPU). Linear: the float radiance before tonemapping
+ * (or the debug view's values). Buffers hold width*height*4 values. */
+dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err);
+dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err);
+
+/* Every intermediate render target, for inspection (tests scan them for NaN/Inf). */
+typedef struct dm_target_info {
+    const char *name; /* "irradiance", "blur3", "blur_tmp", "shadow0", "screen", ... */
+    int width, height;
+    int channels; /* values per texel read back: 4, or 1 for depth */
+} dm_target_info;
+int dm_renderer_target_count(const dm_renderer *r);
+void dm_renderer_target_info(const dm_renderer *r, int index, dm_target_info *info);
+/* Reads target `index` as float, width*height*channels values, bottom-up. */
+dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_error *err);
+/* The index of the target with that name, or −1. */
+int dm_renderer_find_target(const dm_renderer *r, const char *name);
+
+/* The discrete blur kernel the renderer uses for `taps` taps (odd, 3..63): offsets in
+ * standard deviations over ±3σ, weights the Gaussian integrated over each tap's bin with
+ * the tails folded into the end taps (7 taps give the chapter's 0.006, 0.061, 0.242,
+ * 0.382). offsets/weights hold `taps` values. Returns the kernel's variance in σ² (1.08
+ * for 7 taps): the blur of variance v really blurs by v times this. */
+double dm_render_blur_kernel(int taps, float *offsets_sigma, float *weights);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,204 @@
+#include "render/dm_render_image.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <zlib.h>
+
+#include "core/dm_file.h"
+
+static void be32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)(v >> 24), p[1] = (uint8_t)(v >> 16), p[2] = (uint8_t)(v >> 8), p[3] = (uint8_t)v;
+}
+
+static int png_chunk(FILE *fp, const char *type, const uint8_t *data, size_t size)
+{
+    uint8_t head[8];
+    be32(head, (uint32_t)size);
+    memcpy(head + 4, type, 4);
+    uLong crc = crc32(0L, head + 4, 4);
+    if (size) crc = crc32(crc, data, (uInt)size);
+    uint8_t tail[4];
+    be32(tail, (uint32_t)crc);
+    return fwrite(head, 1, 8, fp) == 8 && (size == 0 || fwrite(data, 1, size, fp) == size) &&
+           fwrite(tail, 1, 4, fp) == 4;
+}
+
+static int png_text(FILE *fp, const char *key, const char *value)
+{
+    size_t k = strlen(key), v = strlen(value);
+    uint8_t *buf = malloc(k + 1 + v);
+    if (!buf) return 0;
+    memcpy(buf, key, k + 1);
+    memcpy(buf + k + 1, value, v);
+    int ok = png_chunk(fp, "tEXt", buf, k + 1 + v);
+    free(buf);
+    return ok;
+}
+
+dm_result dm_render_write_png(const char *path, int width, int height, const uint8_t *rgba,
+                              const dm_provenance *prov, dm_error *err)
+{
+    size_t row = (size_t)width * 4 + 1, raw_size = row * (size_t)height;
+    uint8_t *raw = malloc(raw_size);
+    uLongf z_size = compressBound((uLong)raw_size);
+    uint8_t *z = malloc(z_size);
+    char *json = malloc(16384);
+    if (!raw || !z || !json) {
+        free(raw), free(z), free(json);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate %zu bytes for the PNG", path, raw_size);
+    }
+    for (int y = 0; y < height; ++y) { /* file row y is memory row height-1-y; filter 0 */
+        raw[(size_t)y * row] = 0;
+        memcpy(raw + (size_t)y * row + 1, rgba + (size_t)(height - 1 - y) * width * 4, (size_t)width * 4);
+    }
+    dm_result rc = DM_OK;
+    if (compress2(z, &z_size, raw, (uLong)raw_size, 6) != Z_OK)
+        rc = dm_fail(err, DM_ERR_INTERNAL, "%s: zlib could not compress the image", path);
+    if (rc == DM_OK) rc = dm_prov_to_json(prov, json, 16384, err);
+    dm_atomic_file af;
+    if (rc == DM_OK) rc = dm_atomic_open(&af, path, err);
+    if (rc == DM_OK) {
+        static const uint8_t sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+        uint8_t ihdr[13];
+        be32(ihdr, (uint32_t)width);
+        be32(ihdr + 4, (uint32_t)height);
+        ihdr[8] = 8, ihdr[9] = 6, ihdr[10] = 0, ihdr[11] = 0, ihdr[12] = 0; /* 8-bit RGBA */
+        char software[128];
+        snprintf(software, sizeof software, "%s %s", prov->tool, prov->version);
+        int ok = fwrite(sig, 1, 8, af.fp) == 8 && png_chunk(af.fp, "IHDR", ihdr, 13) &&
+                 png_text(af.fp, "Software", software) && png_text(af.fp, "dermis:provenance", json) &&
+                 png_chunk(af.fp, "IDAT", z, z_size) && png_chunk(af.fp, "IEND", NULL, 0);
+        if (!ok) {
+            dm_atomic_abort(&af);
+            rc = dm_fail(err, DM_ERR_FILE_WRITE, "%s: write failed", path);
+        } else {
+            rc = dm_atomic_commit(&af, err);
+        }
+    }
+    free(raw), free(z), free(json);
+    return rc;
+}
+
+/* ---- EXR ------------------------------------------------------------------------------ */
+
+typedef struct wbuf {
+    uint8_t *p;
+    size_t len, cap;
+    int failed;
+} wbuf;
+
+static void wb(wbuf *b, const void *data, size_t n)
+{
+    if (b->failed) return;
+    if (b->len + n > b->cap) {
+        size_t cap = (b->cap ? b->cap * 2 : 4096) + n;
+        uint8_t *q = realloc(b->p, cap);
+        if (!q) {
+            b->failed = 1;
+            return;
+        }
+        b->p = q, b->cap = cap;
+    }
+    memcpy(b->p + b->len, data, n);
+    b->len += n;
+}
+static void wb_i32(wbuf *b, int32_t v)
+{
+    uint8_t x[4] = {(uint8_t)v, (uint8_t)(v >> 8), (uint8_t)(v >> 16), (uint8_t)(v >> 24)};
+    wb(b, x, 4);
+}
+static void wb_u64(wbuf *b, uint64_t v)
+{
+    for (int i = 0; i < 8; ++i) {
+        uint8_t x = (uint8_t)(v >> (8 * i));
+        wb(b, &x, 1);
+    }
+}
+static void wb_f32(wbuf *b, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    wb_i32(b, (int32_t)u);
+}
+static void wb_attr(wbuf *b, const char *name, const char *type, int32_t size)
+{
+    wb(b, name, strlen(name) + 1);
+    wb(b, type, strlen(type) + 1);
+    wb_i32(b, size);
+}
+
+dm_result dm_render_write_exr(const char *path, int width, int height, const float *rgba,
+                              const dm_provenance *prov, dm_error *err)
+{
+    char *json = malloc(16384);
+    if (!json) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate", path);
+    dm_result rc = dm_prov_to_json(prov, json, 16384, err);
+    if (rc != DM_OK) {
+        free(json);
+        return rc;
+    }
+    wbuf b = {0};
+    static const uint8_t magic[4] = {0x76, 0x2f, 0x31, 0x01};
+    wb(&b, magic, 4);
+    wb_i32(&b, 2); /* version 2, scanline, no flags */
+    static const char *chans[4] = {"A", "B", "G", "R"}; /* sorted, as EXR requires */
+    static const int src_channel[4] = {3, 2, 1, 0};
+    wb_attr(&b, "channels", "chlist", 4 * (2 + 16) + 1);
+    for (int c = 0; c < 4; ++c) {
+        wb(&b, chans[c], 2);
+        wb_i32(&b, 2); /* FLOAT */
+        static const uint8_t plinear_reserved[4] = {0, 0, 0, 0};
+        wb(&b, plinear_reserved, 4);
+        wb_i32(&b, 1);
+        wb_i32(&b, 1);
+    }
+    wb(&b, "", 1);
+    static const uint8_t zero = 0;
+    wb_attr(&b, "compression", "compression", 1);
+    wb(&b, &zero, 1);
+    for (int w = 0; w < 2; ++w) {
+        wb_attr(&b, w ? "displayWindow" : "dataWindow", "box2i", 16);
+        wb_i32(&b, 0), wb_i32(&b, 0), wb_i32(&b, width - 1), wb_i32(&b, height - 1);
+    }
+    wb_attr(&b, "lineOrder", "lineOrder", 1);
+    wb(&b, &zero, 1);
+    wb_attr(&b, "pixelAspectRatio", "float", 4);
+    wb_f32(&b, 1.0f);
+    wb_attr(&b, "screenWindowCenter", "v2f", 8);
+    wb_f32(&b, 0.0f), wb_f32(&b, 0.0f);
+    wb_attr(&b, "screenWindowWidth", "float", 4);
+    wb_f32(&b, 1.0f);
+    wb_attr(&b, "dermis.provenance", "string", (int32_t)strlen(json));
+    wb(&b, json, strlen(json));
+    wb(&b, "", 1); /* end of header */
+    free(json);
+    const uint64_t block = 8 + (uint64_t)width * 4 * 4;
+    const uint64_t first = b.len + (uint64_t)height * 8;
+    for (int y = 0; y < height; ++y) wb_u64(&b, first + (uint64_t)y * block);
+    for (int y = 0; y < height && !b.failed; ++y) {
+        wb_i32(&b, y);
+        wb_i32(&b, width * 16);
+        const float *row = rgba + (size_t)(height - 1 - y) * width * 4;
+        for (int c = 0; c < 4; ++c)
+            for (int x = 0; x < width; ++x) wb_f32(&b, row[(size_t)x * 4 + src_channel[c]]);
+    }
+    if (b.failed) {
+        free(b.p);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the EXR buffer", path);
+    }
+    dm_atomic_file af;
+    rc = dm_atomic_open(&af, path, err);
+    if (rc == DM_OK) {
+        if (fwrite(b.p, 1, b.len, af.fp) != b.len) {
+            dm_atomic_abort(&af);
+            rc = dm_fail(err, DM_ERR_FILE_WRITE, "%s: write failed", path);
+        } else {
+            rc = dm_atomic_commit(&af, err);
+        }
+    }
+    free(b.p);
+    return rc;
+}

@@ -1,0 +1,236 @@
+#include "render/dm_render_plan.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *dm_render_effect_name(dm_effect e)
+{
+    static const char *names[DM_EFFECT_COUNT] = {"specular", "subsurface", "energy_conservation", "shadows",
+                                                 "environment_lighting", "glow", "tonemap"};
+    return (unsigned)e < DM_EFFECT_COUNT ? names[e] : NULL;
+}
+
+static const char *view_names[DM_VIEW_COUNT] = {"final",    "irradiance", "blur", "stretch",  "shadow",
+                                                "specular", "diffuse",    "uv",   "wireframe"};
+
+const char *dm_view_name(dm_view v)
+{
+    return (unsigned)v < DM_VIEW_COUNT ? view_names[v] : NULL;
+}
+
+bool dm_view_parse(const char *text, dm_view *view, int *index)
+{
+    for (int v = 0; v < DM_VIEW_COUNT; ++v) {
+        size_t n = strlen(view_names[v]);
+        if (strncmp(text, view_names[v], n) != 0) continue;
+        const char *rest = text + n;
+        bool indexed = v == DM_VIEW_BLUR || v == DM_VIEW_STRETCH || v == DM_VIEW_SHADOW;
+        if (*rest == '\0') {
+            *view = (dm_view)v;
+            *index = v == DM_VIEW_BLUR ? -1 : 0; /* −1: the last level */
+            return true;
+        }
+        if (!indexed) continue;
+        char *end = NULL;
+        long k = strtol(rest, &end, 10);
+        if (*end || k < 0 || k > 63 || rest[0] < '0' || rest[0] > '9') return false;
+        *view = (dm_view)v;
+        *index = (int)k;
+        return true;
+    }
+    return false;
+}
+
+static void add(dm_render_plan *p, dm_pass_kind kind, int index, const char *name, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+static void add(dm_render_plan *p, dm_pass_kind kind, int index, const char *name, const char *fmt, ...)
+{
+    dm_pass *ps = &p->passes[p->pass_count++];
+    ps->kind = kind;
+    ps->index = index;
+    snprintf(ps->name, sizeof ps->name, "%s", name);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ps->why, sizeof ps->why, fmt, ap);
+    va_end(ap);
+}
+
+dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, dm_render_plan *p, dm_error *err)
+{
+    memset(p, 0, sizeof *p);
+    memcpy(p->effects, s->effects, sizeof p->effects);
+    const bool *fx = s->effects;
+    const bool sss = fx[DM_EFFECT_SUBSURFACE], spec = fx[DM_EFFECT_SPECULAR];
+    const bool env = fx[DM_EFFECT_ENVIRONMENT_LIGHTING];
+    p->energy_conservation_active = fx[DM_EFFECT_ENERGY_CONSERVATION] && spec;
+    p->env_specular_active = env && spec;
+    p->blur_levels = sss ? s->profile.count : 0;
+    p->view = view;
+    if (view == DM_VIEW_BLUR && view_index < 0) view_index = p->blur_levels - 1;
+    p->view_index = view_index;
+
+    if (fx[DM_EFFECT_SHADOWS])
+        for (int i = 0; i < s->light_count && i < DM_SCENE_MAX_LIGHTS; ++i)
+            if (s->lights[i].casts_shadow && p->casting_lights++ < DM_PLAN_MAX_SHADOWS)
+                p->shadow_light[p->shadow_count++] = i;
+
+    /* the view's requirements */
+    const char *vname = dm_view_name(view);
+    if (!vname) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %d: unknown view", (int)view);
+    if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH) && !sss)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect, which this scene turns off",
+                       vname);
+    if (view == DM_VIEW_BLUR && (view_index < 1 || view_index >= p->blur_levels))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view blur%d: blur levels are 1..%d", view_index,
+                       p->blur_levels - 1);
+    if (view == DM_VIEW_STRETCH && (view_index < 0 || view_index >= p->blur_levels))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view stretch%d: stretch levels are 0..%d", view_index,
+                       p->blur_levels - 1);
+    if (view == DM_VIEW_SHADOW && (view_index < 0 || view_index >= p->shadow_count))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "view shadow%d: this scene has %d shadow map(s) (shadows %s, casting lights)", view_index,
+                       p->shadow_count, fx[DM_EFFECT_SHADOWS] ? "on" : "off");
+
+    const bool texture_view = view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH ||
+                              view == DM_VIEW_SHADOW;
+    char name[DM_PLAN_NAME_SIZE];
+
+    /* shadows feed the irradiance pass and the final pass's lights */
+    const bool want_shadows = view != DM_VIEW_STRETCH && view != DM_VIEW_UV_TEST && view != DM_VIEW_WIREFRAME;
+    if (want_shadows)
+        for (int i = 0; i < p->shadow_count; ++i) {
+            if (view == DM_VIEW_SHADOW && i != view_index) continue;
+            snprintf(name, sizeof name, "shadow%d", i);
+            add(p, DM_PASS_SHADOW, i, name, "shadows: light %d casts; depth map filtered by 3x3 PCF",
+                p->shadow_light[i]);
+        }
+    if (view == DM_VIEW_SHADOW) {
+        add(p, DM_PASS_VIEW, view_index, "view", "debug view: shadow depth of light %d", p->shadow_light[view_index]);
+        return DM_OK;
+    }
+    if (view == DM_VIEW_STRETCH) {
+        add(p, DM_PASS_VIEW, view_index, "view", "debug view: stretch level %d (UV units per mm, u in red, v in green)",
+            view_index);
+        return DM_OK;
+    }
+
+    const bool shaded_view = !texture_view && view != DM_VIEW_UV_TEST && view != DM_VIEW_WIREFRAME;
+    if (sss && (shaded_view || view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR) && view != DM_VIEW_SPECULAR) {
+        add(p, DM_PASS_IRRADIANCE, 0, "irradiance",
+            "subsurface: lights x N.L (normal map)%s%s%s, pre-scatter albedo^%.2g",
+            p->shadow_count ? " x shadow" : "",
+            p->energy_conservation_active ? " x (1 - rho_s rho_dt) [energy_conservation]" : "",
+            env ? " + SH diffuse [environment_lighting]" : "", (double)s->mix);
+        int last = view == DM_VIEW_IRRADIANCE ? 0 : view == DM_VIEW_BLUR ? view_index : p->blur_levels - 1;
+        for (int k = 1; k <= last; ++k) {
+            double dv = s->profile.variance_mm2[k] - s->profile.variance_mm2[k - 1];
+            snprintf(name, sizeof name, "blur_u%d", k);
+            add(p, DM_PASS_BLUR_U, k, name, "subsurface: level %d from %d, variance %.4g mm^2 along u, %d taps", k,
+                k - 1, dv, s->blur_taps);
+            snprintf(name, sizeof name, "blur_v%d", k);
+            add(p, DM_PASS_BLUR_V, k, name, "subsurface: level %d from %d, variance %.4g mm^2 along v, %d taps", k,
+                k - 1, dv, s->blur_taps);
+        }
+    }
+    if (view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR) {
+        add(p, DM_PASS_VIEW, view_index, "view", "debug view: %s level %d (coverage-normalised)",
+            view == DM_VIEW_IRRADIANCE ? "irradiance" : "blur", view == DM_VIEW_IRRADIANCE ? 0 : view_index);
+        return DM_OK;
+    }
+
+    const char *mode = view == DM_VIEW_FINAL      ? ""
+                       : view == DM_VIEW_SPECULAR ? " [debug view: specular only]"
+                       : view == DM_VIEW_DIFFUSE  ? " [debug view: diffuse only]"
+                       : view == DM_VIEW_UV_TEST  ? " [debug view: UV checker]"
+                                                  : " [debug view: wireframe]";
+    if (shaded_view)
+        add(p, DM_PASS_FINAL, 0, "final", "always: %s diffuse%s%s%s%s%s",
+            sss ? "6-level weighted sum x post-scatter albedo^(1-mix)" : "Lambert (subsurface off) x albedo",
+            spec ? " + KS specular (Beckmann LUT, Schlick F0 0.028, spec map) [specular]" : "",
+            p->energy_conservation_active ? " x (1 - rho_s rho_dt(N.V)) [energy_conservation]" : "",
+            p->env_specular_active ? " + env split-sum specular [environment_lighting]" : "",
+            env && !sss ? " + SH diffuse [environment_lighting]" : "", mode);
+    else
+        add(p, DM_PASS_FINAL, 0, "final", "always: draws the mesh%s", mode);
+    if (env && s->env_background && s->environment[0] && shaded_view)
+        add(p, DM_PASS_BACKGROUND, 0, "background",
+            "environment_lighting with env_background: equirect radiance behind the head");
+    if (fx[DM_EFFECT_GLOW] && shaded_view) {
+        add(p, DM_PASS_GLOW_BRIGHT, 0, "glow_bright", "glow: max(c - %.3g, 0) at half resolution",
+            (double)s->glow_threshold);
+        add(p, DM_PASS_GLOW_BLUR_U, 0, "glow_blur_u", "glow: Gaussian along x at half resolution");
+        add(p, DM_PASS_GLOW_BLUR_V, 0, "glow_blur_v", "glow: Gaussian along y at half resolution");
+        add(p, DM_PASS_GLOW_ADD, 0, "glow_add", "glow: adds %.3g x the blurred bright pass", (double)s->glow_intensity);
+    }
+    if (fx[DM_EFFECT_TONEMAP] && shaded_view)
+        add(p, DM_PASS_TONEMAP, 0, "tonemap", "tonemap: exposure %+.2g stops, filmic curve, sRGB",
+            (double)s->exposure);
+    return DM_OK;
+}
+
+int dm_render_plan_find(const dm_render_plan *plan, const char *name)
+{
+    for (int i = 0; i < plan->pass_count; ++i)
+        if (strcmp(plan->passes[i].name, name) == 0) return i;
+    return -1;
+}
+
+typedef struct sbuf {
+    char *out;
+    size_t size, len;
+} sbuf;
+
+static void put(sbuf *b, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static void put(sbuf *b, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    size_t room = b->len < b->size ? b->size - b->len : 0;
+    int n = vsnprintf(room ? b->out + b->len : NULL, room, fmt, ap);
+    va_end(ap);
+    if (n > 0) b->len += (size_t)n;
+}
+
+size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_size)
+{
+    sbuf b = {out, out_size, 0};
+    if (out_size) out[0] = '\0';
+    put(&b, "view %s", dm_view_name(p->view));
+    if (p->view == DM_VIEW_BLUR || p->view == DM_VIEW_STRETCH || p->view == DM_VIEW_SHADOW)
+        put(&b, "%d", p->view_index);
+    put(&b, ": %d passes\n", p->pass_count);
+    for (int i = 0; i < p->pass_count; ++i)
+        put(&b, "  %2d  %-12s %s\n", i, p->passes[i].name, p->passes[i].why);
+    static const char *removes[DM_EFFECT_COUNT] = {
+        "no specular term, no Beckmann LUT",
+        "no irradiance texture, no blur passes: Lambert diffuse in the final pass",
+        "no 1 - rho_s rho_dt factor",
+        "no shadow passes",
+        "no SH diffuse, no environment specular, no background",
+        "no glow passes",
+        "no tonemap pass: linear radiance clamped and sRGB-encoded on readback",
+    };
+    bool any_off = false;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        if (!p->effects[e]) {
+            if (!any_off) put(&b, "effects off:\n");
+            any_off = true;
+            put(&b, "      %-20s %s\n", dm_render_effect_name((dm_effect)e), removes[e]);
+        }
+    if (p->effects[DM_EFFECT_ENERGY_CONSERVATION] && !p->effects[DM_EFFECT_SPECULAR])
+        put(&b, "note: energy_conservation is inactive without specular (no light is taken by the surface)\n");
+    if (p->casting_lights > p->shadow_count && p->shadow_count > 0)
+        put(&b, "note: %d lights cast; only the first %d get shadow maps\n", p->casting_lights, p->shadow_count);
+    if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
+        put(&b, "note: shadows on but no light casts: no shadow pass\n");
+    return b.len;
+}

@@ -1,0 +1,116 @@
+/* dm_render_plan.h — the pass graph: which passes a scene's effects call for, in order,
+ * and why (DESIGN.md promise 3: simulate only the effects a scene calls for).
+ *
+ * Pure data, no GL: tests check the pass list of a scene without a context.
+ *
+ * Passes, in frame order, and the rule that puts each in the plan:
+ *   shadow L         shadows on, light L casts (one per casting light, the first
+ *                    DM_PLAN_MAX_SHADOWS = 4 casting lights; explain notes any beyond)
+ *   irradiance       subsurface on (texture space: lights, shadow, env SH, albedo^mix)
+ *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
+ *   final            always (draws the head: diffuse, specular, environment terms)
+ *   background       environment given and shown (scene->env_background), and
+ *                    environment_lighting on
+ *   glow_bright, glow_blur_u, glow_blur_v, glow_add   glow on
+ *   tonemap          tonemap on (exposure, filmic, sRGB)
+ * Debug views replace final..tonemap by the passes they need (a `view` pass copying the
+ * texture to the screen for texture views; final with a mode for shaded views).
+ * Effects that only change a shader (energy_conservation, environment_lighting's SH and
+ * split-sum terms, specular) add no pass of their own; explain lists them per pass.
+ */
+#ifndef DM_RENDER_PLAN_H
+#define DM_RENDER_PLAN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "core/dm_result.h"
+#include "core/dm_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum dm_view {
+    DM_VIEW_FINAL = 0,  /* the picture */
+    DM_VIEW_IRRADIANCE, /* texture-space irradiance (level 0), coverage-normalised */
+    DM_VIEW_BLUR,       /* blur level k (view_index, 1..count−1) */
+    DM_VIEW_STRETCH,    /* stretch level k (u, v in red, green) */
+    DM_VIEW_SHADOW,     /* shadow depth of casting light k */
+    DM_VIEW_SPECULAR,   /* shaded, specular terms only */
+    DM_VIEW_DIFFUSE,    /* shaded, diffuse terms only */
+    DM_VIEW_UV_TEST,    /* a UV checker on the head (texture-space layout check) */
+    DM_VIEW_WIREFRAME,  /* triangle edges */
+    DM_VIEW_COUNT
+} dm_view;
+
+/* "final", "irradiance", "blur", "stretch", "shadow", "specular", "diffuse", "uv",
+ * "wireframe"; NULL when out of range. */
+const char *dm_view_name(dm_view v);
+/* Parses "final", "irradiance", "blur3", "stretch0", "shadow1", ... (index defaults 0,
+ * blur defaults to the last level). Returns false for an unknown name. */
+bool dm_view_parse(const char *text, dm_view *view, int *index);
+
+typedef enum dm_pass_kind {
+    DM_PASS_SHADOW = 0,
+    DM_PASS_IRRADIANCE,
+    DM_PASS_BLUR_U,
+    DM_PASS_BLUR_V,
+    DM_PASS_FINAL,
+    DM_PASS_BACKGROUND,
+    DM_PASS_GLOW_BRIGHT,
+    DM_PASS_GLOW_BLUR_U,
+    DM_PASS_GLOW_BLUR_V,
+    DM_PASS_GLOW_ADD,
+    DM_PASS_TONEMAP,
+    DM_PASS_VIEW,
+    DM_PASS_KIND_COUNT
+} dm_pass_kind;
+
+enum { DM_PLAN_MAX_SHADOWS = 4, DM_PLAN_MAX_PASSES = 48, DM_PLAN_NAME_SIZE = 32, DM_PLAN_WHY_SIZE = 320 };
+
+typedef struct dm_pass {
+    dm_pass_kind kind;
+    int index;                    /* light (shadow), level (blur), 0 otherwise */
+    char name[DM_PLAN_NAME_SIZE]; /* "shadow0", "blur_u3", "final", ... */
+    char why[DM_PLAN_WHY_SIZE];   /* the effect (and setting) that needs it, and what it
+                                   * adds to the pass: "subsurface: variance 0.139 mm²" */
+} dm_pass;
+
+typedef struct dm_render_plan {
+    int pass_count;
+    dm_pass passes[DM_PLAN_MAX_PASSES];
+    bool effects[DM_EFFECT_COUNT]; /* as in the scene */
+    bool energy_conservation_active; /* energy_conservation and specular both on */
+    bool env_specular_active;        /* environment_lighting and specular both on */
+    int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */
+    int casting_lights;              /* all lights that cast (more than shadow_count: no map) */
+    int shadow_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */
+    int blur_levels;                 /* Gaussians (levels incl. level 0), 0 without subsurface */
+    dm_view view;
+    int view_index;
+} dm_render_plan;
+
+/* Builds the plan for `scene` showing `view` (index: level or light). Fails with
+ * DM_ERR_INVALID_ARGUMENT, naming the view and the effect it needs, when the view cannot
+ * be shown for this scene (e.g. blur without subsurface, shadow2 with two casters). */
+dm_result dm_render_plan_build(const dm_scene *scene, dm_view view, int view_index, dm_render_plan *plan,
+                               dm_error *err);
+
+/* The pass list with one line per pass ("  3  blur_u1      subsurface: ..."), then the
+ * effects that are off and what that removed. Writes at most out_size bytes (always
+ * NUL-terminated); returns the length the full text needs. */
+size_t dm_render_plan_explain(const dm_render_plan *plan, char *out, size_t out_size);
+
+/* The index of the first pass with that name, or −1. */
+int dm_render_plan_find(const dm_render_plan *plan, const char *name);
+
+/* The effect's name as in the scene file ("specular", "subsurface", ...). Temporary twin
+ * of dm_effect_name (core/dm_scene.c, on its way with the scene parser); NULL when out of
+ * range. */
+const char *dm_render_effect_name(dm_effect e);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,25 @@
+// background.glsl - the environment behind the head: a full-screen triangle at the far plane
+// (depth test LEQUAL keeps the head), radiance looked up along each pixel's view ray.
+uniform vec3 u_cam_forward; // forward, right * tan(fov/2) * aspect, up * tan(fov/2)
+uniform vec3 u_cam_right;
+uniform vec3 u_cam_up;
+uniform float u_env_rotation;
+uniform float u_env_intensity;
+uniform sampler2D u_background;
+#ifdef DM_VERTEX
+out vec2 v_uv;
+void main()
+{
+    vec4 p = dm_fullscreen(v_uv);
+    gl_Position = vec4(p.xy, 1.0, 1.0);
+}
+#else
+in vec2 v_uv;
+out vec4 o_color;
+void main()
+{
+    vec2 ndc = v_uv * 2.0 - 1.0;
+    vec3 d = normalize(u_cam_forward + ndc.x * u_cam_right + ndc.y * u_cam_up);
+    o_color = vec4(u_env_intensity * texture(u_background, dm_equirect_uv(d, u_env_rotation)).rgb, 1.0);
+}
+#endif

@@ -1,0 +1,152 @@
+// common.glsl - prepended to every pass (after #version and the DM_* defines).
+// Shared functions and the light uniforms; GLSL has no #include, the loader
+// (lib/render/dm_render_shaders.c) concatenates: version, stage + effect defines, this, the pass.
+const float DM_PI = 3.14159265358979;
+const float DM_SKIN_F0 = 0.028;
+const int DM_MAX_LIGHTS = 8;
+
+#ifdef DM_VERTEX
+// A triangle covering the screen from gl_VertexID 0..2 (no vertex buffer); uv in [0, 1].
+vec4 dm_fullscreen(out vec2 uv)
+{
+    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    uv = p;
+    return vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+#endif
+
+vec3 dm_srgb_encode(vec3 c)
+{
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+// Beckmann D from the 8-bit LUT (s = N.H, t = m), decoded as (2 tex)^10 (DESIGN.md).
+float dm_beckmann_lut(sampler2D lut, float ndh, float m)
+{
+    float t = texture(lut, vec2(clamp(ndh, 0.0, 1.0), clamp(m, 0.0, 1.0))).r;
+    return pow(2.0 * t, 10.0);
+}
+
+float dm_fresnel_schlick(float c, float f0)
+{
+    float b = 1.0 - clamp(c, 0.0, 1.0);
+    float b2 = b * b;
+    return f0 + (1.0 - f0) * b2 * b2 * b;
+}
+
+// KS specular factor (N.L) rho_s max(D F / |h|^2, 0); zero when N.L <= 0 or L = -V.
+float dm_ks_specular(sampler2D lut, vec3 N, vec3 L, vec3 V, float m, float rho_s)
+{
+    float ndl = dot(N, L);
+    if (ndl <= 0.0) return 0.0;
+    vec3 h = L + V;
+    float hh = dot(h, h);
+    if (hh < 1e-8) return 0.0;
+    vec3 H = h * inversesqrt(hh);
+    float D = dm_beckmann_lut(lut, dot(N, H), m);
+    float F = dm_fresnel_schlick(dot(H, V), DM_SKIN_F0);
+    return ndl * rho_s * max(D * F / hh, 0.0);
+}
+
+// Irradiance from radiance SH (Ramamoorthi & Hanrahan 2001); a constant radiance L gives pi L.
+vec3 dm_sh_irradiance(vec3 sh[9], vec3 n)
+{
+    const float c1 = 0.429043, c2 = 0.511664, c3 = 0.743125, c4 = 0.886227, c5 = 0.247708;
+    float x = n.x, y = n.y, z = n.z;
+    vec3 e = c1 * sh[8] * (x * x - y * y) + c3 * sh[6] * z * z + c4 * sh[0] - c5 * sh[6] +
+             2.0 * c1 * (sh[4] * x * y + sh[7] * x * z + sh[5] * y * z) +
+             2.0 * c2 * (sh[3] * x + sh[1] * y + sh[2] * z);
+    return max(e, vec3(0.0));
+}
+
+// Equirect coordinates of direction d (mesh space) for an environment turned by rot (radians,
+// about +Y): u = 0.5 + atan2(x, -z)/2pi, v = 0.5 + asin(y)/pi (v = 1 straight up).
+vec2 dm_equirect_uv(vec3 d, float rot)
+{
+    float c = cos(rot), s = sin(rot);
+    vec3 r = vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+    return vec2(0.5 + atan(r.x, -r.z) / (2.0 * DM_PI), 0.5 + asin(clamp(r.y, -1.0, 1.0)) / DM_PI);
+}
+
+// The same turn applied to a normal before SH evaluation.
+vec3 dm_env_rotate(vec3 d, float rot)
+{
+    float c = cos(rot), s = sin(rot);
+    return vec3(c * d.x - s * d.z, d.y, s * d.x + c * d.z);
+}
+
+// Shading normal from a tangent-space map (green up); flat (0, 0, 1) without one.
+vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
+{
+    vec3 N = normalize(n);
+    if (!has_map) return N;
+    vec3 T = t.xyz - N * dot(N, t.xyz);
+    float tl = dot(T, T);
+    if (tl < 1e-12) return N;
+    T *= inversesqrt(tl);
+    vec3 B = (t.w < 0.0 ? -1.0 : 1.0) * cross(N, T);
+    vec3 m = map_rgb * 2.0 - 1.0;
+    vec3 r = T * m.x + B * m.y + N * m.z;
+    float rl = dot(r, r);
+    return rl > 1e-12 ? r * inversesqrt(rl) : N;
+}
+
+// DM_LIGHTS (light count), DM_SHADOW_MAPS, DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
+// with constant bounds unroll (llvmpipe runs dynamic loops several times slower).
+// Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.
+uniform vec4 u_light_pos[DM_MAX_LIGHTS];
+uniform vec3 u_light_color[DM_MAX_LIGHTS];
+uniform int u_light_shadow[DM_MAX_LIGHTS]; // shadow map 0..3, -1 = none
+uniform mat4 u_light_matrix[DM_MAX_LIGHTS]; // mesh space -> shadow clip space
+uniform float u_shadow_normal_offset;       // mesh units
+uniform float u_shadow_texel;               // 1 / shadow map size
+// Four 2D shadow maps, not one array: llvmpipe samples sampler2DArrayShadow ~4x slower.
+uniform sampler2DShadow u_shadow0;
+uniform sampler2DShadow u_shadow1;
+uniform sampler2DShadow u_shadow2;
+uniform sampler2DShadow u_shadow3;
+
+// GLSL 3.30 indexes samplers by constants only: choose the map by a (uniform) branch, and
+// only among the DM_SHADOW_MAPS that exist (llvmpipe runs masked branches anyway).
+float dm_shadow_tap(int map, vec3 p)
+{
+#if DM_SHADOW_MAPS > 1
+    if (map == 1) return texture(u_shadow1, p);
+#endif
+#if DM_SHADOW_MAPS > 2
+    if (map == 2) return texture(u_shadow2, p);
+#endif
+#if DM_SHADOW_MAPS > 3
+    if (map == 3) return texture(u_shadow3, p);
+#endif
+    return texture(u_shadow0, p);
+}
+
+vec3 dm_light_dir(int i, vec3 P)
+{
+    vec4 l = u_light_pos[i];
+    if (l.w == 0.0) return normalize(l.xyz);
+    vec3 d = l.xyz - P;
+    float dl = dot(d, d);
+    return dl > 1e-20 ? d * inversesqrt(dl) : vec3(0.0, 0.0, 1.0);
+}
+
+// 3x3 PCF over the hardware-compared (bilinear) shadow map: 1 lit, 0 shadowed.
+float dm_shadow(int i, vec3 P, vec3 Ng)
+{
+#if DM_SHADOW_MAPS == 0
+    return 1.0;
+#else
+    int layer = u_light_shadow[i];
+    if (layer < 0) return 1.0;
+    vec4 c = u_light_matrix[i] * vec4(P + Ng * u_shadow_normal_offset, 1.0);
+    vec3 p = c.xyz / c.w * 0.5 + 0.5;
+    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0) return 1.0;
+    float s = 0.0;
+    for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x)
+            s += dm_shadow_tap(layer, vec3(p.xy + vec2(x, y) * u_shadow_texel, p.z));
+    return s / 9.0;
+#endif
+}

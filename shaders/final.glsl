@@ -1,0 +1,154 @@
+// final.glsl - the head on screen. Diffuse: with DM_SUBSURFACE the blur levels weighted per
+// channel and renormalised (coverage-normalised: rgb / alpha), times post-scatter
+// albedo^(1 - mix); without it Lambert from the lights (and SH) times albedo. DM_SPECULAR: KS
+// specular per light. DM_ENERGY: diffuse x (1 - rho_s rho_dt(N.V)). DM_ENV: SH diffuse (when no
+// subsurface) and, with DM_SPECULAR, split-sum environment specular.
+// u_mode: 0 final, 1 specular only, 2 diffuse only, 3 UV checker, 4 wireframe.
+uniform mat4 u_view_proj;
+#ifdef DM_VERTEX
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_tangent;
+layout(location = 3) in vec2 a_uv;
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec4 v_tan;
+out vec2 v_uv;
+void main()
+{
+    v_pos = a_position;
+    v_nrm = a_normal;
+    v_tan = a_tangent;
+    v_uv = a_uv;
+    gl_Position = u_view_proj * vec4(a_position, 1.0);
+}
+#else
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec4 v_tan;
+in vec2 v_uv;
+out vec4 o_color;
+uniform int u_mode;
+uniform vec3 u_eye;
+uniform sampler2D u_albedo;
+uniform sampler2D u_normal_map;
+uniform bool u_has_normal_map;
+uniform sampler2D u_specular_map;
+uniform sampler2D u_roughness_map;
+uniform bool u_has_roughness_map;
+uniform float u_roughness;
+uniform float u_rho_s;
+uniform sampler2D u_beckmann;
+uniform sampler2D u_rho_dt;
+uniform sampler2D u_env_scale;
+uniform sampler2D u_env_bias;
+uniform vec3 u_sh[9];
+uniform float u_env_intensity;
+uniform float u_env_rotation;
+uniform float u_env_level_m[6];
+uniform sampler2D u_env_level[6];
+uniform float u_mix;
+uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
+uniform sampler2D u_level[8];
+
+vec3 level(int k, vec2 uv)
+{
+    vec4 t = vec4(0.0);
+    // GLSL 3.30 indexes sampler arrays by constants only.
+    if (k == 0) t = texture(u_level[0], uv);
+    else if (k == 1) t = texture(u_level[1], uv);
+    else if (k == 2) t = texture(u_level[2], uv);
+    else if (k == 3) t = texture(u_level[3], uv);
+    else if (k == 4) t = texture(u_level[4], uv);
+    else if (k == 5) t = texture(u_level[5], uv);
+    else if (k == 6) t = texture(u_level[6], uv);
+    else t = texture(u_level[7], uv);
+    return t.a > 1e-4 ? t.rgb / t.a : vec3(0.0);
+}
+
+vec3 env_level(int k, vec2 uv)
+{
+    if (k == 0) return texture(u_env_level[0], uv).rgb;
+    if (k == 1) return texture(u_env_level[1], uv).rgb;
+    if (k == 2) return texture(u_env_level[2], uv).rgb;
+    if (k == 3) return texture(u_env_level[3], uv).rgb;
+    if (k == 4) return texture(u_env_level[4], uv).rgb;
+    return texture(u_env_level[5], uv).rgb;
+}
+
+// Prefiltered radiance for roughness m: linear between the two levels around m.
+vec3 env_specular(vec3 R, float m)
+{
+    vec2 uv = dm_equirect_uv(R, u_env_rotation);
+    const int n = DM_ENV_LEVELS;
+    if (n <= 0) return vec3(0.0);
+    if (m <= u_env_level_m[0] || n == 1) return env_level(0, uv);
+    for (int k = 1; k < n; ++k)
+        if (m <= u_env_level_m[k]) {
+            float t = (m - u_env_level_m[k - 1]) / max(u_env_level_m[k] - u_env_level_m[k - 1], 1e-6);
+            return mix(env_level(k - 1, uv), env_level(k, uv), t);
+        }
+    return env_level(n - 1, uv);
+}
+
+void main()
+{
+    if (u_mode == 4) {
+        o_color = vec4(1.0);
+        return;
+    }
+    if (u_mode == 3) {
+        vec2 c = floor(v_uv * 16.0);
+        float check = mod(c.x + c.y, 2.0);
+        o_color = vec4(mix(vec3(0.1), vec3(0.9), check) * vec3(v_uv, 1.0 - v_uv.x * 0.5), 1.0);
+        return;
+    }
+    vec3 Ng = normalize(v_nrm);
+    vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
+    vec3 V = normalize(u_eye - v_pos);
+    float ndv = max(dot(N, V), 0.0);
+    float m = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
+    float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
+    vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
+
+    vec3 diffuse = vec3(0.0), specular = vec3(0.0);
+#ifdef DM_SUBSURFACE
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < DM_LEVELS; ++k) sum += u_level_weight[k] * level(k, v_uv);
+    diffuse = sum * pow(albedo, vec3(1.0 - u_mix));
+#else
+    vec3 e = vec3(0.0);
+    for (int i = 0; i < DM_LIGHTS; ++i) {
+        vec3 L = dm_light_dir(i, v_pos);
+        float ndl = max(dot(N, L), 0.0);
+        if (ndl <= 0.0) continue;
+        float k = ndl * dm_shadow(i, v_pos, Ng);
+#ifdef DM_ENERGY
+        k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
+#endif
+        e += u_light_color[i] * k;
+    }
+#ifdef DM_ENV
+    e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
+#endif
+    diffuse = e * albedo;
+#endif
+#ifdef DM_ENERGY
+    diffuse *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndv, m)).r, 0.0);
+#endif
+#ifdef DM_SPECULAR
+    for (int i = 0; i < DM_LIGHTS; ++i) {
+        vec3 L = dm_light_dir(i, v_pos);
+        if (dot(N, L) <= 0.0) continue;
+        specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
+    }
+#ifdef DM_ENV
+    vec3 R = reflect(-V, N);
+    float split = DM_SKIN_F0 * texture(u_env_scale, vec2(ndv, m)).r + texture(u_env_bias, vec2(ndv, m)).r;
+    specular += u_env_intensity * rho_s * split * env_specular(R, m);
+#endif
+#endif
+    vec3 c = u_mode == 1 ? specular : u_mode == 2 ? diffuse : diffuse + specular;
+    o_color = vec4(c, 1.0);
+}
+#endif

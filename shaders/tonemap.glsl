@@ -1,0 +1,25 @@
+// tonemap.glsl - exposure (stops), Hable's filmic curve (white point 11.2), sRGB encoding.
+uniform sampler2D u_src;
+uniform float u_exposure_scale; // 2^exposure
+#ifdef DM_VERTEX
+out vec2 v_uv;
+void main()
+{
+    gl_Position = dm_fullscreen(v_uv);
+}
+#else
+in vec2 v_uv;
+out vec4 o_color;
+vec3 hable(vec3 x)
+{
+    const float A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
+    return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F;
+}
+void main()
+{
+    vec3 c = max(texture(u_src, v_uv).rgb * u_exposure_scale, vec3(0.0));
+    // exposure bias 2 as in Hable's published curve, normalised by the white point
+    vec3 t = hable(2.0 * c) / hable(vec3(11.2));
+    o_color = vec4(dm_srgb_encode(t), 1.0);
+}
+#endif

@@ -1,0 +1,304 @@
+/* dermis-render — headless (OSMesa) renderer: scene → PNG/EXR, per-pass timings.
+ * Straight pipeline: parse → load (assets) → context + renderer → frames → write. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/dm_cli.h"
+#include "core/dm_prov.h"
+#include "core/dm_version.h"
+#include "host/dm_osmesa.h"
+#include "render/dm_render.h"
+#include "render/dm_render_image.h"
+#include "render/dm_render_synth.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "Usage: dermis-render PACK -o OUT.png|OUT.exr [options]\n"
+            "       dermis-render --synthetic sphere|quad [-o OUT] [options]\n"
+            "Renders a scene headless (OSMesa, llvmpipe) through the texture-space skin pipeline.\n"
+            "\n"
+            "  -o FILE              output: .png (8-bit sRGB, tonemapped when the scene's tonemap\n"
+            "                       effect is on) or .exr (linear float RGBA before tonemapping);\n"
+            "                       both carry the scene and parameters as provenance\n"
+            "  --synthetic SHAPE    render the built-in synthetic scene (sphere: 18,240 triangles;\n"
+            "                       quad: a 64 mm flat patch) instead of a pack\n"
+            "  --size WxH           output size, default the scene's (1280x720); 1..16384 per side\n"
+            "  --irradiance N       texture-space irradiance size, default the scene's (1024); 8..8192\n"
+            "  --frames N           frames to render, default 1; 1..100000 (timings: median)\n"
+            "  --view NAME          final (default), irradiance, blurK (1..5), stretchK (0..5),\n"
+            "                       shadowK, specular, diffuse, uv, wireframe\n"
+            "  --view-scale X       multiplies debug texture views, default 1; (0, 1e6]\n"
+            "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
+            "  --timings            print the median ms per pass over the frames and per frame\n"
+            "  --explain            print the pass list and why each pass is there (renders only\n"
+            "                       when -o is given)\n"
+            "  --shader-dir DIR     load shaders from DIR/*.glsl instead of the embedded copies\n"
+            "  -v                   more detail on stderr\n"
+            "  --quiet              nothing on stdout but requested output\n"
+            "  -h, --help           this text\n"
+            "Environment: LP_NUM_THREADS sets llvmpipe's thread count (default: all cores).\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load the input, 3 rendering failed,\n"
+            "            4 cannot save the output.\n");
+}
+
+typedef struct options {
+    const char *pack, *out, *synthetic, *shader_dir, *view_text;
+    int width, height, irradiance, frames, view_index;
+    dm_view view;
+    double view_scale, light_azimuth;
+    bool timings, explain, verbose, quiet;
+} options;
+
+static bool ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+static int parse(int argc, char **argv, options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->frames = 1;
+    o->view_scale = 1.0;
+    o->view_text = "final";
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = NULL;
+        int64_t n;
+        double d;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            usage(stdout);
+            exit(DM_EXIT_OK);
+        } else if (!strcmp(a, "-o")) {
+            if (!(o->out = dm_cli_value(argc, argv, &i))) return 0;
+        } else if (!strcmp(a, "--synthetic")) {
+            if (!(o->synthetic = dm_cli_value(argc, argv, &i))) return 0;
+            if (strcmp(o->synthetic, "sphere") && strcmp(o->synthetic, "quad")) {
+                fprintf(stderr, "error: --synthetic: '%s' is not sphere or quad\n", o->synthetic);
+                return 0;
+            }
+        } else if (!strcmp(a, "--size")) {
+            if (!(v = dm_cli_value(argc, argv, &i))) return 0;
+            int w = 0, h = 0;
+            char tail = 0;
+            if (sscanf(v, "%dx%d%c", &w, &h, &tail) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384) {
+                fprintf(stderr, "error: --size: '%s' is not WxH with sides in [1, 16384]\n", v);
+                return 0;
+            }
+            o->width = w, o->height = h;
+        } else if (!strcmp(a, "--irradiance")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 8, 8192, &n)) return 0;
+            o->irradiance = (int)n;
+        } else if (!strcmp(a, "--frames")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 100000, &n)) return 0;
+            o->frames = (int)n;
+        } else if (!strcmp(a, "--view")) {
+            if (!(v = dm_cli_value(argc, argv, &i))) return 0;
+            if (!dm_view_parse(v, &o->view, &o->view_index)) {
+                fprintf(stderr, "error: --view: '%s' is not a view (see --help)\n", v);
+                return 0;
+            }
+            o->view_text = v;
+        } else if (!strcmp(a, "--view-scale")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, 1e-12, 1e6, &d)) return 0;
+            o->view_scale = d;
+        } else if (!strcmp(a, "--light-azimuth")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, -360, 360, &d)) return 0;
+            o->light_azimuth = d;
+        } else if (!strcmp(a, "--shader-dir")) {
+            if (!(o->shader_dir = dm_cli_value(argc, argv, &i))) return 0;
+        } else if (!strcmp(a, "--timings")) {
+            o->timings = true;
+        } else if (!strcmp(a, "--explain")) {
+            o->explain = true;
+        } else if (!strcmp(a, "-v")) {
+            o->verbose = true;
+        } else if (!strcmp(a, "--quiet")) {
+            o->quiet = true;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "error: unknown option '%s'\n", a);
+            return 0;
+        } else if (!o->pack) {
+            o->pack = a;
+        } else {
+            fprintf(stderr, "error: unexpected argument '%s' (one PACK only)\n", a);
+            return 0;
+        }
+    }
+    if (!!o->pack == !!o->synthetic) {
+        fprintf(stderr, "error: give either a PACK or --synthetic SHAPE\n");
+        return 0;
+    }
+    if (o->verbose && o->quiet) {
+        fprintf(stderr, "error: -v and --quiet conflict\n");
+        return 0;
+    }
+    if (!o->out && !o->explain && !o->timings) {
+        fprintf(stderr, "error: nothing to do: give -o FILE, --timings or --explain\n");
+        return 0;
+    }
+    if (o->out && !ends_with(o->out, ".png") && !ends_with(o->out, ".exr")) {
+        fprintf(stderr, "error: -o: '%s' does not end in .png or .exr\n", o->out);
+        return 0;
+    }
+    return 1;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static void provenance(const options *o, const dm_scene *s, const dm_renderer *r, dm_provenance *p)
+{
+    dm_prov_init(p, "dermis-render");
+    int w, h, irr;
+    dm_renderer_size(r, &w, &h, &irr);
+    dm_prov_add_string(p, "source", o->pack ? o->pack : o->synthetic);
+    dm_prov_add_string(p, "scene", s->path);
+    char fx[256] = "";
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        if (s->effects[e]) {
+            if (fx[0]) strcat(fx, ",");
+            strcat(fx, dm_render_effect_name((dm_effect)e));
+        }
+    dm_prov_add_string(p, "effects", fx);
+    dm_prov_add_string(p, "view", o->view_text);
+    dm_prov_add_int(p, "width", w);
+    dm_prov_add_int(p, "height", h);
+    dm_prov_add_int(p, "irradiance_size", irr);
+    dm_prov_add_int(p, "blur_taps", s->blur_taps);
+    dm_prov_add_string(p, "profile", s->profile.name);
+    dm_prov_add_double(p, "mix", s->mix);
+    dm_prov_add_double(p, "exposure", s->exposure);
+    dm_prov_add_double(p, "light_azimuth_deg", o->light_azimuth);
+    dm_prov_add_int(p, "light_count", s->light_count);
+    char cam[160];
+    snprintf(cam, sizeof cam, "eye %g %g %g target %g %g %g fov %g", (double)s->camera_eye[0],
+             (double)s->camera_eye[1], (double)s->camera_eye[2], (double)s->camera_target[0],
+             (double)s->camera_target[1], (double)s->camera_target[2], (double)s->fov_y_deg);
+    dm_prov_add_string(p, "camera", cam);
+    dm_prov_add_int(p, "frames", o->frames);
+    dm_prov_add_string(p, "renderer", dm_renderer_gl_name(r));
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    if (!parse(argc, argv, &o)) {
+        fprintf(stderr, "Usage: dermis-render PACK -o OUT.png|OUT.exr [options] (--help for all)\n");
+        return DM_EXIT_USAGE;
+    }
+    dm_error err = {0};
+
+    /* load */
+    dm_synth *synth = NULL;
+    if (o.pack) {
+        fprintf(stderr, "error: %s: reading packs arrives with the pack reader (issue 6); use --synthetic for now\n",
+                o.pack);
+        return DM_EXIT_LOAD;
+    }
+    dm_synth_options so = {.shape = strcmp(o.synthetic, "quad") ? DM_SYNTH_SPHERE : DM_SYNTH_QUAD};
+    if (dm_synth_create(&so, &synth, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_LOAD;
+    }
+
+    /* context + renderer */
+    dm_osmesa *ctx = NULL;
+    dm_renderer *r = NULL;
+    int rc = DM_EXIT_OK;
+    dm_render_desc desc = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
+                           .irradiance_size = o.irradiance, .timings = o.timings};
+    if (dm_osmesa_create(&ctx, &err) != DM_OK || dm_renderer_create(&synth->assets, &desc, &r, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        rc = DM_EXIT_PROCESS;
+        goto done;
+    }
+    if (o.verbose) fprintf(stderr, "renderer: %s\n", dm_renderer_gl_name(r));
+
+    dm_frame_options fo = {.view = o.view, .view_index = o.view_index, .view_scale = (float)o.view_scale,
+                           .light_rotation_deg = (float)o.light_azimuth};
+    if (o.explain) {
+        dm_render_plan plan;
+        if (dm_render_plan_build(&synth->scene, o.view, o.view_index, &plan, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            rc = DM_EXIT_USAGE;
+            goto done;
+        }
+        char text[8192];
+        dm_render_plan_explain(&plan, text, sizeof text);
+        fputs(text, stdout);
+        if (!o.out && !o.timings) goto done;
+    }
+
+    /* frames */
+    double *ms = calloc((size_t)o.frames * (DM_PLAN_MAX_PASSES + 1), sizeof *ms);
+    if (!ms) {
+        rc = DM_EXIT_PROCESS;
+        goto done;
+    }
+    dm_progress prog;
+    dm_progress_begin(&prog, "rendering", o.quiet || o.frames < 4);
+    for (int f = 0; f < o.frames; ++f) {
+        if (dm_render_frame(r, &fo, &err) != DM_OK) {
+            fprintf(stderr, "error: frame %d: %s\n", f, err.detail);
+            rc = err.code == DM_ERR_INVALID_ARGUMENT ? DM_EXIT_USAGE : DM_EXIT_PROCESS;
+            free(ms);
+            goto done;
+        }
+        dm_renderer_last_timings(r, ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1),
+                                 ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES);
+        dm_progress_update(&prog, (f + 1.0) / o.frames);
+    }
+    dm_progress_end(&prog);
+    if (o.timings) {
+        const dm_render_plan *plan = dm_renderer_plan(r);
+        double *col = malloc((size_t)o.frames * sizeof *col);
+        printf("%-14s %10s   (median over %d frame%s; %s on %s)\n", "pass", "ms", o.frames, o.frames > 1 ? "s" : "",
+               dm_renderer_timing_on_cpu(r) ? "CPU clock around glFinish" : "GL timer queries", dm_renderer_gl_name(r));
+        for (int i = 0; col && i <= plan->pass_count; ++i) {
+            int slot = i < plan->pass_count ? i : DM_PLAN_MAX_PASSES;
+            for (int f = 0; f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
+            printf("%-14s %10.2f\n", i < plan->pass_count ? plan->passes[i].name : "frame", median(col, o.frames));
+        }
+        free(col);
+    }
+    free(ms);
+
+    /* write */
+    if (o.out) {
+        int w, h;
+        dm_renderer_size(r, &w, &h, NULL);
+        dm_provenance prov;
+        provenance(&o, &synth->scene, r, &prov);
+        bool exr = ends_with(o.out, ".exr");
+        void *px = malloc((size_t)w * h * 4 * (exr ? sizeof(float) : 1));
+        dm_result res = px ? DM_OK : dm_fail(&err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the image", o.out);
+        if (res == DM_OK)
+            res = exr ? dm_renderer_read_linear(r, px, &err) : dm_renderer_read_display(r, px, &err);
+        if (res != DM_OK) {
+            rc = DM_EXIT_PROCESS;
+        } else {
+            res = exr ? dm_render_write_exr(o.out, w, h, px, &prov, &err)
+                      : dm_render_write_png(o.out, w, h, px, &prov, &err);
+            if (res != DM_OK) rc = DM_EXIT_SAVE;
+            else if (!o.quiet) printf("wrote %s (%dx%d, view %s)\n", o.out, w, h, o.view_text);
+        }
+        if (res != DM_OK) fprintf(stderr, "error: %s\n", err.detail);
+        free(px);
+    }
+done:
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(ctx);
+    dm_synth_free(synth);
+    return rc;
+}
