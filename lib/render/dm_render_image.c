@@ -7,79 +7,12 @@
 #include <zlib.h>
 
 #include "core/dm_file.h"
-
-static void be32(uint8_t *p, uint32_t v)
-{
-    p[0] = (uint8_t)(v >> 24), p[1] = (uint8_t)(v >> 16), p[2] = (uint8_t)(v >> 8), p[3] = (uint8_t)v;
-}
-
-static int png_chunk(FILE *fp, const char *type, const uint8_t *data, size_t size)
-{
-    uint8_t head[8];
-    be32(head, (uint32_t)size);
-    memcpy(head + 4, type, 4);
-    uLong crc = crc32(0L, head + 4, 4);
-    if (size) crc = crc32(crc, data, (uInt)size);
-    uint8_t tail[4];
-    be32(tail, (uint32_t)crc);
-    return fwrite(head, 1, 8, fp) == 8 && (size == 0 || fwrite(data, 1, size, fp) == size) &&
-           fwrite(tail, 1, 4, fp) == 4;
-}
-
-static int png_text(FILE *fp, const char *key, const char *value)
-{
-    size_t k = strlen(key), v = strlen(value);
-    uint8_t *buf = malloc(k + 1 + v);
-    if (!buf) return 0;
-    memcpy(buf, key, k + 1);
-    memcpy(buf + k + 1, value, v);
-    int ok = png_chunk(fp, "tEXt", buf, k + 1 + v);
-    free(buf);
-    return ok;
-}
+#include "core/dm_png.h"
 
 dm_result dm_render_write_png(const char *path, int width, int height, const uint8_t *rgba,
                               const dm_provenance *prov, dm_error *err)
 {
-    size_t row = (size_t)width * 4 + 1, raw_size = row * (size_t)height;
-    uint8_t *raw = malloc(raw_size);
-    uLongf z_size = compressBound((uLong)raw_size);
-    uint8_t *z = malloc(z_size);
-    char *json = malloc(16384);
-    if (!raw || !z || !json) {
-        free(raw), free(z), free(json);
-        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate %zu bytes for the PNG", path, raw_size);
-    }
-    for (int y = 0; y < height; ++y) { /* file row y is memory row height-1-y; filter 0 */
-        raw[(size_t)y * row] = 0;
-        memcpy(raw + (size_t)y * row + 1, rgba + (size_t)(height - 1 - y) * width * 4, (size_t)width * 4);
-    }
-    dm_result rc = DM_OK;
-    if (compress2(z, &z_size, raw, (uLong)raw_size, 6) != Z_OK)
-        rc = dm_fail(err, DM_ERR_INTERNAL, "%s: zlib could not compress the image", path);
-    if (rc == DM_OK) rc = dm_prov_to_json(prov, json, 16384, err);
-    dm_atomic_file af;
-    if (rc == DM_OK) rc = dm_atomic_open(&af, path, err);
-    if (rc == DM_OK) {
-        static const uint8_t sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
-        uint8_t ihdr[13];
-        be32(ihdr, (uint32_t)width);
-        be32(ihdr + 4, (uint32_t)height);
-        ihdr[8] = 8, ihdr[9] = 6, ihdr[10] = 0, ihdr[11] = 0, ihdr[12] = 0; /* 8-bit RGBA */
-        char software[128];
-        snprintf(software, sizeof software, "%s %s", prov->tool, prov->version);
-        int ok = fwrite(sig, 1, 8, af.fp) == 8 && png_chunk(af.fp, "IHDR", ihdr, 13) &&
-                 png_text(af.fp, "Software", software) && png_text(af.fp, "dermis:provenance", json) &&
-                 png_chunk(af.fp, "IDAT", z, z_size) && png_chunk(af.fp, "IEND", NULL, 0);
-        if (!ok) {
-            dm_atomic_abort(&af);
-            rc = dm_fail(err, DM_ERR_FILE_WRITE, "%s: write failed", path);
-        } else {
-            rc = dm_atomic_commit(&af, err);
-        }
-    }
-    free(raw), free(z), free(json);
-    return rc;
+    return dm_png_write_pixels(path, width, height, 4, 8, rgba, prov, NULL, 0, err);
 }
 
 /* ---- EXR ------------------------------------------------------------------------------ */

@@ -1,5 +1,5 @@
-/* dm_render_image.h — the runtime's own image writers: 8-bit RGBA PNG over zlib and
- * uncompressed float RGBA EXR, both with provenance. The runtime never links OpenImageIO
+/* dm_render_image.h — the runtime's image writers: 8-bit RGBA PNG (core/dm_png.h) and
+ * an uncompressed float RGBA EXR written by hand, both with provenance. The runtime never links OpenImageIO
  * or OpenEXR (DESIGN.md); the offline side keeps bake/dm_image.h and bake/dm_exr.h.
  *
  * Pixels in memory are interleaved RGBA, rows bottom-up (OpenGL readback order); files
