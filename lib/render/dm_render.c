@@ -15,33 +15,30 @@
 
 /* ---- texture formats ------------------------------------------------------------------ */
 
+/* The GL side of each pack format (core/dm_pack.h owns names and sizes). */
 typedef struct fmt_gl {
-    const char *name;
     GLenum internal, format, type;
-    size_t size;
 } fmt_gl;
 
 static const fmt_gl formats[DM_TEX_FORMAT_COUNT] = {
-    [DM_TEX_NONE] = {"none", 0, 0, 0, 0},
-    [DM_TEX_RGBA8_SRGB] = {"rgba8_srgb", GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE, 4},
-    [DM_TEX_RGBA8] = {"rgba8", GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE, 4},
-    [DM_TEX_R8] = {"r8", GL_R8, GL_RED, GL_UNSIGNED_BYTE, 1},
-    [DM_TEX_RG16F] = {"rg16f", GL_RG16F, GL_RG, GL_HALF_FLOAT, 4},
-    [DM_TEX_RGBA16F] = {"rgba16f", GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, 8},
-    [DM_TEX_R32F] = {"r32f", GL_R32F, GL_RED, GL_FLOAT, 4},
-    [DM_TEX_RG32F] = {"rg32f", GL_RG32F, GL_RG, GL_FLOAT, 8},
-    [DM_TEX_RGBA32F] = {"rgba32f", GL_RGBA32F, GL_RGBA, GL_FLOAT, 16},
+    [DM_TEX_R8] = {GL_R8, GL_RED, GL_UNSIGNED_BYTE},
+    [DM_TEX_RG8] = {GL_RG8, GL_RG, GL_UNSIGNED_BYTE},
+    [DM_TEX_RGBA8] = {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE},
+    [DM_TEX_RGBA8_SRGB] = {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE},
+    [DM_TEX_R16F] = {GL_R16F, GL_RED, GL_HALF_FLOAT},
+    [DM_TEX_RG16F] = {GL_RG16F, GL_RG, GL_HALF_FLOAT},
+    [DM_TEX_RGBA16F] = {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT},
+    [DM_TEX_R32F] = {GL_R32F, GL_RED, GL_FLOAT},
+    [DM_TEX_RG32F] = {GL_RG32F, GL_RG, GL_FLOAT},
+    [DM_TEX_RGBA32F] = {GL_RGBA32F, GL_RGBA, GL_FLOAT},
 };
 
-const char *dm_tex_format_name(dm_tex_format f)
+static const char *format_name(dm_tex_format f)
 {
-    return (unsigned)f < DM_TEX_FORMAT_COUNT ? formats[f].name : NULL;
+    const dm_tex_format_info *i = dm_tex_format_get(f);
+    return i ? i->name : "(invalid)";
 }
 
-size_t dm_tex_format_texel_size(dm_tex_format f)
-{
-    return (unsigned)f < DM_TEX_FORMAT_COUNT ? formats[f].size : 0;
-}
 
 /* ---- the blur kernel ------------------------------------------------------------------ */
 
@@ -356,7 +353,7 @@ static void u2f(GLuint p, const char *n, float a, float b)
 static dm_result upload(const dm_texture *t, const char *what, bool mipmaps, GLenum filter, GLuint *out,
                         dm_error *err)
 {
-    if (t->format <= DM_TEX_NONE || t->format >= DM_TEX_FORMAT_COUNT)
+    if (!dm_tex_format_get(t->format))
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: texture format %d is not a dm_tex_format", what,
                        (int)t->format);
     if (t->width < 1 || t->height < 1 || t->width > 16384 || t->height > 16384)
@@ -535,7 +532,7 @@ static dm_result check_assets(const dm_render_assets *a, const dm_render_plan *p
             rc = need_texture(&a->stretch[k], "a stretch level", "subsurface", err);
             if (rc == DM_OK && a->stretch[k].format != DM_TEX_RG32F && a->stretch[k].format != DM_TEX_RG16F)
                 rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: stretch level %d is %s, expected rg32f or rg16f", k,
-                             dm_tex_format_name(a->stretch[k].format));
+                             format_name(a->stretch[k].format));
         }
         int taps = a->scene->blur_taps;
         if (rc == DM_OK && (taps < 3 || taps > 63 || taps % 2 == 0))

@@ -32,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/dm_pack.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
 #include "core/dm_scene.h"
@@ -41,35 +42,24 @@
 extern "C" {
 #endif
 
-/* Interleaved vertex: 12 float32 (48 bytes), in this order:
+/* Interleaved vertex: 12 float32 (48 bytes), the pack's layout (core/dm_pack.h,
+ * DM_PACK_VERTEX_*), so a pack's vertex blob uploads as it is:
  *   [0..2]  position, mesh units
  *   [3..5]  normal, unit
- *   [6..8]  tangent, unit, along +u in the surface
- *   [9]     handedness ±1: bitangent B = handedness · cross(N, T), along +v
- *   [10..11] uv, v = 0 at the bottom of the maps (OBJ/OpenGL convention)
+ *   [6..7]  uv, v = 0 at the bottom of the maps (OBJ/OpenGL convention)
+ *   [8..10] tangent, unit, along +u in the surface
+ *   [11]    handedness ±1: bitangent B = handedness · cross(N, T), along +v
  * Vertices are split at UV seams (one vertex per distinct position/normal/uv). */
-enum { DM_VERTEX_FLOATS = 12, DM_VERTEX_STRIDE = 48 };
-enum { DM_VERTEX_POSITION = 0, DM_VERTEX_NORMAL = 3, DM_VERTEX_TANGENT = 6, DM_VERTEX_UV = 10 };
+enum { DM_VERTEX_FLOATS = DM_PACK_VERTEX_STRIDE / 4, DM_VERTEX_STRIDE = DM_PACK_VERTEX_STRIDE };
+enum {
+    DM_VERTEX_POSITION = DM_PACK_VERTEX_POSITION / 4,
+    DM_VERTEX_NORMAL = DM_PACK_VERTEX_NORMAL / 4,
+    DM_VERTEX_UV = DM_PACK_VERTEX_UV / 4,
+    DM_VERTEX_TANGENT = DM_PACK_VERTEX_TANGENT / 4
+};
 
-/* Texel formats as stored in a pack. Rows are bottom-up, texels tightly packed (no row
- * padding). "16f" formats hold IEEE half floats (uint16_t). */
-typedef enum dm_tex_format {
-    DM_TEX_NONE = 0,
-    DM_TEX_RGBA8_SRGB, /* colour maps: sRGB-encoded, linearized by the GPU on sampling */
-    DM_TEX_RGBA8,      /* linear 8-bit (normal maps: 0..255 → −1..1) */
-    DM_TEX_R8,         /* linear 8-bit grey (Beckmann LUT, specular, roughness, mask) */
-    DM_TEX_RG16F,
-    DM_TEX_RGBA16F,
-    DM_TEX_R32F,
-    DM_TEX_RG32F,
-    DM_TEX_RGBA32F,
-    DM_TEX_FORMAT_COUNT
-} dm_tex_format;
-
-/* "rgba8_srgb", ... ; NULL when out of range. */
-const char *dm_tex_format_name(dm_tex_format f);
-/* Bytes per texel (0 for DM_TEX_NONE). */
-size_t dm_tex_format_texel_size(dm_tex_format f);
+/* Texel formats are the pack's (core/dm_pack.h: dm_tex_format, dm_tex_format_get): rows
+ * bottom-up, texels tightly packed, "16f" formats hold IEEE half floats (uint16_t). */
 
 typedef struct dm_texture {
     dm_tex_format format;

@@ -51,7 +51,7 @@ static void put_vertex(float *v, const float p[3], const float n[3], const float
     memcpy(v + DM_VERTEX_POSITION, p, 3 * sizeof *v);
     memcpy(v + DM_VERTEX_NORMAL, n, 3 * sizeof *v);
     memcpy(v + DM_VERTEX_TANGENT, t, 3 * sizeof *v);
-    v[9] = sign;
+    v[DM_VERTEX_TANGENT + 3] = sign;
     v[DM_VERTEX_UV] = u;
     v[DM_VERTEX_UV + 1] = vv;
 }
