@@ -10,6 +10,7 @@
 #include "bake/dm_image.h"
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
+#include "bake/dm_pack_env.h"
 #include "bake/dm_pack_write.h"
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
@@ -351,11 +352,42 @@ static dm_result step_profile(job *j, dm_error *err)
     return r;
 }
 
+static dm_result step_environment(job *j, dm_error *err)
+{
+    bool lighting = wanted(j, "env.sh") || wanted(j, "env.specular");
+    bool background = wanted(j, "env.background");
+    dm_pack_env env;
+    dm_result r = dm_pack_env_bake(j->scene.environment, lighting, background, TOOL, j->opt->threads, &env, err);
+    char src[200];
+    snprintf(src, sizeof src, "from %.150s", base_name(j->scene.environment));
+    if (r == DM_OK && lighting) {
+        dm_pack_entry d;
+        memset(&d, 0, sizeof d);
+        snprintf(d.name, sizeof d.name, "env.sh");
+        d.kind = DM_PACK_ENV_SH;
+        d.sh_order = 2;
+        r = add(j, &d, env.sh, sizeof env.sh, &env.sh_prov, src, err);
+        if (r == DM_OK) {
+            d = texture_desc("env.specular", DM_TEX_RGBA32F, env.spec_width, env.spec_height);
+            d.layers = env.spec_layers;
+            r = add(j, &d, env.spec_rgba, (size_t)env.spec_width * env.spec_height * env.spec_layers * 4 * sizeof(float),
+                    &env.spec_prov, src, err);
+        }
+    }
+    if (r == DM_OK && background) {
+        dm_pack_entry d = texture_desc("env.background", DM_TEX_RGBA32F, env.background_width, env.background_height);
+        r = add(j, &d, env.background_rgba, (size_t)env.background_width * env.background_height * 4 * sizeof(float),
+                &env.background_prov, src, err);
+    }
+    dm_pack_env_free(&env);
+    return r;
+}
+
 /* The bake steps, in pack order. A step runs when one of its entries applies to the scene
  * (dm_pack_needs.h); it adds only the entries that apply.
  * TODO(issue 3): {"mesh", {"mesh.vertices", "mesh.indices"}} and
  *                {"stretch", {"stretch", "stretch.mask"}}.
- * TODO(issue 5): {"environment", {"env.sh", "env.specular", "env.background"}}. */
+ */
 typedef struct step {
     const char *name;
     const char *entries[3];
@@ -371,6 +403,7 @@ static const step steps[] = {
     {"Beckmann LUT", {"lut.beckmann"}, step_beckmann},
     {"directional LUTs", {"lut.rho_dt", "lut.env_brdf"}, step_directional},
     {"profile", {"profile"}, step_profile},
+    {"environment", {"env.sh", "env.specular", "env.background"}, step_environment},
 };
 
 /* --- explain ------------------------------------------------------------------------ */
@@ -401,7 +434,7 @@ static void explain(const dm_scene *s)
         printf("%-8s %-15s %-19s %-52s %s\n", status, nd->entry, kind, by, nd->why);
     }
     printf("\npack = baked and packed; skip = no enabled effect or input needs it; PENDING = needed, but its\n"
-           "bake step is not wired into dermis-pack yet (mesh and stretch: issue 3; environment: issue 5).\n");
+           "bake step is not wired into dermis-pack yet (mesh and stretch).\n");
 }
 
 /* --- main --------------------------------------------------------------------------- */

@@ -28,11 +28,11 @@ static const dm_pack_need needs[] = {
      "UV stretch (u, v per mm) and its blurred chain, one layer per Gaussian"},
     {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, true,
      "chart coverage mask (gutter handling)"},
-    {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, true,
+    {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, false,
      "diffuse environment light, 9 RGB SH coefficients"},
-    {"env.specular", DM_PACK_TEXTURE, DM_TEX_RGBA16F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, true,
+    {"env.specular", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, false,
      "environment prefiltered for Beckmann roughness levels"},
-    {"env.background", DM_PACK_TEXTURE, DM_TEX_RGBA16F, 0, DM_NEED_IF_BACKGROUND, true,
+    {"env.background", DM_PACK_TEXTURE, DM_TEX_RGBA32F, 0, DM_NEED_IF_BACKGROUND, false,
      "the environment shown behind the head"},
 };
 

@@ -7,7 +7,7 @@
  * needs it, or one of its effects is on) and its input condition holds (e.g. the scene
  * names a specular map).
  *
- * `pending` marks entries whose producer (mesh + stretch: issue 3, environment: issue 5)
+ * `pending` marks entries whose producer (mesh + stretch)
  * is not wired into dermis-pack yet: they are listed and explained but not yet required.
  * Wiring one = add its bake step to tools/dermis-pack.c and clear its flag here.
  */

@@ -76,7 +76,7 @@ static uint8_t *build(const fixture *fx, size_t *size)
     /* a mipmapped rgba16f texture with 2 layers: level sizes and layout */
     uint16_t half[(4 * 4 + 2 * 2 + 1) * 2 * 4];
     for (size_t k = 0; k < sizeof half / sizeof half[0]; ++k) half[k] = 0x3c00; /* 1.0 */
-    d = tex("env.background", DM_TEX_RGBA16F, 4, 4);
+    d = tex("test.mipmapped", DM_TEX_RGBA16F, 4, 4);
     d.layers = 2;
     d.levels = 3;
     cr_assert_eq(dm_pack_writer_add(&w, &d, half, sizeof half, &p, &err), DM_OK, "%s", err.detail);
@@ -200,7 +200,7 @@ Test(pack, valid_pack_opens_without_copies)
         cr_assert_eq((uintptr_t)e->data % 64, 0);
         cr_assert_not_null(e->provenance_json);
     }
-    const dm_pack_entry *t = dm_pack_find(&pack, "env.background");
+    const dm_pack_entry *t = dm_pack_find(&pack, "test.mipmapped");
     cr_assert_not_null(t);
     cr_assert_eq(dm_pack_texture_level_size(t, 0), 4 * 4 * 2 * 8);
     cr_assert_eq(dm_pack_texture_level_size(t, 2), 1 * 1 * 2 * 8);
