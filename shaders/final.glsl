@@ -40,8 +40,7 @@ uniform float u_roughness;
 uniform float u_rho_s;
 uniform sampler2D u_beckmann;
 uniform sampler2D u_rho_dt;
-uniform sampler2D u_env_scale;
-uniform sampler2D u_env_bias;
+uniform sampler2D u_env_brdf; /* R = scale, G = bias of F0 */
 uniform vec3 u_sh[9];
 uniform float u_env_intensity;
 uniform float u_env_rotation;
@@ -144,7 +143,8 @@ void main()
     }
 #ifdef DM_ENV
     vec3 R = reflect(-V, N);
-    float split = DM_SKIN_F0 * texture(u_env_scale, vec2(ndv, m)).r + texture(u_env_bias, vec2(ndv, m)).r;
+    vec2 scale_bias = texture(u_env_brdf, vec2(ndv, m)).rg;
+    float split = DM_SKIN_F0 * scale_bias.r + scale_bias.g;
     specular += u_env_intensity * rho_s * split * env_specular(R, m);
 #endif
 #endif

@@ -142,8 +142,7 @@ enum {
     UNIT_ROUGHNESS,
     UNIT_BECKMANN,
     UNIT_RHO_DT,
-    UNIT_ENV_SCALE,
-    UNIT_ENV_BIAS,
+    UNIT_ENV_BRDF,
     UNIT_SHADOW, /* DM_PLAN_MAX_SHADOWS units */
     UNIT_SHADOW_END = UNIT_SHADOW + DM_PLAN_MAX_SHADOWS - 1,
     UNIT_ENV_LEVEL0, /* 6 */
@@ -184,7 +183,7 @@ struct dm_renderer {
 
     GLuint vao_mesh, vbo, ebo, vao_empty;
     int index_count;
-    GLuint tex_albedo, tex_normal, tex_spec, tex_rough, tex_beckmann, tex_rho_dt, tex_env_scale, tex_env_bias;
+    GLuint tex_albedo, tex_normal, tex_spec, tex_rough, tex_beckmann, tex_rho_dt, tex_env_brdf;
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask, tex_env_level[DM_RENDER_ENV_LEVELS_MAX],
         tex_background;
     GLuint tex_white, tex_black;
@@ -260,7 +259,7 @@ static void set_sampler_units(GLuint p)
         int unit;
     } units[] = {{"u_albedo", UNIT_ALBEDO},     {"u_normal_map", UNIT_NORMAL},   {"u_specular_map", UNIT_SPECULAR},
                  {"u_roughness_map", UNIT_ROUGHNESS}, {"u_beckmann", UNIT_BECKMANN}, {"u_rho_dt", UNIT_RHO_DT},
-                 {"u_env_scale", UNIT_ENV_SCALE}, {"u_env_bias", UNIT_ENV_BIAS},   {"u_shadow0", UNIT_SHADOW},
+                 {"u_env_brdf", UNIT_ENV_BRDF},   {"u_shadow0", UNIT_SHADOW},
                  {"u_shadow1", UNIT_SHADOW + 1},   {"u_shadow2", UNIT_SHADOW + 2},  {"u_shadow3", UNIT_SHADOW + 3},
                  {"u_src", UNIT_SRC},             {"u_stretch", UNIT_STRETCH},     {"u_mask", UNIT_MASK},
                  {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND}};
@@ -518,8 +517,7 @@ static dm_result check_assets(const dm_render_assets *a, const dm_render_plan *p
                 rc = dm_fail(err, DM_ERR_RANGE, "assets: env_level_m[%d] = %g, expected more than env_level_m[%d] = %g",
                              k, (double)a->env_level_m[k], k - 1, (double)a->env_level_m[k - 1]);
         }
-        if (rc == DM_OK) rc = need_texture(&a->env_brdf_scale, "the env-BRDF scale LUT", "environment_lighting", err);
-        if (rc == DM_OK) rc = need_texture(&a->env_brdf_bias, "the env-BRDF bias LUT", "environment_lighting", err);
+        if (rc == DM_OK) rc = need_texture(&a->env_brdf, "the env-BRDF LUT", "environment_lighting", err);
     }
     if (rc == DM_OK && dm_render_plan_find(p, "background") >= 0)
         rc = need_texture(&a->env_background, "the environment background", "environment_lighting", err);
@@ -597,8 +595,7 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
     if (p->effects[DM_EFFECT_SPECULAR]) UP(beckmann, "beckmann", false, GL_LINEAR, tex_beckmann);
     if (p->energy_conservation_active) UP(rho_dt, "rho_dt", false, GL_LINEAR, tex_rho_dt);
     if (p->env_specular_active) {
-        UP(env_brdf_scale, "env_brdf_scale", false, GL_LINEAR, tex_env_scale);
-        UP(env_brdf_bias, "env_brdf_bias", false, GL_LINEAR, tex_env_bias);
+        UP(env_brdf, "env_brdf", false, GL_LINEAR, tex_env_brdf);
         for (int k = 0; k < a->env_level_count && rc == DM_OK; ++k) {
             rc = upload(&a->env_levels[k], "env_levels", false, GL_LINEAR, &r->tex_env_level[k], err);
             glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
@@ -715,7 +712,7 @@ void dm_renderer_destroy(dm_renderer *r)
     for (int k = 0; k < DM_PASS_KIND_COUNT; ++k)
         if (r->prog[k] && k != DM_PASS_BLUR_V && k != DM_PASS_GLOW_BLUR_V) glDeleteProgram(r->prog[k]);
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
-                    r->tex_rho_dt,    r->tex_env_scale,  r->tex_env_bias, r->tex_mask,     r->tex_background,
+                    r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
                     r->tex_white,     r->tex_black,      r->tmp_tex,        r->screen_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
@@ -844,8 +841,7 @@ static void bind_surface(const dm_renderer *r)
     bind(UNIT_ROUGHNESS, GL_TEXTURE_2D, r->tex_rough ? r->tex_rough : r->tex_white);
     bind(UNIT_BECKMANN, GL_TEXTURE_2D, r->tex_beckmann ? r->tex_beckmann : r->tex_black);
     bind(UNIT_RHO_DT, GL_TEXTURE_2D, r->tex_rho_dt ? r->tex_rho_dt : r->tex_black);
-    bind(UNIT_ENV_SCALE, GL_TEXTURE_2D, r->tex_env_scale ? r->tex_env_scale : r->tex_black);
-    bind(UNIT_ENV_BIAS, GL_TEXTURE_2D, r->tex_env_bias ? r->tex_env_bias : r->tex_black);
+    bind(UNIT_ENV_BRDF, GL_TEXTURE_2D, r->tex_env_brdf ? r->tex_env_brdf : r->tex_black);
     for (int k = 0; k < DM_RENDER_ENV_LEVELS_MAX; ++k)
         bind(UNIT_ENV_LEVEL0 + k, GL_TEXTURE_2D, r->tex_env_level[k] ? r->tex_env_level[k] : r->tex_black);
     for (int k = 0; k < DM_PLAN_MAX_SHADOWS; ++k)

@@ -88,8 +88,8 @@ typedef struct dm_render_assets {
     /* specular tables (dm_lut.h layout: s = cosine, t = m, texel centres) */
     dm_texture beckmann;       /* R8, 0.5·D^0.1; needed by specular */
     dm_texture rho_dt;         /* R32F; needed by energy_conservation (with specular) */
-    dm_texture env_brdf_scale; /* R32F; needed by environment_lighting (with specular) */
-    dm_texture env_brdf_bias;  /* R32F */
+    dm_texture env_brdf;       /* RG32F: F0·R + G = ∫ f_KS cos (split sum; R = scale, G = bias);
+                                * needed by environment_lighting (with specular) */
 
     /* subsurface: stretch chain, UV units per mm along u (R) and v (G). Level k is the
      * stretch blurred like irradiance level k; the blur that makes level k reads stretch

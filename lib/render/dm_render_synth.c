@@ -95,13 +95,12 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
     s->indices = malloc((size_t)ntri * 3 * sizeof *s->indices);
     s->beckmann = malloc((size_t)bs * bs);
     s->rho_dt = malloc((size_t)ds * ds * sizeof(float));
-    s->env_scale = malloc((size_t)ds * ds * sizeof(float));
-    s->env_bias = malloc((size_t)ds * ds * sizeof(float));
+    s->env_brdf = malloc((size_t)ds * ds * 2 * sizeof(float));
     s->stretch = malloc((size_t)ss * ss * 2 * sizeof(float));
     s->mask = malloc((size_t)ss * ss);
     s->env = malloc((size_t)64 * 32 * 4 * sizeof(float));
     s->background = malloc((size_t)256 * 128 * 4 * sizeof(float));
-    if (!s->vertices || !s->indices || !s->beckmann || !s->rho_dt || !s->env_scale || !s->env_bias || !s->stretch ||
+    if (!s->vertices || !s->indices || !s->beckmann || !s->rho_dt || !s->env_brdf || !s->stretch ||
         !s->mask || !s->env || !s->background) {
         dm_synth_free(s);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "synthetic scene: cannot allocate its arrays");
@@ -174,8 +173,8 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
             double sc, bi;
             dm_ks_directional((i + 0.5) / ds, (j + 0.5) / ds, 24, &sc, &bi);
             size_t k = (size_t)j * ds + i;
-            s->env_scale[k] = (float)sc;
-            s->env_bias[k] = (float)bi;
+            s->env_brdf[2 * k] = (float)sc;
+            s->env_brdf[2 * k + 1] = (float)bi;
             s->rho_dt[k] = (float)(DM_SKIN_F0 * sc + bi);
         }
     sky_equirect(s->env, 64, 32);
@@ -191,8 +190,7 @@ dm_result dm_synth_create(const dm_synth_options *o, dm_synth **out, dm_error *e
     a->albedo = (dm_texture){DM_TEX_RGBA8_SRGB, 1, 1, s->albedo};
     a->beckmann = (dm_texture){DM_TEX_R8, bs, bs, s->beckmann};
     a->rho_dt = (dm_texture){DM_TEX_R32F, ds, ds, s->rho_dt};
-    a->env_brdf_scale = (dm_texture){DM_TEX_R32F, ds, ds, s->env_scale};
-    a->env_brdf_bias = (dm_texture){DM_TEX_R32F, ds, ds, s->env_bias};
+    a->env_brdf = (dm_texture){DM_TEX_RG32F, ds, ds, s->env_brdf};
     a->stretch_level_count = 1;
     a->stretch[0] = (dm_texture){DM_TEX_RG32F, ss, ss, s->stretch};
     a->stretch_mask = (dm_texture){DM_TEX_R8, ss, ss, s->mask};
@@ -218,8 +216,7 @@ void dm_synth_free(dm_synth *s)
     free(s->beckmann);
     free(s->mask);
     free(s->rho_dt);
-    free(s->env_scale);
-    free(s->env_bias);
+    free(s->env_brdf);
     free(s->stretch);
     free(s->env);
     free(s->background);

@@ -45,7 +45,7 @@ typedef struct dm_synth {
     float *vertices;
     uint32_t *indices;
     uint8_t *beckmann, *mask, albedo[4];
-    float *rho_dt, *env_scale, *env_bias, *stretch, *env, *background;
+    float *rho_dt, *env_brdf, *stretch, *env, *background;
 } dm_synth;
 
 /* Builds the scene and its assets; free with dm_synth_free. */
