@@ -1,0 +1,137 @@
+#include "render/dm_render_pack.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/dm_prov.h"
+
+/* A single-level, single-layer texture entry as a dm_texture; absent → zero. */
+static dm_result texture(const dm_pack *pack, const char *name, dm_texture *out, dm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const dm_pack_entry *e = dm_pack_find(pack, name);
+    if (!e) return DM_OK;
+    if (e->kind != DM_PACK_TEXTURE || e->levels != 1 || e->layers != 1)
+        return dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\": expected a texture of 1 level and 1 layer", pack->what,
+                       name);
+    *out = (dm_texture){e->format, e->width, e->height, e->data};
+    return DM_OK;
+}
+
+/* Layer k of a layered single-level texture entry. */
+static dm_texture layer(const dm_pack_entry *e, int k)
+{
+    size_t layer_size = dm_pack_texture_level_size(e, 0) / (size_t)e->layers;
+    return (dm_texture){e->format, e->width, e->height, (const uint8_t *)e->data + layer_size * (size_t)k};
+}
+
+static dm_result mesh(const dm_pack *pack, dm_render_assets *a, dm_error *err)
+{
+    const dm_pack_entry *v = dm_pack_find(pack, "mesh.vertices"), *ix = dm_pack_find(pack, "mesh.indices");
+    if (!v || !ix) return dm_fail(err, DM_ERR_EMPTY, "%s: no mesh.vertices/mesh.indices entries", pack->what);
+    if (v->stride != DM_VERTEX_STRIDE)
+        return dm_fail(err, DM_ERR_FORMAT, "%s: mesh.vertices stride %d, expected the dermis layout's %d",
+                       pack->what, v->stride, DM_VERTEX_STRIDE);
+    static const struct {
+        const char *name;
+        int offset, components;
+    } layout[] = {{"position", DM_PACK_VERTEX_POSITION, 3},
+                  {"normal", DM_PACK_VERTEX_NORMAL, 3},
+                  {"uv", DM_PACK_VERTEX_UV, 2},
+                  {"tangent", DM_PACK_VERTEX_TANGENT, 4}};
+    for (size_t k = 0; k < sizeof layout / sizeof layout[0]; ++k) {
+        int found = 0;
+        for (int i = 0; i < v->attribute_count; ++i)
+            if (!strcmp(v->attributes[i].name, layout[k].name) && v->attributes[i].offset == layout[k].offset &&
+                v->attributes[i].components == layout[k].components)
+                found = 1;
+        if (!found)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: mesh.vertices lacks \"%s\" at byte %d with %d floats", pack->what,
+                           layout[k].name, layout[k].offset, layout[k].components);
+    }
+    if (v->vertex_count > INT32_MAX || ix->index_count > INT32_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "%s: mesh of %lld vertices, %lld indices is too large", pack->what,
+                       (long long)v->vertex_count, (long long)ix->index_count);
+    a->vertices = v->data;
+    a->vertex_count = (int)v->vertex_count;
+    a->indices = ix->data;
+    a->index_count = (int)ix->index_count;
+    return DM_OK;
+}
+
+static dm_result environment(const dm_pack *pack, dm_render_assets *a, dm_error *err)
+{
+    const dm_pack_entry *sh = dm_pack_find(pack, "env.sh");
+    if (sh) {
+        if (sh->sh_order != 2 || sh->size != sizeof a->env_sh)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: env.sh of order %d, expected order 2 (9 RGB)", pack->what,
+                           sh->sh_order);
+        memcpy(a->env_sh, sh->data, sizeof a->env_sh);
+        a->has_env_sh = true;
+    }
+    const dm_pack_entry *spec = dm_pack_find(pack, "env.specular");
+    if (spec) {
+        if (spec->levels != 1 || spec->layers < 1 || spec->layers > DM_RENDER_ENV_LEVELS_MAX)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular has %d layers, expected 1..%d (one per m)",
+                           pack->what, spec->layers, DM_RENDER_ENV_LEVELS_MAX);
+        dm_provenance p;
+        dm_result r = dm_prov_from_json(&p, spec->provenance_json, pack->what, err);
+        if (r != DM_OK) return r;
+        for (int k = 0; k < spec->layers; ++k) {
+            char name[16];
+            snprintf(name, sizeof name, "m%d", k);
+            const dm_param *m = dm_prov_find(&p, name);
+            if (!m || m->type == DM_PARAM_STRING)
+                return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular layer %d has no roughness \"%s\" in its provenance",
+                               pack->what, k, name);
+            a->env_level_m[k] = (float)m->d;
+            a->env_levels[k] = layer(spec, k);
+        }
+        a->env_level_count = spec->layers;
+    }
+    return texture(pack, "env.background", &a->env_background, err);
+}
+
+static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err)
+{
+    const dm_pack_entry *st = dm_pack_find(pack, "stretch");
+    if (!st) return DM_OK;
+    if (st->kind != DM_PACK_TEXTURE || st->levels != 1 || st->layers < 1 || st->layers > DM_PROFILE_MAX_GAUSSIANS)
+        return dm_fail(err, DM_ERR_FORMAT, "%s: stretch has %d layers, expected 1..%d (one per chain level)",
+                       pack->what, st->layers, DM_PROFILE_MAX_GAUSSIANS);
+    for (int k = 0; k < st->layers; ++k) a->stretch[k] = layer(st, k);
+    a->stretch_level_count = st->layers;
+    return texture(pack, "stretch.mask", &a->stretch_mask, err);
+}
+
+dm_result dm_render_assets_from_pack(const dm_pack *pack, dm_scene *scene, dm_profile *profile,
+                                     dm_render_assets *assets, dm_error *err)
+{
+    memset(assets, 0, sizeof *assets);
+    dm_result r = dm_pack_scene(pack, scene, err);
+    if (r != DM_OK) return r;
+    *profile = scene->profile;
+    const dm_pack_entry *pe = dm_pack_find(pack, "profile");
+    if (pe) {
+        char *text = malloc(pe->size + 1);
+        if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", pack->what);
+        memcpy(text, pe->data, pe->size);
+        text[pe->size] = '\0';
+        r = dm_profile_from_json(text, pack->what, profile, err);
+        free(text);
+        if (r != DM_OK) return r;
+    }
+    assets->scene = scene;
+    assets->profile = profile;
+    if ((r = mesh(pack, assets, err)) != DM_OK) return r;
+    if ((r = texture(pack, "albedo", &assets->albedo, err)) != DM_OK) return r;
+    if ((r = texture(pack, "normal", &assets->normal_map, err)) != DM_OK) return r;
+    if ((r = texture(pack, "specular", &assets->specular_map, err)) != DM_OK) return r;
+    if ((r = texture(pack, "roughness", &assets->roughness_map, err)) != DM_OK) return r;
+    if ((r = texture(pack, "lut.beckmann", &assets->beckmann, err)) != DM_OK) return r;
+    if ((r = texture(pack, "lut.rho_dt", &assets->rho_dt, err)) != DM_OK) return r;
+    if ((r = texture(pack, "lut.env_brdf", &assets->env_brdf, err)) != DM_OK) return r;
+    if ((r = stretch(pack, assets, err)) != DM_OK) return r;
+    return environment(pack, assets, err);
+}
