@@ -44,6 +44,10 @@ typedef struct dm_mesh_load_options {
     int uvs_optional;          /* 0 (default): a file without texture coordinates is an
                                 * error; 1: allowed, every UV is (0, 0) */
     int ignore_file_normals;   /* 1: compute normals even when the file has them */
+    int in_process;            /* 1: run OpenMesh's reader in this process (faster start,
+                                * for debugging); 0 (default): in a child process, so a
+                                * reader crash or hang on a malformed file becomes an
+                                * error (see dm_mesh_load) */
 } dm_mesh_load_options;
 
 /* Loads a mesh (opt may be NULL for defaults). Fails, naming the file and the problem,
@@ -53,16 +57,24 @@ typedef struct dm_mesh_load_options {
  * normal), DM_ERR_RANGE (too many triangles). Faces OpenMesh drops (non-manifold,
  * duplicate) are lost; polygon_count says how many were kept. OpenMesh's own messages
  * are silenced: its global streams omerr/omout/omlog are disabled by this call.
- * Free with dm_mesh_free, also after a failure. */
+ * OpenMesh's readers trust their input (a mutated OM, PLY or OFF file can crash them,
+ * trip their asserts or loop forever), so by default the read runs in a forked child
+ * that sends the mesh back through a pipe: a crash becomes DM_ERR_FORMAT "the reader
+ * crashed on this file", a hang (30 s + 1 s per MB) the same after killing the child.
+ * Fork from a point where no other thread holds a lock (tools load before they start
+ * worker threads). Free with dm_mesh_free, also after a failure. */
 dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mesh *out, dm_error *err);
 
-/* Checks an OBJ file's numbers and references before OpenMesh reads it (its reader
- * trusts them: an index out of range is an out-of-bounds access there). Fails with
- * "FILE:LINE: ..." for a v/vt/vn line without its numbers or with NaN/Inf
- * (DM_ERR_NON_FINITE), a face corner whose v/vt/vn index is 0 or refers to an element
- * not yet defined (DM_ERR_RANGE; negative indices count back from the last one), a face
- * with fewer than 3 corners (DM_ERR_FORMAT). dm_mesh_load calls it for .obj files. */
-dm_result dm_mesh_check_obj(const char *path, dm_error *err);
+/* Checks what OpenMesh's readers trust, before they read (dm_mesh_load calls it):
+ *  .obj: every v/vt/vn line has its numbers, all finite (else DM_ERR_NON_FINITE or
+ *        DM_ERR_FORMAT), every face corner's v/vt/vn index is non-zero and refers to an
+ *        element already defined (DM_ERR_RANGE; negative indices count back), every
+ *        face has 3 or more corners (DM_ERR_FORMAT): an index out of range is an
+ *        out-of-bounds access inside OpenMesh. Messages are "FILE:LINE: ...".
+ *  .ply: the header starts with "ply" and ends with an "end_header" line within its
+ *        first 64 KiB (DM_ERR_FORMAT): OpenMesh's PLY probe loops forever otherwise.
+ * Other formats pass unchecked. */
+dm_result dm_mesh_check_file(const char *path, dm_error *err);
 
 /* Allocates a mesh with zeroed arrays for the caller to fill (tests, generators).
  * vertex_count ≥ 1, triangle_count in [1, DM_MESH_TRIANGLES_MAX]. */

@@ -4,6 +4,8 @@
 // UVs survive seams and quads (TOOLCHAIN.md).
 #include "bake/dm_mesh.h"
 
+#include "core/dm_cli.h"
+
 #include <cassert>
 #include <cctype>
 #include <cerrno>
@@ -14,6 +16,13 @@
 #include <exception>
 #include <string>
 #include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 // OpenMesh's VectorT leaves its storage uninitialised by design; GCC 12 then warns
 // inside OpenMesh's own property code. The warning is OpenMesh's, not ours.
@@ -104,6 +113,165 @@ dm_result convert(const PolyMesh &pm, bool face_uvs, bool vertex_uvs, bool file_
     return DM_OK;
 }
 
+// Reads and triangulates with OpenMesh in this process.
+dm_result read_openmesh(const char *path, const dm_mesh_load_options &o, dm_mesh *out, dm_error *err)
+{
+    silence_openmesh();
+    try {
+        PolyMesh pm;
+        pm.request_vertex_normals();
+        pm.request_vertex_texcoords2D();
+        pm.request_halfedge_texcoords2D();
+        OpenMesh::IO::Options ropt;
+        ropt += OpenMesh::IO::Options::FaceTexCoord;
+        ropt += OpenMesh::IO::Options::VertexTexCoord;
+        ropt += OpenMesh::IO::Options::VertexNormal;
+        if (!OpenMesh::IO::read_mesh(pm, path, ropt))
+            return dm_fail(err, DM_ERR_FORMAT, "%s: the reader refused the file (malformed, or a face index out of range)",
+                           path);
+        if (pm.n_faces() == 0) {
+            if (pm.n_vertices() > 0)
+                return dm_fail(err, DM_ERR_EMPTY,
+                               "%s: %zu vertices but no faces (points or lines only, or every face refused: "
+                               "index out of range, repeated corner), expected triangles or polygons",
+                               path, pm.n_vertices());
+            return dm_fail(err, DM_ERR_EMPTY, "%s: no vertices and no faces, expected a mesh", path);
+        }
+        const bool face_uvs = ropt.face_has_texcoord();
+        const bool vertex_uvs = !face_uvs && ropt.vertex_has_texcoord();
+        if (!face_uvs && !vertex_uvs && !o.uvs_optional)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: no texture coordinates, expected a UV layout", path);
+        const bool file_normals = ropt.vertex_has_normal() && !o.ignore_file_normals;
+        return convert(pm, face_uvs, vertex_uvs, file_normals, path, out, err);
+    } catch (const std::bad_alloc &) {
+        dm_mesh_free(out);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
+    } catch (const std::exception &e) {
+        dm_mesh_free(out);
+        return dm_fail(err, DM_ERR_FORMAT, "%s: the reader failed (%s)", path, e.what());
+    }
+}
+
+// ---- isolation: OpenMesh's binary readers trust their input (a mutated OM, PLY or OFF
+// file can crash them, trip their asserts or loop forever), so by default they run in
+// a child process that sends the finished mesh back through a pipe.
+
+struct wire_header {
+    int32_t result, vertex_count, triangle_count, normals_from_file;
+    int64_t polygon_count;
+    char detail[sizeof(((dm_error *)nullptr)->detail)];
+};
+
+bool write_all(int fd, const void *data, size_t size)
+{
+    const char *p = static_cast<const char *>(data);
+    while (size > 0) {
+        ssize_t n = ::write(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n, size -= (size_t)n;
+    }
+    return true;
+}
+
+// Reads exactly size bytes before deadline_ms (dm_now_ms clock); false on EOF, error
+// or time out (*timed_out set).
+bool read_all(int fd, void *data, size_t size, double deadline_ms, bool *timed_out)
+{
+    char *p = static_cast<char *>(data);
+    while (size > 0) {
+        double left = deadline_ms - dm_now_ms();
+        if (left <= 0) return *timed_out = true, false;
+        struct pollfd pfd = {fd, POLLIN, 0};
+        int pr = ::poll(&pfd, 1, left > 1e6 ? 1000000 : (int)left + 1);
+        if (pr < 0 && errno == EINTR) continue;
+        if (pr < 0) return false;
+        if (pr == 0) continue;
+        ssize_t n = ::read(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n, size -= (size_t)n;
+    }
+    return true;
+}
+
+dm_result read_isolated(const char *path, const dm_mesh_load_options &o, dm_mesh *out, dm_error *err)
+{
+    struct stat sb;
+    double size_mb = ::stat(path, &sb) == 0 ? (double)sb.st_size / 1e6 : 0.0;
+    // Generous: the head (1.8 MB) reads in ~60 ms; a hang is what this catches.
+    const double limit_ms = 30000.0 + 1000.0 * size_mb;
+    int fds[2];
+    if (::pipe(fds) != 0) return dm_fail(err, DM_ERR_INTERNAL, "%s: pipe failed (%s)", path, std::strerror(errno));
+    std::fflush(nullptr);
+    pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]), ::close(fds[1]);
+        return dm_fail(err, DM_ERR_INTERNAL, "%s: fork failed (%s)", path, std::strerror(errno));
+    }
+    if (pid == 0) { // child: read, send, leave without running the parent's atexit work
+        ::close(fds[0]);
+        int devnull = ::open("/dev/null", O_WRONLY); // OpenMesh also writes to std::cerr directly
+        if (devnull >= 0) ::dup2(devnull, 1), ::dup2(devnull, 2);
+        dm_mesh m;
+        std::memset(&m, 0, sizeof m);
+        dm_error e = {};
+        wire_header h = {};
+        h.result = read_openmesh(path, o, &m, &e);
+        std::memcpy(h.detail, e.detail, sizeof h.detail);
+        if (h.result == DM_OK) {
+            h.vertex_count = m.vertex_count, h.triangle_count = m.triangle_count;
+            h.normals_from_file = m.normals_from_file, h.polygon_count = m.polygon_count;
+        }
+        const size_t corners = (size_t)m.triangle_count * 3;
+        bool ok = write_all(fds[1], &h, sizeof h);
+        if (ok && h.result == DM_OK)
+            ok = write_all(fds[1], m.positions, (size_t)m.vertex_count * 3 * sizeof(float)) &&
+                 write_all(fds[1], m.indices, corners * sizeof(uint32_t)) &&
+                 write_all(fds[1], m.uvs, corners * 2 * sizeof(float)) &&
+                 write_all(fds[1], m.normals, corners * 3 * sizeof(float));
+        ::_exit(ok ? 0 : 1);
+    }
+    ::close(fds[1]);
+    const double deadline = dm_now_ms() + limit_ms;
+    bool timed_out = false, lost = false; // lost: the child died or hung before sending all
+    wire_header h;
+    dm_result r = DM_OK;
+    if (!read_all(fds[0], &h, sizeof h, deadline, &timed_out)) {
+        lost = true;
+    } else if (h.result != DM_OK) {
+        h.detail[sizeof h.detail - 1] = '\0';
+        r = dm_fail(err, (dm_result)h.result, "%s", h.detail);
+    } else if ((r = dm_mesh_alloc(h.vertex_count, h.triangle_count, out, err)) == DM_OK) {
+        out->normals_from_file = h.normals_from_file, out->polygon_count = h.polygon_count;
+        const size_t corners = (size_t)h.triangle_count * 3;
+        if (!read_all(fds[0], out->positions, (size_t)h.vertex_count * 3 * sizeof(float), deadline, &timed_out) ||
+            !read_all(fds[0], out->indices, corners * sizeof(uint32_t), deadline, &timed_out) ||
+            !read_all(fds[0], out->uvs, corners * 2 * sizeof(float), deadline, &timed_out) ||
+            !read_all(fds[0], out->normals, corners * 3 * sizeof(float), deadline, &timed_out)) {
+            dm_mesh_free(out);
+            lost = true;
+        }
+    }
+    ::close(fds[0]);
+    if (timed_out) ::kill(pid, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (lost) {
+        if (timed_out)
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader did not finish in %.0f s (a malformed file), expected a mesh",
+                    path, limit_ms / 1000.0);
+        else if (WIFSIGNALED(status))
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader crashed on this file (signal %d): malformed, expected a mesh",
+                    path, WTERMSIG(status));
+        else
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader stopped early (exit status %d): malformed, expected a mesh", path,
+                    WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
+    return r;
+}
+
 } // namespace
 
 extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mesh *out, dm_error *err)
@@ -123,38 +291,8 @@ extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *
     if (first == EOF) return dm_fail(err, DM_ERR_EMPTY, "%s: the file is empty, expected a mesh", path);
 
     dm_result r = DM_OK;
-    if (std::strcmp(known_extension(path), "obj") == 0 && (r = dm_mesh_check_obj(path, err)) != DM_OK) return r;
-    silence_openmesh();
-    try {
-        PolyMesh pm;
-        pm.request_vertex_normals();
-        pm.request_vertex_texcoords2D();
-        pm.request_halfedge_texcoords2D();
-        OpenMesh::IO::Options ropt;
-        ropt += OpenMesh::IO::Options::FaceTexCoord;
-        ropt += OpenMesh::IO::Options::VertexTexCoord;
-        ropt += OpenMesh::IO::Options::VertexNormal;
-        if (!OpenMesh::IO::read_mesh(pm, path, ropt))
-            return dm_fail(err, DM_ERR_FORMAT, "%s: the reader refused the file (malformed, or a face index out of range)",
-                           path);
-        if (pm.n_faces() == 0) {
-            if (pm.n_vertices() > 0)
-                return dm_fail(err, DM_ERR_EMPTY, "%s: %zu vertices but no faces (points or lines only, or every face refused: "
-                               "index out of range, repeated corner), expected triangles or polygons",
-                               path, pm.n_vertices());
-            return dm_fail(err, DM_ERR_EMPTY, "%s: no vertices and no faces, expected a mesh", path);
-        }
-        const bool face_uvs = ropt.face_has_texcoord();
-        const bool vertex_uvs = !face_uvs && ropt.vertex_has_texcoord();
-        if (!face_uvs && !vertex_uvs && !o.uvs_optional)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: no texture coordinates, expected a UV layout", path);
-        const bool file_normals = ropt.vertex_has_normal() && !o.ignore_file_normals;
-        r = convert(pm, face_uvs, vertex_uvs, file_normals, path, out, err);
-    } catch (const std::bad_alloc &) {
-        r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
-    } catch (const std::exception &e) {
-        r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader failed (%s)", path, e.what());
-    }
+    if ((r = dm_mesh_check_file(path, err)) != DM_OK) return r;
+    r = o.in_process ? read_openmesh(path, o, out, err) : read_isolated(path, o, out, err);
     if (r == DM_OK) {
         // Positions and UVs first: normals are only checked after they are final.
         for (int64_t i = 0; i < (int64_t)out->vertex_count * 3 && r == DM_OK; ++i)

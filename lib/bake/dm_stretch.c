@@ -75,11 +75,12 @@ void dm_stretch_blur_weights(double w[DM_STRETCH_TAPS])
 {
     const int half = DM_STRETCH_TAPS / 2;
     double sum = 0.0;
-    for (int i = -half; i <= half; ++i) {
-        /* Mass of the unit Gaussian over [i − ½, i + ½]: Φ(i + ½) − Φ(i − ½). */
-        double m = 0.5 * (erfc(-(i + 0.5) / sqrt(2.0)) - erfc(-(i - 0.5) / sqrt(2.0)));
-        w[i + half] = m;
-        sum += m;
+    for (int i = 0; i <= half; ++i) {
+        /* Mass of the unit Gaussian over [i − ½, i + ½]: Φ(i + ½) − Φ(i − ½); set on both
+         * sides from one value so the kernel is exactly symmetric. */
+        double m = 0.5 * (erfc((i - 0.5) / sqrt(2.0)) - erfc((i + 0.5) / sqrt(2.0)));
+        w[half + i] = w[half - i] = m;
+        sum += i == 0 ? m : 2.0 * m;
     }
     for (int k = 0; k < DM_STRETCH_TAPS; ++k) w[k] /= sum;
 }

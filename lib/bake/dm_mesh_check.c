@@ -1,4 +1,4 @@
-/* dm_mesh_check_obj (dm_mesh.h): a strict pre-pass over an OBJ's v, vt, vn and f lines. */
+/* dm_mesh_check_file (dm_mesh.h): strict pre-passes over what OpenMesh's readers trust. */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -46,10 +46,8 @@ static int resolve(long long idx, long long count, long long *out)
     return idx != 0 && r >= 1 && r <= count;
 }
 
-dm_result dm_mesh_check_obj(const char *path, dm_error *err)
+static dm_result check_obj(const char *path, FILE *fp, dm_error *err)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, strerror(errno));
     static const char *const kind[3] = {"vertex", "texture coordinate", "normal"};
     long long count[3] = {0, 0, 0}; /* v, vt, vn so far */
     char *line = NULL;
@@ -107,6 +105,46 @@ dm_result dm_mesh_check_obj(const char *path, dm_error *err)
     }
     if (r == DM_OK && ferror(fp)) r = dm_fail(err, DM_ERR_FILE_READ, "%s: read error", path);
     free(line);
+    return r;
+}
+
+static dm_result check_ply(const char *path, FILE *fp, dm_error *err)
+{
+    enum { HEADER_MAX = 65536 };
+    char *buf = malloc(HEADER_MAX + 1);
+    if (!buf) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    size_t n = fread(buf, 1, HEADER_MAX, fp);
+    buf[n] = '\0';
+    dm_result r = DM_OK;
+    if (n < 4 || memcmp(buf, "ply", 3) != 0 || (buf[3] != '\n' && buf[3] != '\r'))
+        r = dm_fail(err, DM_ERR_FORMAT, "%s: does not start with a 'ply' line, expected a PLY header", path);
+    else {
+        /* "end_header" at the start of a line; NUL bytes end the search (binary junk). */
+        const char *p = buf;
+        int found = 0;
+        while ((p = strstr(p, "end_header")) && !found) {
+            found = p > buf && (p[-1] == '\n' || p[-1] == '\r');
+            ++p;
+        }
+        if (!found)
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: no 'end_header' line in the first %d bytes, expected a PLY header",
+                        path, HEADER_MAX);
+    }
+    free(buf);
+    return r;
+}
+
+dm_result dm_mesh_check_file(const char *path, dm_error *err)
+{
+    const char *dot = strrchr(path, '.');
+    int obj = dot && strlen(dot) == 4 && tolower((unsigned char)dot[1]) == 'o' &&
+              tolower((unsigned char)dot[2]) == 'b' && tolower((unsigned char)dot[3]) == 'j';
+    int ply = dot && strlen(dot) == 4 && tolower((unsigned char)dot[1]) == 'p' &&
+              tolower((unsigned char)dot[2]) == 'l' && tolower((unsigned char)dot[3]) == 'y';
+    if (!obj && !ply) return DM_OK;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, strerror(errno));
+    dm_result r = obj ? check_obj(path, fp, err) : check_ply(path, fp, err);
     fclose(fp);
     return r;
 }
