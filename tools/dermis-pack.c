@@ -10,6 +10,8 @@
 #include "bake/dm_image.h"
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
+#include "bake/dm_mesh.h"
+#include "bake/dm_stretch.h"
 #include "bake/dm_pack_env.h"
 #include "bake/dm_pack_write.h"
 #include "core/dm_brdf.h"
@@ -69,7 +71,17 @@ typedef struct job {
     report_row rows[64];
     int row_count;
     double step_t0;
+    dm_mesh mesh; /* loaded once, for the mesh and stretch steps */
+    bool mesh_loaded;
+    char mesh_hash[DM_HASH_HEX_SIZE];
 } job;
+
+static void job_free(job *j)
+{
+    dm_pack_writer_free(&j->w);
+    if (j->mesh_loaded) dm_mesh_free(&j->mesh);
+    free(j);
+}
 
 /* --- helpers ------------------------------------------------------------------------ */
 
@@ -352,6 +364,141 @@ static dm_result step_profile(job *j, dm_error *err)
     return r;
 }
 
+static dm_result ensure_mesh(job *j, dm_error *err)
+{
+    if (j->mesh_loaded) return DM_OK;
+    dm_result r = dm_hash_file_hex(j->scene.mesh, j->mesh_hash, err);
+    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, NULL, &j->mesh, err);
+    j->mesh_loaded = r == DM_OK;
+    return r;
+}
+
+static void mesh_prov(const job *j, dm_provenance *p, const char *what)
+{
+    dm_prov_init(p, TOOL);
+    snprintf(p->input_hash, sizeof p->input_hash, "%s", j->mesh_hash);
+    dm_prov_add_string(p, "source", j->scene.mesh);
+    dm_prov_add_string(p, "product", what);
+    dm_prov_add_double(p, "mm_per_unit", j->scene.mm_per_unit);
+    dm_prov_add_int(p, "triangles", j->mesh.triangle_count);
+}
+
+/* The GPU mesh: split at seams by (position, uv, normal), tangents with handedness,
+ * interleaved in the dermis layout (core/dm_pack.h DM_PACK_VERTEX_*). */
+static dm_result step_mesh(job *j, dm_error *err)
+{
+    dm_result r = ensure_mesh(j, err);
+    if (r != DM_OK) return r;
+    dm_gpu_mesh g;
+    if ((r = dm_mesh_split_for_gpu(&j->mesh, &g, err)) != DM_OK) return r;
+    const size_t vc = (size_t)g.vertex_count, floats = DM_PACK_VERTEX_STRIDE / 4;
+    float *v = malloc(vc * floats * sizeof *v);
+    if (!v) {
+        dm_gpu_mesh_free(&g);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", j->scene.mesh);
+    }
+    for (size_t i = 0; i < vc; ++i) {
+        float *o = v + i * floats;
+        memcpy(o + DM_PACK_VERTEX_POSITION / 4, g.positions + 3 * i, 3 * sizeof *o);
+        memcpy(o + DM_PACK_VERTEX_NORMAL / 4, g.normals + 3 * i, 3 * sizeof *o);
+        memcpy(o + DM_PACK_VERTEX_UV / 4, g.uvs + 2 * i, 2 * sizeof *o);
+        memcpy(o + DM_PACK_VERTEX_TANGENT / 4, g.tangents + 4 * i, 4 * sizeof *o);
+    }
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "mesh.vertices");
+    d.kind = DM_PACK_MESH_VERTICES;
+    d.vertex_count = (int64_t)vc;
+    d.stride = DM_PACK_VERTEX_STRIDE;
+    static const struct {
+        const char *name;
+        int offset, components;
+    } attrs[4] = {{"position", DM_PACK_VERTEX_POSITION, 3},
+                  {"normal", DM_PACK_VERTEX_NORMAL, 3},
+                  {"uv", DM_PACK_VERTEX_UV, 2},
+                  {"tangent", DM_PACK_VERTEX_TANGENT, 4}};
+    d.attribute_count = 4;
+    for (int k = 0; k < 4; ++k) {
+        snprintf(d.attributes[k].name, sizeof d.attributes[k].name, "%s", attrs[k].name);
+        d.attributes[k].offset = attrs[k].offset;
+        d.attributes[k].components = attrs[k].components;
+    }
+    dm_provenance p;
+    mesh_prov(j, &p, "split by position, uv, normal; tangents with handedness");
+    dm_prov_add_int(&p, "vertices", (int64_t)vc);
+    char src[200];
+    snprintf(src, sizeof src, "from %.150s", base_name(j->scene.mesh));
+    r = add(j, &d, v, vc * floats * sizeof *v, &p, src, err);
+    if (r == DM_OK) {
+        memset(&d, 0, sizeof d);
+        snprintf(d.name, sizeof d.name, "mesh.indices");
+        d.kind = DM_PACK_MESH_INDICES;
+        d.index_count = g.index_count;
+        snprintf(d.vertices, sizeof d.vertices, "mesh.vertices");
+        mesh_prov(j, &p, "triangles, counter-clockwise");
+        r = add(j, &d, g.indices, (size_t)g.index_count * sizeof *g.indices, &p, src, err);
+    }
+    free(v);
+    dm_gpu_mesh_free(&g);
+    return r;
+}
+
+/* The stretch chain at the scene's irradiance size: one RG32F layer per Gaussian (u, v in
+ * UV units per mm), and the chart mask as R8. */
+static dm_result step_stretch(job *j, dm_error *err)
+{
+    dm_result r = ensure_mesh(j, err);
+    if (r != DM_OK) return r;
+    const int n = j->scene.irradiance_size;
+    dm_stretch_options so = {.width = n,
+                             .height = n,
+                             .mm_per_unit = j->scene.mm_per_unit,
+                             .profile = &j->scene.profile,
+                             .thread_count = j->opt->threads};
+    dm_stretch_map map;
+    if ((r = dm_stretch_bake(&j->mesh, &so, &map, err)) != DM_OK) return r;
+    const size_t texels = (size_t)n * n;
+    float *rg = malloc(texels * 2 * (size_t)map.level_count * sizeof *rg);
+    uint8_t *mask = malloc(texels);
+    if (!rg || !mask) r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "stretch %dx%d: out of memory", n, n);
+    for (int k = 0; r == DM_OK && k < map.level_count; ++k)
+        for (size_t i = 0; i < texels; ++i) {
+            rg[((size_t)k * texels + i) * 2] = map.s_u[k][i];
+            rg[((size_t)k * texels + i) * 2 + 1] = map.s_v[k][i];
+        }
+    for (size_t i = 0; r == DM_OK && i < texels; ++i) mask[i] = map.mask[i] > 0.5f ? 255 : 0;
+    dm_provenance p;
+    mesh_prov(j, &p, "stretch chain, UV units per mm, one layer per Gaussian");
+    dm_prov_add_int(&p, "size", n);
+    dm_prov_add_string(&p, "profile", j->scene.profile.name);
+    for (int k = 0; k < map.level_count; ++k) {
+        char name[32];
+        snprintf(name, sizeof name, "variance%d_mm2", k);
+        dm_prov_add_double(&p, name, map.variance_mm2[k]);
+    }
+    dm_prov_add_double(&p, "coverage", map.stats.coverage);
+    char src[200];
+    snprintf(src, sizeof src, "baked from %.150s", base_name(j->scene.mesh));
+    if (r == DM_OK) {
+        dm_pack_entry d = texture_desc("stretch", DM_TEX_RG32F, n, n);
+        d.layers = map.level_count;
+        d.channel_count = 2;
+        snprintf(d.channels[0], sizeof d.channels[0], "u");
+        snprintf(d.channels[1], sizeof d.channels[1], "v");
+        r = add(j, &d, rg, texels * 2 * (size_t)map.level_count * sizeof *rg, &p, src, err);
+    }
+    if (r == DM_OK) {
+        dm_pack_entry d = texture_desc("stretch.mask", DM_TEX_R8, n, n);
+        mesh_prov(j, &p, "chart coverage mask, 255 covered");
+        dm_prov_add_int(&p, "size", n);
+        r = add(j, &d, mask, texels, &p, src, err);
+    }
+    free(rg);
+    free(mask);
+    dm_stretch_map_free(&map);
+    return r;
+}
+
 static dm_result step_environment(job *j, dm_error *err)
 {
     bool lighting = wanted(j, "env.sh") || wanted(j, "env.specular");
@@ -385,8 +532,6 @@ static dm_result step_environment(job *j, dm_error *err)
 
 /* The bake steps, in pack order. A step runs when one of its entries applies to the scene
  * (dm_pack_needs.h); it adds only the entries that apply.
- * TODO(issue 3): {"mesh", {"mesh.vertices", "mesh.indices"}} and
- *                {"stretch", {"stretch", "stretch.mask"}}.
  */
 typedef struct step {
     const char *name;
@@ -396,6 +541,7 @@ typedef struct step {
 
 static const step steps[] = {
     {"scene", {"scene"}, step_scene},
+    {"mesh", {"mesh.vertices", "mesh.indices"}, step_mesh},
     {"albedo map", {"albedo"}, step_albedo},
     {"normal map", {"normal"}, step_normal},
     {"specular map", {"specular"}, step_specular},
@@ -403,6 +549,7 @@ static const step steps[] = {
     {"Beckmann LUT", {"lut.beckmann"}, step_beckmann},
     {"directional LUTs", {"lut.rho_dt", "lut.env_brdf"}, step_directional},
     {"profile", {"profile"}, step_profile},
+    {"stretch", {"stretch", "stretch.mask"}, step_stretch},
     {"environment", {"env.sh", "env.specular", "env.background"}, step_environment},
 };
 
@@ -559,8 +706,7 @@ int main(int argc, char **argv)
         j->step_t0 = dm_now_ms();
         if (steps[s].run(j, &err) != DM_OK) {
             fprintf(stderr, "error: %s: %s\n", steps[s].name, err.detail);
-            dm_pack_writer_free(&j->w);
-            free(j);
+            job_free(j);
             return err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT
                        ? DM_EXIT_LOAD
                        : DM_EXIT_PROCESS;
@@ -594,8 +740,7 @@ int main(int argc, char **argv)
     tw = dm_now_ms() - tw;
     if (r != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
-        dm_pack_writer_free(&j->w);
-        free(j);
+        job_free(j);
         return r == DM_ERR_FILE_WRITE ? DM_EXIT_SAVE : DM_EXIT_PROCESS;
     }
     if (!opt.quiet) {
@@ -616,7 +761,6 @@ int main(int argc, char **argv)
         printf("  %d entries, %s, written and verified in %.1f ms, total %.1f ms\n", j->row_count, sz, tw,
                dm_now_ms() - t0);
     }
-    dm_pack_writer_free(&j->w);
-    free(j);
+    job_free(j);
     return DM_EXIT_OK;
 }

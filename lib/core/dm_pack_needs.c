@@ -5,9 +5,9 @@
 /* The table. Order is the order dermis-pack writes entries and --explain lists them. */
 static const dm_pack_need needs[] = {
     {"scene", DM_PACK_SCENE, -1, 0, DM_NEED_ALWAYS, false, "the scene itself: effects, lights, camera, parameters"},
-    {"mesh.vertices", DM_PACK_MESH_VERTICES, -1, 0, DM_NEED_ALWAYS, true,
+    {"mesh.vertices", DM_PACK_MESH_VERTICES, -1, 0, DM_NEED_ALWAYS, false,
      "the head, split by (position, uv, normal), with tangent frames"},
-    {"mesh.indices", DM_PACK_MESH_INDICES, -1, 0, DM_NEED_ALWAYS, true, "its triangles"},
+    {"mesh.indices", DM_PACK_MESH_INDICES, -1, 0, DM_NEED_ALWAYS, false, "its triangles"},
     {"albedo", DM_PACK_TEXTURE, DM_TEX_RGBA8_SRGB, 0, DM_NEED_IF_ALBEDO, false, "diffuse colour (sRGB)"},
     {"normal", DM_PACK_TEXTURE, DM_TEX_RGBA8, 0, DM_NEED_IF_NORMAL_MAP, false,
      "tangent-space normal map, lighting in every pass"},
@@ -24,9 +24,9 @@ static const dm_pack_need needs[] = {
      "split-sum scale and bias of F0 for environment specular"},
     {"profile", DM_PACK_PROFILE, -1, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, false,
      "sum-of-Gaussians diffusion profile: blur variances and weights"},
-    {"stretch", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, true,
+    {"stretch", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, false,
      "UV stretch (u, v per mm) and its blurred chain, one layer per Gaussian"},
-    {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, true,
+    {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS, false,
      "chart coverage mask (gutter handling)"},
     {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS, false,
      "diffuse environment light, 9 RGB SH coefficients"},
