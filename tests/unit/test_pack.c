@@ -24,6 +24,38 @@ typedef struct fixture {
     bool skip_beckmann, nan_in_rho, bad_index, beckmann_as_float;
 } fixture;
 
+/* A three-vertex mesh in the dermis layout; bad_index puts an index out of range. */
+static void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool bad_index)
+{
+    dm_error err = {0};
+    dm_pack_entry d;
+    float v[3 * 12] = {0};
+    for (int k = 0; k < 3; ++k) v[k * 12 + k] = 1.0f;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "mesh.vertices");
+    d.kind = DM_PACK_MESH_VERTICES;
+    d.vertex_count = 3;
+    d.stride = DM_PACK_VERTEX_STRIDE;
+    d.attribute_count = 4;
+    const char *an[4] = {"position", "normal", "uv", "tangent"};
+    const int ao[4] = {DM_PACK_VERTEX_POSITION, DM_PACK_VERTEX_NORMAL, DM_PACK_VERTEX_UV, DM_PACK_VERTEX_TANGENT};
+    const int ac[4] = {3, 3, 2, 4};
+    for (int k = 0; k < 4; ++k) {
+        snprintf(d.attributes[k].name, sizeof d.attributes[k].name, "%s", an[k]);
+        d.attributes[k].offset = ao[k];
+        d.attributes[k].components = ac[k];
+    }
+    cr_assert_eq(dm_pack_writer_add(wp, &d, v, sizeof v, pp, &err), DM_OK, "%s", err.detail);
+
+    uint32_t idx[3] = {0, 1, bad_index ? 7u : 2u};
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "mesh.indices");
+    d.kind = DM_PACK_MESH_INDICES;
+    d.index_count = 3;
+    snprintf(d.vertices, sizeof d.vertices, "mesh.vertices");
+    cr_assert_eq(dm_pack_writer_add(wp, &d, idx, sizeof idx, pp, &err), DM_OK, "%s", err.detail);
+}
+
 static dm_pack_entry tex(const char *name, dm_tex_format f, int w, int h)
 {
     dm_pack_entry d;
@@ -81,31 +113,7 @@ static uint8_t *build(const fixture *fx, size_t *size)
     d.levels = 3;
     cr_assert_eq(dm_pack_writer_add(&w, &d, half, sizeof half, &p, &err), DM_OK, "%s", err.detail);
 
-    float v[3 * 12] = {0};
-    for (int k = 0; k < 3; ++k) v[k * 12 + k] = 1.0f;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "mesh.vertices");
-    d.kind = DM_PACK_MESH_VERTICES;
-    d.vertex_count = 3;
-    d.stride = DM_PACK_VERTEX_STRIDE;
-    d.attribute_count = 4;
-    const char *an[4] = {"position", "normal", "uv", "tangent"};
-    const int ao[4] = {DM_PACK_VERTEX_POSITION, DM_PACK_VERTEX_NORMAL, DM_PACK_VERTEX_UV, DM_PACK_VERTEX_TANGENT};
-    const int ac[4] = {3, 3, 2, 4};
-    for (int k = 0; k < 4; ++k) {
-        snprintf(d.attributes[k].name, sizeof d.attributes[k].name, "%s", an[k]);
-        d.attributes[k].offset = ao[k];
-        d.attributes[k].components = ac[k];
-    }
-    cr_assert_eq(dm_pack_writer_add(&w, &d, v, sizeof v, &p, &err), DM_OK, "%s", err.detail);
-
-    uint32_t idx[3] = {0, 1, fx->bad_index ? 7u : 2u};
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "mesh.indices");
-    d.kind = DM_PACK_MESH_INDICES;
-    d.index_count = 3;
-    snprintf(d.vertices, sizeof d.vertices, "mesh.vertices");
-    cr_assert_eq(dm_pack_writer_add(&w, &d, idx, sizeof idx, &p, &err), DM_OK, "%s", err.detail);
+    add_mesh(&w, &p, fx->bad_index);
 
     float sh[27];
     for (int k = 0; k < 27; ++k) sh[k] = 0.1f * k;
@@ -253,6 +261,7 @@ Test(pack, writer_write_refuses_an_invalid_pack)
     snprintf(d.name, sizeof d.name, "scene");
     d.kind = DM_PACK_SCENE;
     cr_assert_eq(dm_pack_writer_add(&w, &d, scene_json, strlen(scene_json), &p, &err), DM_OK);
+    add_mesh(&w, &p, false);
     char path[] = "/tmp/dermis-test-pack-w-XXXXXX";
     int fd = mkstemp(path);
     close(fd);
