@@ -132,13 +132,13 @@ int main(int argc, char **argv)
     dm_scene keep = s->scene;
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
         for (int k = 0; k < DM_EFFECT_COUNT; ++k) s->scene.effects[k] = k == e;
-        fprintf(stderr, "render bench: %s alone\n", dm_render_effect_name((dm_effect)e));
+        fprintf(stderr, "render bench: %s alone\n", dm_effect_name((dm_effect)e));
         result r;
         if (!run(s, 1024, frames, &r)) return 3;
         int worst = 0;
         for (int p = 1; p < r.plan.pass_count; ++p)
             if (r.pass_ms[p] > r.pass_ms[worst]) worst = p;
-        fprintf(md, "| %s | %d | %.1f | %s %.1f |\n", dm_render_effect_name((dm_effect)e), r.plan.pass_count,
+        fprintf(md, "| %s | %d | %.1f | %s %.1f |\n", dm_effect_name((dm_effect)e), r.plan.pass_count,
                 r.frame_ms, r.plan.passes[worst].name, r.pass_ms[worst]);
     }
     s->scene = keep;

@@ -5,10 +5,13 @@
 #include <string.h>
 
 #include "core/dm_cli.h"
+#include "core/dm_hash.h"
+#include "core/dm_pack.h"
 #include "core/dm_prov.h"
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_pack.h"
 #include "render/dm_render_image.h"
 #include "render/dm_render_synth.h"
 
@@ -157,9 +160,11 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-static void provenance(const options *o, const dm_scene *s, const dm_renderer *r, dm_provenance *p)
+static void provenance(const options *o, const dm_scene *s, const char *input_hash, const dm_renderer *r,
+                       dm_provenance *p)
 {
     dm_prov_init(p, "dermis-render");
+    snprintf(p->input_hash, sizeof p->input_hash, "%s", input_hash);
     int w, h, irr;
     dm_renderer_size(r, &w, &h, &irr);
     dm_prov_add_string(p, "source", o->pack ? o->pack : o->synthetic);
@@ -168,7 +173,7 @@ static void provenance(const options *o, const dm_scene *s, const dm_renderer *r
     for (int e = 0; e < DM_EFFECT_COUNT; ++e)
         if (s->effects[e]) {
             if (fx[0]) strcat(fx, ",");
-            strcat(fx, dm_render_effect_name((dm_effect)e));
+            strcat(fx, dm_effect_name((dm_effect)e));
         }
     dm_prov_add_string(p, "effects", fx);
     dm_prov_add_string(p, "view", o->view_text);
@@ -190,6 +195,45 @@ static void provenance(const options *o, const dm_scene *s, const dm_renderer *r
     dm_prov_add_string(p, "renderer", dm_renderer_gl_name(r));
 }
 
+/* What is rendered: a verified pack (mapped, nothing copied) or a synthetic scene. */
+typedef struct source {
+    dm_synth *synth;
+    dm_pack pack;
+    bool pack_open;
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets pack_assets;
+    const dm_render_assets *assets;
+    const dm_scene *s;
+    char hash[DM_HASH_HEX_SIZE];
+} source;
+
+static int load(const options *o, source *src, dm_error *err)
+{
+    memset(src, 0, sizeof *src);
+    if (o->pack) {
+        if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK || dm_pack_open(o->pack, &src->pack, err) != DM_OK)
+            return DM_EXIT_LOAD;
+        src->pack_open = true;
+        if (dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
+            return DM_EXIT_LOAD;
+        src->assets = &src->pack_assets;
+        src->s = &src->scene;
+        return 0;
+    }
+    dm_synth_options so = {.shape = strcmp(o->synthetic, "quad") ? DM_SYNTH_SPHERE : DM_SYNTH_QUAD};
+    if (dm_synth_create(&so, &src->synth, err) != DM_OK) return DM_EXIT_LOAD;
+    src->assets = &src->synth->assets;
+    src->s = &src->synth->scene;
+    return 0;
+}
+
+static void unload(source *src)
+{
+    if (src->pack_open) dm_pack_close(&src->pack);
+    dm_synth_free(src->synth);
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -200,25 +244,20 @@ int main(int argc, char **argv)
     dm_error err = {0};
 
     /* load */
-    dm_synth *synth = NULL;
-    if (o.pack) {
-        fprintf(stderr, "error: %s: reading packs arrives with the pack reader (issue 6); use --synthetic for now\n",
-                o.pack);
-        return DM_EXIT_LOAD;
-    }
-    dm_synth_options so = {.shape = strcmp(o.synthetic, "quad") ? DM_SYNTH_SPHERE : DM_SYNTH_QUAD};
-    if (dm_synth_create(&so, &synth, &err) != DM_OK) {
+    source src;
+    int rc = load(&o, &src, &err);
+    if (rc) {
         fprintf(stderr, "error: %s\n", err.detail);
-        return DM_EXIT_LOAD;
+        unload(&src);
+        return rc;
     }
 
     /* context + renderer */
     dm_osmesa *ctx = NULL;
     dm_renderer *r = NULL;
-    int rc = DM_EXIT_OK;
     dm_render_desc desc = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
                            .irradiance_size = o.irradiance, .timings = o.timings};
-    if (dm_osmesa_create(&ctx, &err) != DM_OK || dm_renderer_create(&synth->assets, &desc, &r, &err) != DM_OK) {
+    if (dm_osmesa_create(&ctx, &err) != DM_OK || dm_renderer_create(src.assets, &desc, &r, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_PROCESS;
         goto done;
@@ -229,7 +268,7 @@ int main(int argc, char **argv)
                            .light_rotation_deg = (float)o.light_azimuth};
     if (o.explain) {
         dm_render_plan plan;
-        if (dm_render_plan_build(&synth->scene, o.view, o.view_index, &plan, &err) != DM_OK) {
+        if (dm_render_plan_build(src.s, o.view, o.view_index, &plan, &err) != DM_OK) {
             fprintf(stderr, "error: %s\n", err.detail);
             rc = DM_EXIT_USAGE;
             goto done;
@@ -279,7 +318,7 @@ int main(int argc, char **argv)
         int w, h;
         dm_renderer_size(r, &w, &h, NULL);
         dm_provenance prov;
-        provenance(&o, &synth->scene, r, &prov);
+        provenance(&o, src.s, src.hash, r, &prov);
         bool exr = ends_with(o.out, ".exr");
         void *px = malloc((size_t)w * h * 4 * (exr ? sizeof(float) : 1));
         dm_result res = px ? DM_OK : dm_fail(&err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the image", o.out);
@@ -299,6 +338,6 @@ int main(int argc, char **argv)
 done:
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
-    dm_synth_free(synth);
+    unload(&src);
     return rc;
 }

@@ -5,13 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *dm_render_effect_name(dm_effect e)
-{
-    static const char *names[DM_EFFECT_COUNT] = {"specular", "subsurface", "energy_conservation", "shadows",
-                                                 "environment_lighting", "glow", "tonemap"};
-    return (unsigned)e < DM_EFFECT_COUNT ? names[e] : NULL;
-}
-
 static const char *view_names[DM_VIEW_COUNT] = {"final",    "irradiance", "blur", "stretch",  "shadow",
                                                 "specular", "diffuse",    "uv",   "wireframe"};
 
@@ -224,7 +217,7 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
         if (!p->effects[e]) {
             if (!any_off) put(&b, "effects off:\n");
             any_off = true;
-            put(&b, "      %-20s %s\n", dm_render_effect_name((dm_effect)e), removes[e]);
+            put(&b, "      %-20s %s\n", dm_effect_name((dm_effect)e), removes[e]);
         }
     if (p->effects[DM_EFFECT_ENERGY_CONSERVATION] && !p->effects[DM_EFFECT_SPECULAR])
         put(&b, "note: energy_conservation is inactive without specular (no light is taken by the surface)\n");

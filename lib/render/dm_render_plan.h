@@ -105,10 +105,6 @@ size_t dm_render_plan_explain(const dm_render_plan *plan, char *out, size_t out_
 /* The index of the first pass with that name, or −1. */
 int dm_render_plan_find(const dm_render_plan *plan, const char *name);
 
-/* The effect's name as in the scene file ("specular", "subsurface", ...). Temporary twin
- * of dm_effect_name (core/dm_scene.c, on its way with the scene parser); NULL when out of
- * range. */
-const char *dm_render_effect_name(dm_effect e);
 
 #ifdef __cplusplus
 }

@@ -78,12 +78,12 @@ Test(render_plan, each_effect_off_removes_its_passes)
         s.effects[e] = false;
         char list[1024];
         plan_of(&s, list, sizeof list);
-        cr_expect_str_eq(list, expect[e], "with %s off", dm_render_effect_name((dm_effect)e));
+        cr_expect_str_eq(list, expect[e], "with %s off", dm_effect_name((dm_effect)e));
         dm_render_plan p;
         dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL);
         if (e == DM_EFFECT_SPECULAR || e == DM_EFFECT_ENERGY_CONSERVATION)
             cr_expect(!p.energy_conservation_active, "energy conservation still active with %s off",
-                      dm_render_effect_name((dm_effect)e));
+                      dm_effect_name((dm_effect)e));
         if (e == DM_EFFECT_SPECULAR || e == DM_EFFECT_ENVIRONMENT_LIGHTING) cr_expect(!p.env_specular_active);
     }
 }

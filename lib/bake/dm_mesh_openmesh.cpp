@@ -1,0 +1,334 @@
+// dm_mesh_openmesh.cpp — the OpenMesh adapter behind dm_mesh_load (dm_mesh.h).
+// C++ stays in here. The mesh is read as a PolyMesh with per-halfedge UVs (a halfedge
+// carries the UV of the corner it points to) and fan-triangulated by hand, so corner
+// UVs survive seams and quads (TOOLCHAIN.md).
+#include "bake/dm_mesh.h"
+
+#include "core/dm_cli.h"
+
+#include <cassert>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+// OpenMesh's VectorT leaves its storage uninitialised by design; GCC 12 then warns
+// inside OpenMesh's own property code. The warning is OpenMesh's, not ours.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#pragma GCC diagnostic pop
+
+namespace {
+
+struct Traits : OpenMesh::DefaultTraits {
+    typedef OpenMesh::Vec3f Point;
+    typedef OpenMesh::Vec3f Normal;
+    typedef OpenMesh::Vec2f TexCoord2D;
+};
+typedef OpenMesh::PolyMesh_ArrayKernelT<Traits> PolyMesh;
+
+const char *known_extension(const char *path)
+{
+    static const char *const exts[] = {"obj", "ply", "off", "stl", "om"};
+    const char *dot = std::strrchr(path, '.');
+    const char *slash = std::strrchr(path, '/');
+    if (!dot || (slash && dot < slash)) return nullptr;
+    std::string ext(dot + 1);
+    for (char &c : ext) c = (char)std::tolower((unsigned char)c);
+    for (const char *e : exts)
+        if (ext == e) return e;
+    return nullptr;
+}
+
+void silence_openmesh()
+{
+    ::omerr().disable();
+    ::omout().disable();
+    ::omlog().disable();
+}
+
+// Copies the PolyMesh into out, fan-triangulating polygons. Returns DM_OK or a failure.
+dm_result convert(const PolyMesh &pm, bool face_uvs, bool vertex_uvs, bool file_normals, const char *path,
+                  dm_mesh *out, dm_error *err)
+{
+    size_t tris = 0;
+    for (auto fh : pm.faces()) {
+        size_t n = pm.valence(fh);
+        if (n >= 3) tris += n - 2;
+    }
+    if (tris == 0) return dm_fail(err, DM_ERR_EMPTY, "%s: no faces with 3 or more corners", path);
+    if (tris > (size_t)DM_MESH_TRIANGLES_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "%s: %zu triangles, at most %d supported", path, tris,
+                       (int)DM_MESH_TRIANGLES_MAX);
+    if (pm.n_vertices() > (size_t)INT32_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "%s: %zu vertices, at most %d supported", path, pm.n_vertices(),
+                       (int)INT32_MAX);
+    dm_result r = dm_mesh_alloc((int32_t)pm.n_vertices(), (int32_t)tris, out, err);
+    if (r != DM_OK) return r;
+    out->polygon_count = (int64_t)pm.n_faces();
+    out->normals_from_file = file_normals ? 1 : 0;
+    for (auto vh : pm.vertices()) {
+        const auto &p = pm.point(vh);
+        for (int k = 0; k < 3; ++k) out->positions[(size_t)vh.idx() * 3 + k] = p[k];
+    }
+    std::vector<PolyMesh::HalfedgeHandle> ring;
+    size_t t = 0;
+    for (auto fh : pm.faces()) {
+        ring.clear();
+        for (auto heh : pm.fh_range(fh)) ring.push_back(heh);
+        for (size_t k = 1; k + 1 < ring.size(); ++k) {
+            const PolyMesh::HalfedgeHandle corner[3] = {ring[0], ring[k], ring[k + 1]};
+            for (int c = 0; c < 3; ++c) {
+                auto vh = pm.to_vertex_handle(corner[c]);
+                size_t i = t * 3 + (size_t)c;
+                out->indices[i] = (uint32_t)vh.idx();
+                OpenMesh::Vec2f uv(0.0f, 0.0f);
+                if (face_uvs) uv = pm.texcoord2D(corner[c]);
+                else if (vertex_uvs) uv = pm.texcoord2D(vh);
+                out->uvs[i * 2 + 0] = uv[0];
+                out->uvs[i * 2 + 1] = uv[1];
+                if (file_normals) {
+                    const auto &nrm = pm.normal(vh);
+                    for (int d = 0; d < 3; ++d) out->normals[i * 3 + d] = nrm[d];
+                }
+            }
+            ++t;
+        }
+    }
+    assert(t == tris);
+    return DM_OK;
+}
+
+// Reads and triangulates with OpenMesh in this process.
+dm_result read_openmesh(const char *path, const dm_mesh_load_options &o, dm_mesh *out, dm_error *err)
+{
+    silence_openmesh();
+    try {
+        PolyMesh pm;
+        pm.request_vertex_normals();
+        pm.request_vertex_texcoords2D();
+        pm.request_halfedge_texcoords2D();
+        OpenMesh::IO::Options ropt;
+        ropt += OpenMesh::IO::Options::FaceTexCoord;
+        ropt += OpenMesh::IO::Options::VertexTexCoord;
+        ropt += OpenMesh::IO::Options::VertexNormal;
+        if (!OpenMesh::IO::read_mesh(pm, path, ropt))
+            return dm_fail(err, DM_ERR_FORMAT, "%s: the reader refused the file (malformed, or a face index out of range)",
+                           path);
+        if (pm.n_faces() == 0) {
+            if (pm.n_vertices() > 0)
+                return dm_fail(err, DM_ERR_EMPTY,
+                               "%s: %zu vertices but no faces (points or lines only, or every face refused: "
+                               "index out of range, repeated corner), expected triangles or polygons",
+                               path, pm.n_vertices());
+            return dm_fail(err, DM_ERR_EMPTY, "%s: no vertices and no faces, expected a mesh", path);
+        }
+        const bool face_uvs = ropt.face_has_texcoord();
+        const bool vertex_uvs = !face_uvs && ropt.vertex_has_texcoord();
+        if (!face_uvs && !vertex_uvs && !o.uvs_optional)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: no texture coordinates, expected a UV layout", path);
+        const bool file_normals = ropt.vertex_has_normal() && !o.ignore_file_normals;
+        return convert(pm, face_uvs, vertex_uvs, file_normals, path, out, err);
+    } catch (const std::bad_alloc &) {
+        dm_mesh_free(out);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
+    } catch (const std::exception &e) {
+        dm_mesh_free(out);
+        return dm_fail(err, DM_ERR_FORMAT, "%s: the reader failed (%s)", path, e.what());
+    }
+}
+
+// ---- isolation: OpenMesh's binary readers trust their input (a mutated OM, PLY or OFF
+// file can crash them, trip their asserts or loop forever), so by default they run in
+// a child process that sends the finished mesh back through a pipe.
+
+struct wire_header {
+    int32_t result, vertex_count, triangle_count, normals_from_file;
+    int64_t polygon_count;
+    char detail[sizeof(((dm_error *)nullptr)->detail)];
+};
+
+bool write_all(int fd, const void *data, size_t size)
+{
+    const char *p = static_cast<const char *>(data);
+    while (size > 0) {
+        ssize_t n = ::write(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n, size -= (size_t)n;
+    }
+    return true;
+}
+
+// Reads exactly size bytes before deadline_ms (dm_now_ms clock); false on EOF, error
+// or time out (*timed_out set).
+bool read_all(int fd, void *data, size_t size, double deadline_ms, bool *timed_out)
+{
+    char *p = static_cast<char *>(data);
+    while (size > 0) {
+        double left = deadline_ms - dm_now_ms();
+        if (left <= 0) return *timed_out = true, false;
+        struct pollfd pfd = {fd, POLLIN, 0};
+        int pr = ::poll(&pfd, 1, left > 1e6 ? 1000000 : (int)left + 1);
+        if (pr < 0 && errno == EINTR) continue;
+        if (pr < 0) return false;
+        if (pr == 0) continue;
+        ssize_t n = ::read(fd, p, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        p += n, size -= (size_t)n;
+    }
+    return true;
+}
+
+dm_result read_isolated(const char *path, const dm_mesh_load_options &o, dm_mesh *out, dm_error *err)
+{
+    struct stat sb;
+    double size_mb = ::stat(path, &sb) == 0 ? (double)sb.st_size / 1e6 : 0.0;
+    // Generous: the head (1.8 MB) reads in ~60 ms; a hang is what this catches.
+    const double limit_ms = 30000.0 + 1000.0 * size_mb;
+    int fds[2];
+    if (::pipe(fds) != 0) return dm_fail(err, DM_ERR_INTERNAL, "%s: pipe failed (%s)", path, std::strerror(errno));
+    std::fflush(nullptr);
+    pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]), ::close(fds[1]);
+        return dm_fail(err, DM_ERR_INTERNAL, "%s: fork failed (%s)", path, std::strerror(errno));
+    }
+    if (pid == 0) { // child: read, send, leave without running the parent's atexit work
+        ::close(fds[0]);
+        int devnull = ::open("/dev/null", O_WRONLY); // OpenMesh also writes to std::cerr directly
+        if (devnull >= 0) ::dup2(devnull, 1), ::dup2(devnull, 2);
+        dm_mesh m;
+        std::memset(&m, 0, sizeof m);
+        dm_error e = {};
+        wire_header h = {};
+        h.result = read_openmesh(path, o, &m, &e);
+        std::memcpy(h.detail, e.detail, sizeof h.detail);
+        if (h.result == DM_OK) {
+            h.vertex_count = m.vertex_count, h.triangle_count = m.triangle_count;
+            h.normals_from_file = m.normals_from_file, h.polygon_count = m.polygon_count;
+        }
+        const size_t corners = (size_t)m.triangle_count * 3;
+        bool ok = write_all(fds[1], &h, sizeof h);
+        if (ok && h.result == DM_OK)
+            ok = write_all(fds[1], m.positions, (size_t)m.vertex_count * 3 * sizeof(float)) &&
+                 write_all(fds[1], m.indices, corners * sizeof(uint32_t)) &&
+                 write_all(fds[1], m.uvs, corners * 2 * sizeof(float)) &&
+                 write_all(fds[1], m.normals, corners * 3 * sizeof(float));
+        ::_exit(ok ? 0 : 1);
+    }
+    ::close(fds[1]);
+    const double deadline = dm_now_ms() + limit_ms;
+    bool timed_out = false, lost = false; // lost: the child died or hung before sending all
+    wire_header h;
+    dm_result r = DM_OK;
+    if (!read_all(fds[0], &h, sizeof h, deadline, &timed_out)) {
+        lost = true;
+    } else if (h.result != DM_OK) {
+        h.detail[sizeof h.detail - 1] = '\0';
+        r = dm_fail(err, (dm_result)h.result, "%s", h.detail);
+    } else if ((r = dm_mesh_alloc(h.vertex_count, h.triangle_count, out, err)) == DM_OK) {
+        out->normals_from_file = h.normals_from_file, out->polygon_count = h.polygon_count;
+        const size_t corners = (size_t)h.triangle_count * 3;
+        if (!read_all(fds[0], out->positions, (size_t)h.vertex_count * 3 * sizeof(float), deadline, &timed_out) ||
+            !read_all(fds[0], out->indices, corners * sizeof(uint32_t), deadline, &timed_out) ||
+            !read_all(fds[0], out->uvs, corners * 2 * sizeof(float), deadline, &timed_out) ||
+            !read_all(fds[0], out->normals, corners * 3 * sizeof(float), deadline, &timed_out)) {
+            dm_mesh_free(out);
+            lost = true;
+        }
+    }
+    ::close(fds[0]);
+    if (timed_out) ::kill(pid, SIGKILL);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (lost) {
+        if (timed_out)
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader did not finish in %.0f s (a malformed file), expected a mesh",
+                    path, limit_ms / 1000.0);
+        else if (WIFSIGNALED(status))
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader crashed on this file (signal %d): malformed, expected a mesh",
+                    path, WTERMSIG(status));
+        else
+            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader stopped early (exit status %d): malformed, expected a mesh", path,
+                    WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
+    return r;
+}
+
+} // namespace
+
+extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mesh *out, dm_error *err)
+{
+    assert(path && out);
+    std::memset(out, 0, sizeof *out);
+    dm_mesh_load_options o = {};
+    if (opt) o = *opt;
+
+    if (!known_extension(path))
+        return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: unknown mesh format, expected .obj, .ply, .off, .stl or .om",
+                       path);
+    FILE *fp = std::fopen(path, "rb");
+    if (!fp) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, std::strerror(errno));
+    int first = std::fgetc(fp);
+    std::fclose(fp);
+    if (first == EOF) return dm_fail(err, DM_ERR_EMPTY, "%s: the file is empty, expected a mesh", path);
+
+    dm_result r = DM_OK;
+    if ((r = dm_mesh_check_file(path, err)) != DM_OK) return r;
+    r = o.in_process ? read_openmesh(path, o, out, err) : read_isolated(path, o, out, err);
+    if (r == DM_OK) {
+        // Positions and UVs first: normals are only checked after they are final.
+        for (int64_t i = 0; i < (int64_t)out->vertex_count * 3 && r == DM_OK; ++i)
+            if (!std::isfinite(out->positions[i]))
+                r = dm_fail(err, DM_ERR_NON_FINITE, "%s: vertex %lld has a non-finite coordinate (%g), expected finite numbers",
+                            path, (long long)(i / 3 + 1), (double)out->positions[i]);
+        for (int64_t i = 0; i < (int64_t)out->triangle_count * 6 && r == DM_OK; ++i)
+            if (!std::isfinite(out->uvs[i]))
+                r = dm_fail(err, DM_ERR_NON_FINITE, "%s: triangle %lld has a non-finite UV (%g), expected finite numbers",
+                            path, (long long)(i / 6), (double)out->uvs[i]);
+    }
+    if (r == DM_OK && !out->normals_from_file) dm_mesh_compute_normals(out);
+    if (r == DM_OK && out->normals_from_file) {
+        for (int64_t i = 0; i < (int64_t)out->triangle_count * 9 && r == DM_OK; ++i)
+            if (!std::isfinite(out->normals[i]))
+                r = dm_fail(err, DM_ERR_NON_FINITE, "%s: vertex %u has a non-finite normal (%g), expected finite numbers",
+                            path, out->indices[i / 3] + 1, (double)out->normals[i]);
+        // A zero-length file normal (common in exported files) makes the whole mesh's
+        // normals computed instead: normals do not decide stretch, tangents need them.
+        bool zero = false;
+        for (int64_t i = 0; i < (int64_t)out->triangle_count * 3 && r == DM_OK && !zero; ++i) {
+            const float *n = out->normals + i * 3;
+            zero = (double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2] < 1e-12;
+        }
+        if (r == DM_OK && zero) {
+            out->normals_from_file = 0;
+            dm_mesh_compute_normals(out);
+        } else if (r == DM_OK) {
+            for (int64_t i = 0; i < (int64_t)out->triangle_count * 3; ++i) {
+                float *n = out->normals + i * 3;
+                double len = std::sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+                for (int d = 0; d < 3; ++d) n[d] = (float)(n[d] / len);
+            }
+        }
+    }
+    if (r == DM_OK) r = dm_mesh_validate(out, path, err);
+    if (r != DM_OK) dm_mesh_free(out);
+    return r;
+}
