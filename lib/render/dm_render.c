@@ -1128,7 +1128,7 @@ dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *s, dm_error *err
     const dm_scene *o = &r->scene;
     const char *what = NULL;
     for (int e = 0; e < DM_EFFECT_COUNT && !what; ++e)
-        if (s->effects[e] != o->effects[e]) what = dm_render_effect_name((dm_effect)e);
+        if (s->effects[e] != o->effects[e]) what = dm_effect_name((dm_effect)e);
     if (!what && s->light_count != o->light_count) what = "light count";
     for (int i = 0; i < s->light_count && !what; ++i)
         if (s->lights[i].type != o->lights[i].type || s->lights[i].casts_shadow != o->lights[i].casts_shadow)

@@ -335,7 +335,7 @@ bool dm_viewer_set_effect(dm_viewer *v, dm_effect e, bool on)
     dm_scene prev = v->scene;
     v->scene.effects[e] = on;
     char what[96];
-    snprintf(what, sizeof what, "%s %s", dm_render_effect_name(e), on ? "on" : "off");
+    snprintf(what, sizeof what, "%s %s", dm_effect_name(e), on ? "on" : "off");
     bool ok = rebuild(v, &prev, v->irradiance_size, what);
     /* a view the new pass list cannot show falls back to the final picture */
     dm_render_plan plan;
@@ -482,7 +482,7 @@ void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p)
     for (int e = 0; e < DM_EFFECT_COUNT; ++e)
         if (s->effects[e]) {
             if (fx[0]) strcat(fx, ",");
-            strcat(fx, dm_render_effect_name((dm_effect)e));
+            strcat(fx, dm_effect_name((dm_effect)e));
         }
     dm_prov_add_string(p, "effects", fx);
     char view[16];

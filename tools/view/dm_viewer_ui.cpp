@@ -64,7 +64,7 @@ static void section_effects(dm_viewer *v)
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
         bool on = v->scene.effects[e];
         char label[64];
-        snprintf(label, sizeof label, "%d  %s", e + 1, dm_render_effect_name((dm_effect)e));
+        snprintf(label, sizeof label, "%d  %s", e + 1, dm_effect_name((dm_effect)e));
         if (ImGui::Checkbox(label, &on)) dm_viewer_set_effect(v, (dm_effect)e, on);
     }
     if (ImGui::SliderFloat("exposure", &v->scene.exposure, -6.0f, 6.0f, "%.2f stops")) v->dirty = true;
