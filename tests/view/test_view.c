@@ -280,3 +280,20 @@ Test(view, unavailable_view_fails_the_script_clearly)
     cr_expect(strstr(out, "error: view blur3") && strstr(out, "subsurface"), "%s", out);
     free(out);
 }
+
+/* A driver without OpenGL 3.3 core (Mesa told to offer 3.1) gives a clear message, exit 3. */
+Test(view, no_gl33_context_is_a_clear_error)
+{
+    need_display();
+    char dir[64], path[128], line[512], log[128];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(path, sizeof path, "%s/s.txt", dir);
+    write_text(path, "0 quit\n");
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(line, sizeof line, "MESA_GL_VERSION_OVERRIDE=3.1 " VIEW " --synthetic sphere " SIZE " --script %s", path);
+    int rc = test_run(line, log);
+    char *out = test_slurp(log);
+    cr_expect_eq(rc, 3, "exit %d:\n%s", rc, out);
+    cr_expect(strstr(out, "error: no OpenGL 3.3 core context") != NULL, "%s", out);
+    free(out);
+}
