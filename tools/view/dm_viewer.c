@@ -549,7 +549,9 @@ bool dm_viewer_screenshot(dm_viewer *v, const char *path)
 void dm_viewer_next_shot_name(dm_viewer *v, char *out, int size)
 {
     for (;;) {
-        snprintf(out, (size_t)size, "dermis-view-%03d.png", v->shot_count++);
+        char name[32];
+        snprintf(name, sizeof name, "dermis-view-%03d.png", v->shot_count++ % 1000);
+        snprintf(out, (size_t)size, "%s", name);
         struct stat st;
         if (stat(out, &st) != 0 || v->shot_count > 999) return;
     }
