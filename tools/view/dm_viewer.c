@@ -519,7 +519,7 @@ void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p)
     for (int i = 0; i < s->light_count && i < 8; ++i) {
         const dm_light *l = &s->lights[i];
         const float *d = l->type == DM_LIGHT_DIRECTIONAL ? l->direction : l->position;
-        char key[16], val[256];
+        char key[24], val[256];
         snprintf(key, sizeof key, "light%d", i);
         snprintf(val, sizeof val, "%s %g %g %g color %g %g %g intensity %g shadow %d",
                  dm_light_type_name(l->type), (double)d[0], (double)d[1], (double)d[2], (double)l->color[0],
