@@ -69,13 +69,25 @@ BAKE_TOOLS    := $(filter-out $(RUNTIME_TOOLS),$(ALL_TOOLS))
 BAKE_BINS     := $(addprefix $(BUILD)/bin/,$(BAKE_TOOLS))
 RENDER_BINS   := $(addprefix $(BUILD)/bin/,$(filter dermis-render,$(ALL_TOOLS)))
 
+# The viewer (dermis-view): C objects, the ImGui adapter (C++), and Debian's ImGui GLFW and
+# OpenGL3 backends compiled from the sources libimgui-dev ships (never copied into the repo).
+# Built only where libimgui-dev (optional in scripts/deps.sh) is installed.
+IMGUI_SRC    ?= /usr/share/doc/libimgui-dev/examples/backends
+IMGUI_CFLAGS := -I/usr/include/imgui -I/usr/include/imgui/backends
+IMGUI_LIBS   := $(shell $(PKG) --libs imgui 2>/dev/null)
+VIEW_BIN     := $(if $(wildcard /usr/include/imgui/imgui.h),$(BUILD)/bin/dermis-view)
+VIEW_OBJ     := $(call obj,tools/dermis-view.c $(sort $(wildcard tools/view/*.c tools/view/*.cpp))) \
+                $(BUILD)/obj/imgui/imgui_impl_glfw.cpp.o $(BUILD)/obj/imgui/imgui_impl_opengl3.cpp.o
+
 UNIT_TESTS   := $(patsubst tests/unit/%.c,$(BUILD)/tests/unit/%,$(wildcard tests/unit/*.c))
 RENDER_TESTS := $(patsubst tests/render/%.c,$(BUILD)/tests/render/%,$(wildcard tests/render/*.c))
 BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
+# tests/view/: Criterion binaries that drive dermis-view under xvfb-run (scripts/run-tests.sh)
+VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%,$(wildcard tests/view/*.c)))
 
 .PHONY: all test bench demo deps clean fuzz tools
-all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(BENCHES)
-tools: $(BAKE_BINS) $(RENDER_BINS)
+all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
+tools: $(BAKE_BINS) $(RENDER_BINS) $(VIEW_BIN)
 
 # --- objects -----------------------------------------------------------------------
 $(BUILD)/obj/lib/core/%.c.o: lib/core/%.c
@@ -102,6 +114,13 @@ $(BUILD)/obj/gen/dm_shaders_gen.c.o: $(SHADER_GEN)
 $(BUILD)/obj/tools/%.c.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
+$(BUILD)/obj/tools/view/%.cpp.o: tools/view/%.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(IMGUI_CFLAGS) -c $< -o $@
+# third-party code: no warnings, and no UBSan (1.86's GL loader indexes past its own array)
+$(BUILD)/obj/imgui/%.cpp.o: $(IMGUI_SRC)/%.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -w -fno-sanitize=undefined $(IMGUI_CFLAGS) -c $< -o $@
 $(BUILD)/obj/tests/%.c.o: tests/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(TEST_CFLAGS) -DDERMIS_ASSETS='"$(abspath $(ASSETS))"' \
@@ -131,6 +150,12 @@ $(BAKE_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(BAKE_LIB) $(CORE_LIB)
 $(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -lz -o $@
+$(VIEW_BIN): $(VIEW_OBJ) $(RENDER_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(IMGUI_LIBS) $(GLFW_LIBS) $(CORE_LIBS) -lz -o $@
+$(VIEW_TESTS): $(BUILD)/tests/view/%: $(BUILD)/obj/tests/view/%.c.o $(CORE_LIB) | $(VIEW_BIN) $(RENDER_BINS) $(BAKE_BINS)
+	@mkdir -p $(@D)
+	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(TEST_LIBS) -lz -o $@
 $(UNIT_TESTS): $(BUILD)/tests/unit/%: $(BUILD)/obj/tests/unit/%.c.o $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) $(TEST_LIBS) -o $@
@@ -148,7 +173,7 @@ deps:
 test: deps
 	@$(MAKE) --no-print-directory all
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
-	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS)
+	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS)
 
 bench: deps
 	@$(MAKE) --no-print-directory all

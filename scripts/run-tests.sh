@@ -7,8 +7,17 @@ jobs=${DERMIS_TEST_JOBS:-2}
 for t in "$@"; do
   name=${t#"$BUILD"/tests/}
   echo "== $name" >&2
+  run=()
+  # tests/view/ drive the GLFW viewer: they need a display, given by xvfb-run
+  if [[ $name == view/* ]]; then
+    if ! command -v xvfb-run >/dev/null; then
+      echo "notice: $name skipped: xvfb-run is missing (apt-get install xvfb xauth)" >&2
+      continue
+    fi
+    run=(xvfb-run -a)
+  fi
   log=$(mktemp)
-  "$t" -j"$jobs" 2>&1 | tee "$log" | grep -vE '^\[====\] Synthesis' >&2
+  "${run[@]}" "$t" -j"$jobs" 2>&1 | tee "$log" | grep -vE '^\[====\] Synthesis' >&2
   rc=${PIPESTATUS[0]}
   line=$(grep -E '^\[====\] Synthesis: Tested:' "$log" | tail -n 1)
   rm -f "$log"

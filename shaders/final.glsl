@@ -37,6 +37,7 @@ uniform sampler2D u_specular_map;
 uniform sampler2D u_roughness_map;
 uniform bool u_has_roughness_map;
 uniform float u_roughness;
+uniform float u_roughness_scale; // 1 = as given
 uniform float u_rho_s;
 uniform sampler2D u_beckmann;
 uniform sampler2D u_rho_dt;
@@ -106,7 +107,7 @@ void main()
     vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
     vec3 V = normalize(u_eye - v_pos);
     float ndv = max(dot(N, V), 0.0);
-    float m = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
+    float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
     vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
 

@@ -33,6 +33,7 @@ uniform sampler2D u_specular_map;
 uniform sampler2D u_roughness_map;
 uniform bool u_has_roughness_map;
 uniform float u_roughness;
+uniform float u_roughness_scale; // 1 = as given
 uniform float u_rho_s;
 uniform sampler2D u_rho_dt;
 uniform vec3 u_sh[9];
@@ -43,7 +44,7 @@ void main()
 {
     vec3 Ng = normalize(v_nrm);
     vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
-    float m = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
+    float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {

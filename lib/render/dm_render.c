@@ -176,6 +176,7 @@ struct dm_renderer {
     float center[3], radius;
     float blur_offset[DM_PROFILE_MAX_GAUSSIANS][63]; /* mm, per level k (index k) */
     float blur_weight[63];
+    float blur_scale; /* variance scale the blur offsets were made for (1 at create) */
     float level_weight[DM_PROFILE_MAX_GAUSSIANS][3];
 
     dm_render_plan plan;
@@ -208,6 +209,7 @@ struct dm_renderer {
     GLuint queries[DM_PLAN_MAX_PASSES];
     double pass_ms[DM_PLAN_MAX_PASSES], frame_ms;
     char gl_name[256];
+    float roughness_scale; /* of the current frame */
 };
 
 static const char *pass_shader[DM_PASS_KIND_COUNT] = {
@@ -622,12 +624,13 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
     return gl_check("upload", err);
 }
 
-static void prepare_blur(dm_renderer *r)
+static void prepare_blur(dm_renderer *r, float scale)
 {
     float off_sigma[63];
     double var = dm_render_blur_kernel(r->taps, off_sigma, r->blur_weight);
+    r->blur_scale = scale;
     for (int k = 1; k < r->profile.count; ++k) {
-        double dv = r->profile.variance_mm2[k] - r->profile.variance_mm2[k - 1];
+        double dv = (r->profile.variance_mm2[k] - r->profile.variance_mm2[k - 1]) * (double)scale;
         /* scale so that the discrete kernel's variance is exactly dv */
         double s = sqrt(dv / var);
         for (int i = 0; i < r->taps; ++i) r->blur_offset[k][i] = (float)(off_sigma[i] * s);
@@ -695,7 +698,7 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         r->prog[DM_PASS_BLUR_V] = r->prog[DM_PASS_BLUR_U];
         r->prog[DM_PASS_GLOW_BLUR_V] = r->prog[DM_PASS_GLOW_BLUR_U];
         if (!r->timing_cpu) glGenQueries(DM_PLAN_MAX_PASSES, r->queries);
-        if (r->plan.effects[DM_EFFECT_SUBSURFACE]) prepare_blur(r);
+        if (r->plan.effects[DM_EFFECT_SUBSURFACE]) prepare_blur(r, 1.0f);
         rc = gl_check("renderer setup", err);
     }
     if (rc != DM_OK) {
@@ -820,6 +823,7 @@ static void set_surface_uniforms(const dm_renderer *r, GLuint p)
     u1i(p, "u_has_normal_map", r->has_normal_map);
     u1i(p, "u_has_roughness_map", r->has_roughness_map);
     u1f(p, "u_roughness", s->roughness);
+    u1f(p, "u_roughness_scale", r->roughness_scale);
     u1f(p, "u_rho_s", s->rho_s);
     glUniform3fv(loc(p, "u_sh"), DM_RENDER_SH_COUNT, &r->env_sh[0][0]);
     u1f(p, "u_env_intensity", s->env_intensity);
@@ -1067,6 +1071,9 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
     dm_result rc = dm_render_plan_build(&r->scene, opt->view, opt->view_index, &plan, err);
     if (rc != DM_OK) return rc;
     r->plan = plan;
+    float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
+    if (plan.effects[DM_EFFECT_SUBSURFACE] && blur_scale != r->blur_scale) prepare_blur(r, blur_scale);
+    r->roughness_scale = opt->roughness_scale > 0 ? opt->roughness_scale : 1.0f;
     frame_lights(r, opt->light_rotation_deg);
     frame_camera(r);
     glGetError();
@@ -1113,6 +1120,28 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         }
     }
     return gl_check("frame end", err);
+}
+
+dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *s, dm_error *err)
+{
+    assert(r && s);
+    const dm_scene *o = &r->scene;
+    const char *what = NULL;
+    for (int e = 0; e < DM_EFFECT_COUNT && !what; ++e)
+        if (s->effects[e] != o->effects[e]) what = dm_effect_name((dm_effect)e);
+    if (!what && s->light_count != o->light_count) what = "light count";
+    for (int i = 0; i < s->light_count && !what; ++i)
+        if (s->lights[i].type != o->lights[i].type || s->lights[i].casts_shadow != o->lights[i].casts_shadow)
+            what = "a light's type or shadow casting";
+    if (!what && s->env_background != o->env_background) what = "environment background";
+    if (!what && s->blur_taps != o->blur_taps) what = "blur taps";
+    if (what)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "renderer: the new scene changes %s, which the pass list depends on; recreate the renderer",
+                       what);
+    r->scene = *s;
+    r->scene.profile = r->profile;
+    return DM_OK;
 }
 
 /* ---- queries and readback ------------------------------------------------------------- */

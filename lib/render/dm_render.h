@@ -128,12 +128,26 @@ dm_result dm_renderer_create(const dm_render_assets *assets, const dm_render_des
                              dm_error *err);
 void dm_renderer_destroy(dm_renderer *r);
 
+/* Replaces the scene's values that no pass, target or upload depends on: camera, light
+ * directions, positions, colours and intensities, material constants, environment
+ * intensity and rotation, mix, exposure, glow settings (the interactive viewer moves
+ * these every frame). Output size and irradiance size stay those of create; the profile
+ * stays the one given at create. Fails with DM_ERR_INVALID_ARGUMENT, naming the field,
+ * when the scene changes the pass list or the uploads (effects, light count, a light's
+ * type or shadow casting, environment background, blur taps): recreate the renderer then. */
+dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *scene, dm_error *err);
+
 /* Per-frame options; zero means the final picture. */
 typedef struct dm_frame_options {
     dm_view view;
     int view_index;           /* blur/stretch level, shadow light */
     float view_scale;         /* multiplies debug texture views; 0 = 1 */
     float light_rotation_deg; /* turns every light about +Y (mesh space) */
+    float blur_scale;         /* multiplies every profile variance (the blur width: σ grows
+                               * as its square root); 0 = 1, > 0. The level weights and the
+                               * plan's explain text stay those of the profile. */
+    float roughness_scale;    /* multiplies the Beckmann m (roughness map or constant) before
+                               * the lookups, clamped to at most 1; 0 = 1, > 0 */
 } dm_frame_options;
 
 /* Renders one frame. Fails with DM_ERR_INVALID_ARGUMENT when the view is not available

@@ -191,7 +191,7 @@ Test(render, blur_chain_preserves_a_constant_up_to_the_seam)
  * what remains is bilinear interpolation of the taps, which convolves each pass with
  * [1−f, f] (variance f(1−f) ≤ 1/4 texel²): at most 5 passes × 0.25 × (0.25 mm)² ≈ 0.078
  * mm² per axis; plus 0.5 % for half-float storage of the spread values. */
-Test(render, single_point_spreads_with_the_profile_variance_in_mm)
+static void single_point_spread(float blur_scale)
 {
     fixture f;
     const float side_mm = 64.0f;
@@ -207,7 +207,10 @@ Test(render, single_point_spreads_with_the_profile_variance_in_mm)
     albedo[((size_t)(n / 2) * n + n / 2) * 4 + 0] = 255;
     f.synth->assets.albedo = (dm_texture){DM_TEX_RGBA8_SRGB, n, n, albedo};
     open_renderer(&f, 32, 32, n);
-    frame(&f, DM_VIEW_FINAL, 0);
+    dm_error err = {0};
+    dm_frame_options fo = {.blur_scale = blur_scale};
+    cr_assert_eq(dm_render_frame(f.r, &fo, &err), DM_OK, "%s", err.detail);
+    const double scale = blur_scale > 0 ? blur_scale : 1.0;
     double var0[2] = {0, 0};
     for (int k = 0; k < 6; ++k) {
         char name[16];
@@ -227,7 +230,7 @@ Test(render, single_point_spreads_with_the_profile_variance_in_mm)
             var0[0] = var_u, var0[1] = var_v;
             continue;
         }
-        double expect = s->profile.variance_mm2[k] - s->profile.variance_mm2[0];
+        double expect = (s->profile.variance_mm2[k] - s->profile.variance_mm2[0]) * scale;
         double tol = 0.078 + 0.005 * expect;
         if (expect < 0.5) continue; /* below 2 texels of σ the bilinear bound dominates: not informative */
         cr_expect(fabs(var_u - var0[0] - expect) <= tol, "level %d along u: %.4f mm², expected %.4f ± %.3f", k,
@@ -236,6 +239,66 @@ Test(render, single_point_spreads_with_the_profile_variance_in_mm)
                   var_v - var0[1], expect, tol);
     }
     free(albedo);
+    close_fixture(&f);
+}
+
+Test(render, single_point_spreads_with_the_profile_variance_in_mm) { single_point_spread(0.0f); }
+
+/* blur_scale multiplies every variance: the same bound as above, on the scaled variances
+ * (σ of the widest level grows to 3.9 mm, 3σ still well inside the 32 mm half side). */
+Test(render, blur_scale_multiplies_every_variance) { single_point_spread(2.0f); }
+
+/* The viewer's knobs at their neutral values leave the picture exactly as it was: zero and
+ * one are the same frame, byte for byte; a set_scene with the same scene changes nothing. */
+Test(render, neutral_scales_and_same_scene_give_identical_frames)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    open_renderer(&f, 64, 48, 64);
+    size_t n = 64 * 48 * 4;
+    uint8_t *a = malloc(n), *b = malloc(n);
+    dm_error err = {0};
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_eq(dm_renderer_read_display(f.r, a, &err), DM_OK, "%s", err.detail);
+    dm_frame_options one = {.blur_scale = 1.0f, .roughness_scale = 1.0f};
+    cr_assert_eq(dm_renderer_set_scene(f.r, &f.synth->scene, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(f.r, &one, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_read_display(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(memcmp(a, b, n), 0, "scale 1 differs from the default frame");
+    /* a rougher surface changes the specular picture */
+    dm_frame_options rough = {.roughness_scale = 2.0f};
+    cr_assert_eq(dm_render_frame(f.r, &rough, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_read_display(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_neq(memcmp(a, b, n), 0, "roughness_scale 2 changed nothing");
+    free(a), free(b);
+    close_fixture(&f);
+}
+
+Test(render, set_scene_moves_the_camera_and_refuses_structural_changes)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    open_renderer(&f, 64, 48, 64);
+    size_t n = 64 * 48 * 4;
+    uint8_t *a = malloc(n), *b = malloc(n);
+    dm_error err = {0};
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_eq(dm_renderer_read_display(f.r, a, &err), DM_OK, "%s", err.detail);
+    dm_scene s = f.synth->scene;
+    s.camera_eye[0] += 1.0f;
+    s.exposure = 1.0f;
+    cr_assert_eq(dm_renderer_set_scene(f.r, &s, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_eq(dm_renderer_read_display(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_neq(memcmp(a, b, n), 0, "moving the camera changed nothing");
+    dm_scene t = f.synth->scene;
+    t.effects[DM_EFFECT_GLOW] = !t.effects[DM_EFFECT_GLOW];
+    cr_expect_eq(dm_renderer_set_scene(f.r, &t, &err), DM_ERR_INVALID_ARGUMENT);
+    cr_expect(strstr(err.detail, "glow") != NULL, "message does not name the effect: %s", err.detail);
+    t = f.synth->scene;
+    t.lights[0].casts_shadow = !t.lights[0].casts_shadow;
+    cr_expect_eq(dm_renderer_set_scene(f.r, &t, &err), DM_ERR_INVALID_ARGUMENT);
+    free(a), free(b);
     close_fixture(&f);
 }
 

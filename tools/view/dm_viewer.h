@@ -1,0 +1,136 @@
+/* dm_viewer.h — the state and actions of dermis-view, shared by the window callbacks,
+ * the UI panel (dm_viewer_ui.h, C++) and the script player (dm_viewer_script.h): every
+ * input path calls the same actions, so a script exercises what a person does.
+ *
+ * The viewer owns one renderer (lib/render) over assets that come either from an open
+ * pack (pointers into its mapping) or from the synthetic scene. It keeps an edited copy
+ * of the scene: values no pass depends on (camera, lights, exposure, mix, environment
+ * intensity and rotation) reach the renderer through dm_renderer_set_scene; changes of
+ * the pass list (effects, environment background, irradiance size) recreate the renderer
+ * from the same assets. It renders on demand: only when something changed (`dirty`).
+ */
+#ifndef DM_VIEWER_H
+#define DM_VIEWER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/dm_pack.h"
+#include "core/dm_prov.h"
+#include "core/dm_scene.h"
+#include "render/dm_render.h"
+#include "render/dm_render_synth.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { DM_VIEWER_MAX_VIEWS = 32, DM_VIEWER_STATUS_SIZE = 1024 };
+
+typedef struct dm_viewer_options {
+    const char *pack;       /* PACK path, or NULL with synthetic */
+    const char *synthetic;  /* "sphere" or "quad", or NULL */
+    const char *shader_dir; /* NULL: embedded shaders */
+    int width, height;      /* render and window size, px */
+    int irradiance_size;    /* texture-space size, 0 = 512 (llvmpipe stays responsive) */
+    dm_view view;
+    int view_index;
+    float view_scale; /* debug texture views, 0 = 1 */
+    float light_azimuth_deg;
+    bool watch, verbose, quiet;
+} dm_viewer_options;
+
+typedef struct dm_viewer {
+    dm_viewer_options opt;
+    /* assets */
+    dm_pack pack;
+    bool pack_open;
+    dm_synth *synth;
+    dm_scene loaded;  /* the scene as loaded (reset target) */
+    dm_scene scene;   /* the edited copy the renderer shows */
+    dm_profile profile;
+    dm_render_assets assets; /* assets.scene = &scene */
+    dm_renderer *r;
+    /* camera: orbit around target; applied to scene.camera_* once moved, so an untouched
+     * camera is exactly the scene's (dermis-render gives the same picture) */
+    float yaw_deg, pitch_deg, distance, target[3];
+    bool camera_moved;
+    /* per-frame knobs */
+    dm_view view;
+    int view_index;
+    float view_scale, blur_scale, roughness_scale, light_rotation_deg;
+    bool light_rotating;
+    float rotate_deg_per_s;
+    int light; /* the light the panel and light drag edit */
+    int irradiance_size;
+    /* debug views available in the current pass list */
+    int view_count;
+    char view_names[DM_VIEWER_MAX_VIEWS][16];
+    /* display */
+    bool dirty, show_help, show_panel, quit;
+    uint8_t *rgba; /* width*height*4, the last frame, bottom-up */
+    unsigned tex;  /* GL texture showing it */
+    int frames;
+    double pass_ms[DM_PLAN_MAX_PASSES], frame_ms, ui_ms;
+    int gl_errors;     /* GL errors seen outside the renderer (UI, display) */
+    int failures;      /* actions that failed (scripts exit non-zero) */
+    char status[DM_VIEWER_STATUS_SIZE]; /* the last message, shown in the panel */
+    int shot_count;
+    /* --watch */
+    long long watch_mtime_ns, watch_size;
+    double watch_next_ms;
+} dm_viewer;
+
+/* Loads the pack (dm_pack_open verifies all of it) or builds the synthetic scene.
+ * Returns DM_ERR_FILE_OPEN when the pack is missing, the validator's error when it is
+ * corrupt (err->detail is dermis-check's message). No GL needed. */
+dm_result dm_viewer_load(dm_viewer *v, const dm_viewer_options *opt, dm_error *err);
+/* Creates the renderer and the display texture; needs the current GL context. */
+dm_result dm_viewer_start(dm_viewer *v, dm_error *err);
+void dm_viewer_free(dm_viewer *v);
+
+/* Renders a frame if dirty and uploads it to v->tex. Failures go to v->status and
+ * stderr and count in v->failures; the viewer then falls back to the final view. */
+void dm_viewer_update(dm_viewer *v, double dt_s);
+
+/* actions (each marks the frame dirty and returns false, with v->status set, on failure) */
+void dm_viewer_orbit(dm_viewer *v, float dx_px, float dy_px);
+void dm_viewer_pan(dm_viewer *v, float dx_px, float dy_px);
+void dm_viewer_zoom(dm_viewer *v, float wheel_steps);
+void dm_viewer_drag_light(dm_viewer *v, float dx_px, float dy_px);
+void dm_viewer_reset_camera(dm_viewer *v);
+bool dm_viewer_set_effect(dm_viewer *v, dm_effect e, bool on);
+bool dm_viewer_set_background(dm_viewer *v, bool on);
+bool dm_viewer_set_irradiance(dm_viewer *v, int size);
+bool dm_viewer_set_view(dm_viewer *v, const char *name);
+bool dm_viewer_cycle_view(dm_viewer *v, int step);
+/* "exposure", "mix", "blur_scale", "roughness_scale", "view_scale", "env_intensity",
+ * "env_rotation", "light_intensity", "light_rotation", "rotate", "light": one value;
+ * "light_color": three. Ranges as in the panel; out of range is refused. */
+bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *values, int count);
+/* Screenshot of the rendered image with provenance (view, scene, every parameter). */
+bool dm_viewer_screenshot(dm_viewer *v, const char *path);
+/* A free name "dermis-view-NNN.png" in the current folder. */
+void dm_viewer_next_shot_name(dm_viewer *v, char *out, int size);
+/* The current view's name as dm_view_parse reads it ("blur3", "final"). */
+void dm_viewer_view_text(const dm_viewer *v, char *out, int size);
+/* Every parameter of the picture, as provenance (the same keys as dermis-render plus the
+ * viewer's own). */
+void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p);
+/* --watch: reloads the pack when its file changed (keeping camera and knobs). */
+void dm_viewer_watch(dm_viewer *v, double now_ms);
+/* Whether the scene is the Lee Perry-Smith head (its attribution must be shown). */
+bool dm_viewer_shows_head(const dm_viewer *v);
+void dm_viewer_set_status(dm_viewer *v, bool error, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+extern const char dm_viewer_attribution[];
+extern const char dm_viewer_help[];
+
+#ifdef __cplusplus
+}
+#endif
+#endif
