@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "bake/dm_exr.h"
@@ -610,4 +611,80 @@ Test(stretch, bakes_are_identical_on_any_thread_count)
     dm_stretch_map_free(&a);
     dm_stretch_map_free(&b);
     dm_mesh_free(&m);
+}
+
+/* ---- the tool --------------------------------------------------------------------- */
+
+/* build/<config>/bin/dermis-bake-stretch, found beside this test binary. */
+static void tool_path(char *out, size_t size)
+{
+    char self[900];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    cr_assert_gt(n, 0);
+    self[n] = '\0';
+    char *unit = strstr(self, "/tests/unit/");
+    cr_assert_not_null(unit);
+    *unit = '\0';
+    snprintf(out, size, "%s/bin/dermis-bake-stretch", self);
+    cr_assert_eq(access(out, X_OK), 0, "%s is not built", out);
+}
+
+static int run(const char *cmd)
+{
+    int status = system(cmd);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+Test(stretch, tool_writes_named_channels_provenance_and_identical_reruns)
+{
+    char tool[1024], cmd[8192];
+    tool_path(tool, sizeof tool);
+    char dir[] = "/tmp/dm_test_tool_XXXXXX";
+    cr_assert_not_null(mkdtemp(dir));
+    snprintf(cmd, sizeof cmd, "%s %s -o %s/a.exr --size 64 --quiet && %s %s -o %s/b.exr --size 64 --threads 1 --quiet",
+             tool, HEAD, dir, tool, HEAD, dir);
+    cr_assert_eq(run(cmd), 0);
+    snprintf(cmd, sizeof cmd, "cmp -s %s/a.exr %s/b.exr", dir, dir);
+    cr_assert_eq(run(cmd), 0, "reruns differ");
+    char path[256];
+    snprintf(path, sizeof path, "%s/a.exr", dir);
+    dm_exr_image img;
+    dm_error err = {0};
+    cr_assert_eq(dm_exr_read(path, &img, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(img.channel_count, 13);
+    cr_assert_not_null(dm_exr_find(&img, "stretch0.u"));
+    cr_assert_not_null(dm_exr_find(&img, "stretch5.v"));
+    cr_assert_not_null(dm_exr_find(&img, "mask"));
+    cr_assert(img.has_provenance);
+    cr_assert_str_eq(img.prov.tool, "dermis-bake-stretch");
+    cr_assert(strncmp(img.prov.input_hash, "xxh3-128:", 9) == 0);
+    const dm_param *mm = dm_prov_find(&img.prov, "mm_per_unit"), *pr = dm_prov_find(&img.prov, "profile");
+    cr_assert(mm && mm->d == 50.0);
+    cr_assert(pr && strcmp(pr->s, "gems3-skin") == 0);
+    cr_assert(dm_prov_find(&img.prov, "variance_mm2_5"));
+    dm_exr_free(&img);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    run(cmd);
+}
+
+Test(stretch, tool_exit_codes)
+{
+    char tool[1024], cmd[8192];
+    tool_path(tool, sizeof tool);
+    snprintf(cmd, sizeof cmd, "%s %s 2>/dev/null", tool, HEAD); /* no -o */
+    cr_assert_eq(run(cmd), 1);
+    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --size 8 2>/dev/null", tool, HEAD); /* out of range */
+    cr_assert_eq(run(cmd), 1);
+    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr -v --quiet 2>/dev/null", tool, HEAD); /* conflict */
+    cr_assert_eq(run(cmd), 1);
+    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --levels 7 2>/dev/null", tool, HEAD); /* 6 Gaussians */
+    cr_assert_eq(run(cmd), 1);
+    snprintf(cmd, sizeof cmd, "%s /nonexistent.obj -o /tmp/x.exr 2>/dev/null", tool);
+    cr_assert_eq(run(cmd), 2);
+    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --profile /nonexistent.json 2>/dev/null", tool, HEAD);
+    cr_assert_eq(run(cmd), 2);
+    snprintf(cmd, sizeof cmd, "%s %s -o /nonexistent/dir/x.exr --size 16 --quiet 2>/dev/null", tool, HEAD);
+    cr_assert_eq(run(cmd), 4);
+    snprintf(cmd, sizeof cmd, "%s --help >/dev/null", tool);
+    cr_assert_eq(run(cmd), 0);
 }
