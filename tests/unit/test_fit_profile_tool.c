@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
+#include "bake/dm_exr.h"
 #include "core/dm_profile.h"
 
 #define BIN DERMIS_BIN "/dermis-fit-profile"
@@ -120,4 +121,35 @@ Test(fit_profile_tool, invalid_parameters_are_usage_errors_with_a_message)
 Test(fit_profile_tool, unwritable_output_is_exit_4)
 {
     cr_expect_eq(test_run(BIN " --dipole skin1 -n 2 -o /nonexistent/folder/p.json --quiet", NULL), 4);
+}
+
+/* Issue 4's hand-over: a fitted profile JSON drives dermis-bake-stretch's chain. The
+ * stretch EXR must have one level per fitted Gaussian and record exactly its variances. */
+Test(fit_profile_tool, fitted_json_is_consumed_by_bake_stretch, .timeout = 60)
+{
+    char dir[64], cmd[1024], json[160], exr[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(json, sizeof json, "%s/skin1.json", dir);
+    snprintf(exr, sizeof exr, "%s/stretch.exr", dir);
+    snprintf(cmd, sizeof cmd, BIN " --dipole skin1 -n 4 -o %s --quiet", json);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s/lps/LeePerrySmith.obj -o %s --size 128 --profile %s --quiet",
+             DERMIS_ASSETS, exr, json);
+    cr_assert_eq(test_run(cmd, NULL), 0, "%s", cmd);
+    dm_profile p;
+    dm_error err = {0};
+    cr_assert_eq(dm_profile_read(json, &p, &err), DM_OK, "%s", err.detail);
+    dm_exr_image img;
+    cr_assert_eq(dm_exr_read(exr, &img, &err), DM_OK, "%s", err.detail);
+    for (int k = 0; k < p.count; ++k) {
+        char name[32];
+        snprintf(name, sizeof name, "stretch%d.u", k);
+        cr_expect_not_null(dm_exr_find(&img, name), "level %d missing", k);
+        snprintf(name, sizeof name, "variance_mm2_%d", k);
+        const dm_param *v = dm_prov_find(&img.prov, name);
+        cr_assert_not_null(v, "no %s in the stretch provenance", name);
+        cr_expect_eq(v->d, p.variance_mm2[k], "level %d: %.17g vs the fit's %.17g", k, v->d, p.variance_mm2[k]);
+    }
+    cr_expect_null(dm_exr_find(&img, "stretch4.u"), "more levels than Gaussians");
+    dm_exr_free(&img);
 }
