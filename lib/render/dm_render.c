@@ -169,6 +169,12 @@ struct dm_renderer {
     dm_render_desc desc;
     char shader_dir[4096];
     int width, height, irr_size, shadow_size, taps;
+    int shadow_taps;                            /* 1, 4 or 9 (DM_SHADOW_TAPS) */
+    int level_size[DM_PROFILE_MAX_GAUSSIANS];   /* texels per side of each irradiance level */
+    GLenum level_format;                        /* GL_RGBA32F or GL_RGBA16F */
+    bool ts_valid;                              /* texture-space results reusable (reuse_texture_space) */
+    int ts_pass_count;                          /* shadow + irradiance + blur passes of the final plan */
+    float ts_rotation;                          /* the light rotation they were made with */
     int stretch_count, env_level_count;
     float env_level_m[DM_RENDER_ENV_LEVELS_MAX];
     float env_sh[DM_RENDER_SH_COUNT][3];
@@ -189,6 +195,7 @@ struct dm_renderer {
     GLuint tex_white, tex_black;
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS], tmp_tex, tmp_fbo;
+    GLuint tmp_small_tex, tmp_small_fbo; /* the U pass target of the reduced levels */
     GLuint screen_tex, screen_depth, screen_fbo;
     GLuint glow_tex[2], glow_fbo[2];
     GLuint display_tex, display_fbo;
@@ -286,12 +293,14 @@ static dm_result build_program(dm_renderer *r, const char *file, GLuint *out, dm
     char defines[512];
     const dm_render_plan *p = &r->plan;
     snprintf(defines, sizeof defines,
-             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n",
+             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n"
+             "#define DM_SHADOW_TAPS %d\n",
              p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
              p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
              p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
              p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
-             p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count);
+             p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count,
+             r->shadow_taps);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
@@ -450,12 +459,16 @@ static dm_result make_targets(dm_renderer *r, dm_error *err)
     if (p->effects[DM_EFFECT_SUBSURFACE]) {
         for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
             snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
-            rc = color_target(r, name, r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->irr_tex[k],
-                              &r->irr_fbo[k], err);
+            rc = color_target(r, name, r->level_size[k], r->level_size[k], r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->irr_tex[k], &r->irr_fbo[k], err);
         }
         if (rc == DM_OK && p->blur_levels > 1)
-            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->tmp_tex,
-                              &r->tmp_fbo, err);
+            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_tex, &r->tmp_fbo, err);
+        int small = r->level_size[p->blur_levels > 0 ? p->blur_levels - 1 : 0];
+        if (rc == DM_OK && p->blur_levels > 1 && small != r->irr_size)
+            rc = color_target(r, "blur_tmp_small", small, small, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_small_tex, &r->tmp_small_fbo, err);
     }
     if (rc != DM_OK) return rc;
     rc = color_target(r, "screen", r->width, r->height, GL_RGBA16F, GL_CLAMP_TO_EDGE, &r->screen_tex, &r->screen_fbo,
@@ -658,6 +671,13 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
     r->taps = a->scene->blur_taps;
     r->scene.profile = r->profile;
+    r->shadow_taps = desc->shadow_pcf_taps > 0 ? desc->shadow_pcf_taps : 4;
+    r->level_format = desc->blur_half_float ? GL_RGBA16F : GL_RGBA32F;
+    int shift = desc->blur_reduce_shift > 0 ? desc->blur_reduce_shift : 1;
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
+        bool reduced = desc->blur_reduce_from > 0 && k >= desc->blur_reduce_from;
+        r->level_size[k] = reduced ? r->irr_size >> shift : r->irr_size;
+    }
 
     dm_result rc = DM_OK;
     if (r->width < 1 || r->height < 1 || r->width > 16384 || r->height > 16384)
@@ -667,8 +687,23 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d, expected 8..8192", r->irr_size);
     else if (r->shadow_size < 16 || r->shadow_size > 8192)
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow size %d, expected 16..8192", r->shadow_size);
+    else if (r->shadow_taps != 1 && r->shadow_taps != 4 && r->shadow_taps != 9)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow_pcf_taps %d, expected 0 (4), 1, 4 or 9", r->shadow_taps);
+    else if (desc->blur_reduce_from < 0 || desc->blur_reduce_from >= DM_PROFILE_MAX_GAUSSIANS)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: blur_reduce_from %d, expected 0 (off) or a level 1..%d",
+                     desc->blur_reduce_from, DM_PROFILE_MAX_GAUSSIANS - 1);
+    else if (desc->blur_reduce_shift < 0 || desc->blur_reduce_shift > 3)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: blur_reduce_shift %d, expected 0 (1), 1, 2 or 3",
+                     desc->blur_reduce_shift);
+    else if (desc->blur_reduce_from > 0 && a->scene->effects[DM_EFFECT_SUBSURFACE] && (r->irr_size >> shift) < 8)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d >> blur_reduce_shift %d is below 8 texels",
+                     r->irr_size, shift);
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
+    for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i) {
+        dm_pass_kind k = r->plan.passes[i].kind;
+        r->ts_pass_count += k == DM_PASS_SHADOW || k == DM_PASS_IRRADIANCE || k == DM_PASS_BLUR_U || k == DM_PASS_BLUR_V;
+    }
     if (rc != DM_OK) {
         free(r);
         return rc;
@@ -713,7 +748,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->prog[k] && k != DM_PASS_BLUR_V && k != DM_PASS_GLOW_BLUR_V) glDeleteProgram(r->prog[k]);
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black,      r->tmp_tex,        r->screen_tex,
+                    r->tex_white,     r->tex_black,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
@@ -728,7 +763,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_fbo[k]) glDeleteFramebuffers(1, &r->shadow_fbo[k]);
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
-    GLuint fbo[] = {r->tmp_fbo, r->screen_fbo, r->glow_fbo[0], r->glow_fbo[1], r->display_fbo};
+    GLuint fbo[] = {r->tmp_fbo, r->tmp_small_fbo, r->screen_fbo, r->glow_fbo[0], r->glow_fbo[1], r->display_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);
@@ -904,11 +939,15 @@ static void pass_irradiance(dm_renderer *r)
 static void pass_blur(dm_renderer *r, int k, bool along_v)
 {
     GLuint p = r->prog[DM_PASS_BLUR_U];
-    target_begin(along_v ? r->irr_fbo[k] : r->tmp_fbo, r->irr_size, r->irr_size);
+    /* the U pass already writes at level k's size (the taps read level k−1 by UV) */
+    int n = r->level_size[k];
+    bool small = n != r->irr_size;
+    GLuint tmp_tex = small ? r->tmp_small_tex : r->tmp_tex, tmp_fbo = small ? r->tmp_small_fbo : r->tmp_fbo;
+    target_begin(along_v ? r->irr_fbo[k] : tmp_fbo, n, n);
     glDisable(GL_DEPTH_TEST);
     glUseProgram(p);
     int s = k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
-    bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? r->tmp_tex : r->irr_tex[k - 1]);
+    bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? tmp_tex : r->irr_tex[k - 1]);
     bind(UNIT_STRETCH, GL_TEXTURE_2D, r->tex_stretch[s]);
     u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
     glUniform1fv(loc(p, "u_offset_mm"), r->taps, r->blur_offset[k]);
@@ -1077,8 +1116,19 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         t_frame = dm_now_ms();
     }
     r->tonemapped = false;
+    /* reuse_texture_space: the shadow maps, irradiance and blur levels depend on the lights
+     * only (the scene is fixed at create; the camera does not enter texture space) */
+    bool reuse = r->desc.reuse_texture_space && r->ts_valid && r->ts_rotation == opt->light_rotation_deg;
+    int ts_passes = 0;
     for (int i = 0; i < plan.pass_count; ++i) {
         const dm_pass *ps = &plan.passes[i];
+        bool ts = ps->kind == DM_PASS_SHADOW || ps->kind == DM_PASS_IRRADIANCE || ps->kind == DM_PASS_BLUR_U ||
+                  ps->kind == DM_PASS_BLUR_V;
+        ts_passes += ts;
+        if (ts && reuse) {
+            r->pass_ms[i] = 0.0;
+            continue;
+        }
         double t0 = 0;
         if (timed && r->timing_cpu) {
             glFinish();
@@ -1098,12 +1148,20 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         if (rc != DM_OK) return rc;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!reuse) { /* valid only when this frame made every texture-space result */
+        r->ts_valid = ts_passes == r->ts_pass_count;
+        r->ts_rotation = opt->light_rotation_deg;
+    }
     if (timed) {
         glFinish();
         r->frame_ms = dm_now_ms() - t_frame;
         if (!r->timing_cpu) {
             double sum = 0;
             for (int i = 0; i < plan.pass_count; ++i) {
+                if (reuse && r->pass_ms[i] == 0.0 &&
+                    (plan.passes[i].kind == DM_PASS_SHADOW || plan.passes[i].kind == DM_PASS_IRRADIANCE ||
+                     plan.passes[i].kind == DM_PASS_BLUR_U || plan.passes[i].kind == DM_PASS_BLUR_V))
+                    continue;
                 GLuint ns = 0;
                 glGetQueryObjectuiv(r->queries[i], GL_QUERY_RESULT, &ns);
                 r->pass_ms[i] = ns * 1e-6;
