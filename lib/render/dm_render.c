@@ -152,6 +152,7 @@ enum {
     UNIT_MASK,
     UNIT_DEPTH,
     UNIT_BACKGROUND,
+    UNIT_ENV_ARRAY,
     UNIT_COUNT
 };
 
@@ -193,6 +194,7 @@ struct dm_renderer {
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask, tex_env_level[DM_RENDER_ENV_LEVELS_MAX],
         tex_background;
     GLuint tex_white, tex_black;
+    GLuint tex_env_array; /* the env levels as one 2D array when they share size and format */
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS], tmp_tex, tmp_fbo;
     GLuint tmp_small_tex, tmp_small_fbo; /* the U pass target of the reduced levels */
@@ -269,7 +271,8 @@ static void set_sampler_units(GLuint p)
                  {"u_env_brdf", UNIT_ENV_BRDF},   {"u_shadow0", UNIT_SHADOW},
                  {"u_shadow1", UNIT_SHADOW + 1},   {"u_shadow2", UNIT_SHADOW + 2},  {"u_shadow3", UNIT_SHADOW + 3},
                  {"u_src", UNIT_SRC},             {"u_stretch", UNIT_STRETCH},     {"u_mask", UNIT_MASK},
-                 {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND}};
+                 {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
+                 {"u_env_array", UNIT_ENV_ARRAY}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
@@ -294,13 +297,13 @@ static dm_result build_program(dm_renderer *r, const char *file, GLuint *out, dm
     const dm_render_plan *p = &r->plan;
     snprintf(defines, sizeof defines,
              "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n"
-             "#define DM_SHADOW_TAPS %d\n",
+             "#define DM_SHADOW_TAPS %d\n%s",
              p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
              p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
              p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
              p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
              p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count,
-             r->shadow_taps);
+             r->shadow_taps, r->tex_env_array ? "#define DM_ENV_ARRAY 1\n" : "");
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
@@ -573,6 +576,8 @@ static void mesh_bounds(dm_renderer *r, const float *v, int n)
     r->radius = sqrtf(rad) > 1e-6f ? sqrtf(rad) : 1.0f;
 }
 
+static dm_result upload_env_array(dm_renderer *r, const dm_render_assets *a, dm_error *err);
+
 static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_error *err)
 {
     glGenVertexArrays(1, &r->vao_mesh);
@@ -615,6 +620,7 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
         }
         r->env_level_count = a->env_level_count;
         memcpy(r->env_level_m, a->env_level_m, sizeof r->env_level_m);
+        if (rc == DM_OK) rc = upload_env_array(r, a, err);
     }
     if (dm_render_plan_find(p, "background") >= 0) {
         UP(env_background, "env_background", false, GL_LINEAR, tex_background);
@@ -633,6 +639,31 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
     if (a->has_env_sh) memcpy(r->env_sh, a->env_sh, sizeof r->env_sh);
     if (rc != DM_OK) return rc;
     return gl_check("upload", err);
+}
+
+/* The env levels again as one 2D array texture (two fetches per pixel instead of a chain of
+ * branches that llvmpipe runs in full), when they share size and format, as a pack's do. */
+static dm_result upload_env_array(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    const dm_texture *t0 = &a->env_levels[0];
+    for (int k = 1; k < a->env_level_count; ++k)
+        if (a->env_levels[k].width != t0->width || a->env_levels[k].height != t0->height ||
+            a->env_levels[k].format != t0->format)
+            return DM_OK; /* the per-level path stays */
+    const fmt_gl *f = &formats[t0->format];
+    glGenTextures(1, &r->tex_env_array);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, r->tex_env_array);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, (GLint)f->internal, t0->width, t0->height, a->env_level_count, 0, f->format,
+                 f->type, NULL);
+    for (int k = 0; k < a->env_level_count; ++k)
+        glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, t0->width, t0->height, 1, f->format, f->type,
+                        a->env_levels[k].texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return gl_check("env_levels (array)", err);
 }
 
 static void prepare_blur(dm_renderer *r)
@@ -748,7 +779,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->prog[k] && k != DM_PASS_BLUR_V && k != DM_PASS_GLOW_BLUR_V) glDeleteProgram(r->prog[k]);
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex,
+                    r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
@@ -881,6 +912,7 @@ static void bind_surface(const dm_renderer *r)
         bind(UNIT_ENV_LEVEL0 + k, GL_TEXTURE_2D, r->tex_env_level[k] ? r->tex_env_level[k] : r->tex_black);
     for (int k = 0; k < DM_PLAN_MAX_SHADOWS; ++k)
         if (r->shadow_tex[k]) bind(UNIT_SHADOW + k, GL_TEXTURE_2D, r->shadow_tex[k]);
+    if (r->tex_env_array) bind(UNIT_ENV_ARRAY, GL_TEXTURE_2D_ARRAY, r->tex_env_array);
 }
 
 static void draw_fullscreen(const dm_renderer *r)
