@@ -1190,10 +1190,10 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         if (!r->timing_cpu) {
             double sum = 0;
             for (int i = 0; i < plan.pass_count; ++i) {
-                if (reuse && r->pass_ms[i] == 0.0 &&
-                    (plan.passes[i].kind == DM_PASS_SHADOW || plan.passes[i].kind == DM_PASS_IRRADIANCE ||
-                     plan.passes[i].kind == DM_PASS_BLUR_U || plan.passes[i].kind == DM_PASS_BLUR_V))
-                    continue;
+                dm_pass_kind k = plan.passes[i].kind;
+                if (reuse && (k == DM_PASS_SHADOW || k == DM_PASS_IRRADIANCE || k == DM_PASS_BLUR_U ||
+                              k == DM_PASS_BLUR_V))
+                    continue; /* skipped: no query ran, pass_ms already 0 */
                 GLuint ns = 0;
                 glGetQueryObjectuiv(r->queries[i], GL_QUERY_RESULT, &ns);
                 r->pass_ms[i] = ns * 1e-6;

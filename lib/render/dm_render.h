@@ -132,7 +132,9 @@ typedef struct dm_render_desc {
                                * upsamples them bilinearly) */
     int blur_reduce_shift;    /* 0 = 1 (half resolution); 1..3 */
     bool blur_half_float;     /* irradiance and blur targets in RGBA16F instead of RGBA32F
-                               * (11-bit mantissa: relative rounding 4.9e-4 per pass) */
+                               * (11-bit mantissa: relative rounding 4.9e-4 per pass). Halves
+                               * memory and bandwidth on GPUs; on llvmpipe it is slower (the
+                               * half-float conversions cost more than the bytes saved) */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (lights, light rotation) changed since the last
                                * final-view frame: exact; their timings read 0 then */
