@@ -1,10 +1,23 @@
-/* bench/render — median ms per pass and per frame of the skin renderer on OSMesa
- * (llvmpipe): irradiance 512/1024/2048 at 1280x720 with all effects, and each effect alone
- * at 1024. Synthetic UV sphere (18,240 triangles) until packs of the head exist.
- * Writes OUTDIR/render.md. DERMIS_BENCH_FRAMES overrides the frame count (default 5). */
+/* bench/render — the skin renderer on OSMesa (llvmpipe): what each speed/accuracy setting of
+ * dm_render_desc costs in accuracy and buys in time (DESIGN.md promise 1), then median ms
+ * per pass and per frame at irradiance 512/1024/2048 and each effect alone at 1024.
+ * Synthetic UV sphere (18,240 triangles), 1280x720, until packs of the head exist.
+ *
+ * Settings table: every setting's renderer is created up front and the frames run round
+ * robin (frame f of every setting, then frame f + 1), so a shared machine's load changes
+ * hit every row alike. Error: against the exact path (9-tap PCF, RGBA32F, every level at
+ * full resolution, texture space recomputed every frame), on the same frame:
+ *   - output: the linear radiance before tonemapping ("screen"), max and mean |Δ| over the
+ *     RGB values of every pixel, and the largest 8-bit step of the tonemapped display;
+ *   - blur: the widest blur level (coverage-normalised rgb / alpha), where the reference has
+ *     coverage, max and mean |Δ|; a reduced level is sampled bilinearly at full-resolution
+ *     texel centres (as the final pass does).
+ * Writes OUTDIR/render.md. DERMIS_BENCH_FRAMES overrides the frame count (default 7). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
@@ -25,52 +38,191 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-typedef struct result {
+enum { W = 1280, H = 720, MAX_FRAMES = 256 };
+
+typedef struct setting {
+    const char *name, *what;
+    dm_render_desc knobs; /* only the quality fields are read */
+} setting;
+
+/* What each row changes from the default (row 1). Row 0 is the exact reference. */
+static const setting settings[] = {
+    {"exact", "reference: 9-tap PCF, RGBA32F, full-resolution levels", {.shadow_pcf_taps = 9}},
+    {"default", "4-tap PCF (same filter), RGBA32F, full-resolution levels", {0}},
+    {"pcf1", "shadow: one bilinear compare", {.shadow_pcf_taps = 1}},
+    {"half-float", "irradiance and blur targets RGBA16F", {.blur_half_float = true}},
+    {"reduce4", "blur levels 4, 5 at 1/2 resolution", {.blur_reduce_from = 4}},
+    {"reduce3", "blur levels 3..5 at 1/2 resolution", {.blur_reduce_from = 3}},
+    {"reduce4q", "blur levels 4, 5 at 1/4 resolution", {.blur_reduce_from = 4, .blur_reduce_shift = 2}},
+    {"fast", "reduce3 + half-float", {.blur_reduce_from = 3, .blur_half_float = true}},
+    {"reuse", "default, light unchanged: texture space reused (camera-only frames)", {.reuse_texture_space = true}},
+};
+enum { NSET = sizeof settings / sizeof settings[0] };
+
+typedef struct run_state {
+    dm_renderer *r;
+    double *ms; /* frames x (DM_PLAN_MAX_PASSES + 1) */
     dm_render_plan plan;
     double pass_ms[DM_PLAN_MAX_PASSES], frame_ms;
-} result;
+    double cpu[MAX_FRAMES], cpu_ms; /* process CPU time (all llvmpipe threads) per frame */
+} run_state;
 
-static int run(dm_synth *s, int irr, int frames, result *out)
+static double cpu_now_ms(void)
+{
+    struct rusage u;
+    getrusage(RUSAGE_SELF, &u);
+    return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
+}
+
+static dm_renderer *make(dm_synth *s, int irr, const dm_render_desc *knobs)
 {
     dm_error err = {0};
     dm_renderer *r = NULL;
-    dm_render_desc d = {.width = 1280, .height = 720, .irradiance_size = irr, .timings = true};
+    dm_render_desc d = knobs ? *knobs : (dm_render_desc){0};
+    d.width = W, d.height = H, d.irradiance_size = irr, d.timings = true;
     if (dm_renderer_create(&s->assets, &d, &r, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
-        return 0;
+        return NULL;
     }
-    double *ms = calloc((size_t)frames * (DM_PLAN_MAX_PASSES + 1), sizeof *ms);
     dm_frame_options fo = {0};
     if (dm_render_frame(r, &fo, &err) != DM_OK) { /* warm-up: shader JIT, first uploads */
         fprintf(stderr, "error: %s\n", err.detail);
-        free(ms);
         dm_renderer_destroy(r);
-        return 0;
+        return NULL;
     }
-    for (int f = 0; f < frames; ++f) {
-        dm_render_frame(r, &fo, &err);
-        dm_renderer_last_timings(r, ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1),
-                                 ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES);
+    return r;
+}
+
+static void one_frame(run_state *st, int f)
+{
+    dm_error err = {0};
+    dm_frame_options fo = {0};
+    double c0 = cpu_now_ms();
+    if (dm_render_frame(st->r, &fo, &err) != DM_OK) fprintf(stderr, "error: %s\n", err.detail);
+    st->cpu[f] = cpu_now_ms() - c0;
+    double *row = st->ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1);
+    dm_renderer_last_timings(st->r, row, row + DM_PLAN_MAX_PASSES);
+}
+
+static void medians(run_state *st, int frames)
+{
+    st->plan = *dm_renderer_plan(st->r);
+    st->cpu_ms = median(st->cpu, frames);
+    double col[MAX_FRAMES];
+    for (int i = 0; i <= st->plan.pass_count; ++i) {
+        int slot = i < st->plan.pass_count ? i : DM_PLAN_MAX_PASSES;
+        for (int f = 0; f < frames; ++f) col[f] = st->ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
+        double m = median(col, frames);
+        if (i < st->plan.pass_count) st->pass_ms[i] = m;
+        else st->frame_ms = m;
     }
-    out->plan = *dm_renderer_plan(r);
-    double col[1024];
-    for (int i = 0; i <= out->plan.pass_count; ++i) {
-        int slot = i < out->plan.pass_count ? i : DM_PLAN_MAX_PASSES;
-        for (int f = 0; f < frames && f < 1024; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
-        double m = median(col, frames < 1024 ? frames : 1024);
-        if (i < out->plan.pass_count) out->pass_ms[i] = m;
-        else out->frame_ms = m;
-    }
-    free(ms);
-    dm_renderer_destroy(r);
+}
+
+/* One renderer alone: frames timed after a warm-up. */
+static int run_alone(dm_synth *s, int irr, int frames, run_state *st)
+{
+    memset(st, 0, sizeof *st);
+    st->r = make(s, irr, NULL);
+    if (!st->r) return 0;
+    st->ms = calloc((size_t)frames * (DM_PLAN_MAX_PASSES + 1), sizeof *st->ms);
+    for (int f = 0; f < frames; ++f) one_frame(st, f);
+    medians(st, frames);
+    free(st->ms);
+    dm_renderer_destroy(st->r);
     return 1;
+}
+
+static float *read_named(dm_renderer *r, const char *name, dm_target_info *info)
+{
+    int idx = dm_renderer_find_target(r, name);
+    if (idx < 0) return NULL;
+    dm_renderer_target_info(r, idx, info);
+    float *px = malloc((size_t)info->width * info->height * info->channels * sizeof *px);
+    dm_error err = {0};
+    if (px && dm_renderer_read_target(r, idx, px, &err) != DM_OK) {
+        free(px);
+        return NULL;
+    }
+    return px;
+}
+
+/* Bilinear, clamp-to-border-0 sample of an RGBA image at uv (texel centres at (i+0.5)/n). */
+static void bilinear(const float *img, int n, double u, double v, double out[4])
+{
+    double x = u * n - 0.5, y = v * n - 0.5;
+    int x0 = (int)floor(x), y0 = (int)floor(y);
+    double fx = x - x0, fy = y - y0;
+    for (int c = 0; c < 4; ++c) out[c] = 0;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            int xi = x0 + i, yj = y0 + j;
+            if (xi < 0 || yj < 0 || xi >= n || yj >= n) continue;
+            double w = (i ? fx : 1 - fx) * (j ? fy : 1 - fy);
+            for (int c = 0; c < 4; ++c) out[c] += w * img[((size_t)yj * n + xi) * 4 + c];
+        }
+}
+
+typedef struct errors {
+    double out_max, out_mean, out_peak, blur_max, blur_mean, blur_peak;
+    int display_steps;
+} errors;
+
+static void compare(dm_renderer *ref, dm_renderer *r, const char *level, errors *e)
+{
+    memset(e, 0, sizeof *e);
+    dm_error err = {0};
+    size_t n = (size_t)W * H;
+    float *a = malloc(n * 4 * sizeof *a), *b = malloc(n * 4 * sizeof *b);
+    uint8_t *da = malloc(n * 4), *db = malloc(n * 4);
+    if (dm_renderer_read_linear(ref, a, &err) == DM_OK && dm_renderer_read_linear(r, b, &err) == DM_OK) {
+        double sum = 0;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) {
+                double d = fabs((double)a[i * 4 + c] - b[i * 4 + c]);
+                e->out_max = fmax(e->out_max, d);
+                e->out_peak = fmax(e->out_peak, a[i * 4 + c]);
+                sum += d;
+            }
+        e->out_mean = sum / (double)(n * 3);
+    }
+    if (dm_renderer_read_display(ref, da, &err) == DM_OK && dm_renderer_read_display(r, db, &err) == DM_OK)
+        for (size_t i = 0; i < n * 4; ++i) {
+            int d = abs((int)da[i] - (int)db[i]);
+            if (d > e->display_steps) e->display_steps = d;
+        }
+    free(a), free(b), free(da), free(db);
+    dm_target_info ia, ib;
+    float *la = read_named(ref, level, &ia), *lb = read_named(r, level, &ib);
+    if (la && lb) {
+        int na = ia.width, nb = ib.width;
+        double sum = 0;
+        size_t count = 0;
+        for (int j = 0; j < na; ++j)
+            for (int i = 0; i < na; ++i) {
+                const float *pa = la + ((size_t)j * na + i) * 4;
+                if (pa[3] <= 1e-4f) continue;
+                double pb[4];
+                bilinear(lb, nb, (i + 0.5) / na, (j + 0.5) / na, pb);
+                for (int c = 0; c < 3; ++c) {
+                    double ra = pa[c] / pa[3], rb = pb[3] > 1e-4 ? pb[c] / pb[3] : 0.0;
+                    double d = fabs(ra - rb);
+                    e->blur_max = fmax(e->blur_max, d);
+                    e->blur_peak = fmax(e->blur_peak, ra);
+                    sum += d;
+                    ++count;
+                }
+            }
+        e->blur_mean = count ? sum / (double)count : 0;
+    }
+    free(la), free(lb);
 }
 
 int main(int argc, char **argv)
 {
     const char *outdir = argc > 1 ? argv[1] : "bench/results";
-    int frames = getenv("DERMIS_BENCH_FRAMES") ? atoi(getenv("DERMIS_BENCH_FRAMES")) : 5;
+    int frames = getenv("DERMIS_BENCH_FRAMES") ? atoi(getenv("DERMIS_BENCH_FRAMES")) : 7;
     if (frames < 1) frames = 1;
+    if (frames > MAX_FRAMES) frames = MAX_FRAMES;
     dm_error err = {0};
     dm_osmesa *ctx = NULL;
     dm_synth *s = NULL;
@@ -106,44 +258,106 @@ int main(int argc, char **argv)
     }
     const char *lp = getenv("LP_NUM_THREADS");
     fprintf(md, "# Renderer timings (llvmpipe)\n\n");
-    fprintf(md, "Machine: `%s %s %s %s`, CPU: %s, %ld cores online, LP_NUM_THREADS=%s, load average at start %.2f.\n",
+    fprintf(md, "Machine: `%s %s %s %s`, CPU: %s, %ld cores online, LP_NUM_THREADS=%s, load average at start %.2f "
+                "(the machine is shared: compare rows of one table, not across runs).\n",
             u.sysname, u.nodename, u.release, u.machine, cpu, sysconf(_SC_NPROCESSORS_ONLN), lp ? lp : "(default)",
             load[0]);
-    fprintf(md, "Synthetic UV sphere, %d triangles, 1280x720, shadow map 1024, 7 taps; median of %d frames after "
-                "one warm-up; CPU clock around glFinish per pass.\n\n", s->triangle_count, frames);
+    fprintf(md, "Synthetic UV sphere, %d triangles, %dx%d, shadow map 1024, %d taps; median of %d frames after "
+                "one warm-up; CPU clock around glFinish per pass (%s).\n\n",
+            s->triangle_count, W, H, s->scene.blur_taps, frames, "llvmpipe's timer queries are wrong");
 
-    /* all effects, three irradiance sizes */
+    /* ---- settings: time and error against the exact path, irradiance 1024 ---- */
+    const int irr = 1024;
+    run_state st[NSET];
+    memset(st, 0, sizeof st);
+    for (int c = 0; c < NSET; ++c) {
+        fprintf(stderr, "render bench: setting %s\n", settings[c].name);
+        st[c].r = make(s, irr, &settings[c].knobs);
+        if (!st[c].r) return 3;
+        st[c].ms = calloc((size_t)frames * (DM_PLAN_MAX_PASSES + 1), sizeof *st[c].ms);
+    }
+    for (int f = 0; f < frames; ++f)
+        for (int c = 0; c < NSET; ++c) one_frame(&st[c], f);
+    for (int c = 0; c < NSET; ++c) medians(&st[c], frames);
+    char level[16];
+    snprintf(level, sizeof level, "blur%d", st[0].plan.blur_levels - 1);
+    errors e[NSET];
+    for (int c = 0; c < NSET; ++c) compare(st[0].r, st[c].r, level, &e[c]);
+
+    fprintf(md, "## Speed/accuracy settings (`dm_render_desc`), all effects, irradiance %d\n\n", irr);
+    fprintf(md, "Error against `exact` on the same frame. Output: linear radiance before tonemapping, max / mean "
+                "|Δ| over RGB (the lit sphere's radiance peaks near %.2f); display: largest 8-bit step after "
+                "tonemapping. Blur: %s (rgb / coverage) where the reference has coverage, max / mean |Δ| (its "
+                "values peak at %.3f).\n\n",
+            e[0].out_peak, level, e[0].blur_peak);
+    fprintf(md, "Frame ms: wall clock (what a viewer sees); CPU ms: process CPU time per frame, every llvmpipe "
+                "thread summed (less sensitive to other users of the shared cores; 2 cores give at best half of "
+                "it as wall time).\n\n");
+    fprintf(md, "| setting | what | frame ms | CPU ms | irradiance | blur (10 passes) | final | output max / mean |Δ| | "
+                "display steps | blur max / mean |Δ| |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (int c = 0; c < NSET; ++c) {
+        double irr_ms = 0, blur_ms = 0, final_ms = 0;
+        for (int p = 0; p < st[c].plan.pass_count; ++p) {
+            dm_pass_kind k = st[c].plan.passes[p].kind;
+            if (k == DM_PASS_IRRADIANCE) irr_ms += st[c].pass_ms[p];
+            if (k == DM_PASS_BLUR_U || k == DM_PASS_BLUR_V) blur_ms += st[c].pass_ms[p];
+            if (k == DM_PASS_FINAL) final_ms += st[c].pass_ms[p];
+        }
+        fprintf(md, "| %s | %s | **%.1f** | %.0f | %.1f | %.1f | %.1f | %.2e / %.2e | %d | %.2e / %.2e |\n", settings[c].name,
+                settings[c].what, st[c].frame_ms, st[c].cpu_ms, irr_ms, blur_ms, final_ms, e[c].out_max, e[c].out_mean,
+                e[c].display_steps, e[c].blur_max, e[c].blur_mean);
+    }
+    fprintf(md, "\nPer pass, ms (same run):\n\n| pass |");
+    for (int c = 0; c < NSET; ++c) fprintf(md, " %s |", settings[c].name);
+    fprintf(md, "\n|---|");
+    for (int c = 0; c < NSET; ++c) fprintf(md, "---:|");
+    fprintf(md, "\n");
+    for (int p = 0; p < st[0].plan.pass_count; ++p) {
+        fprintf(md, "| %s |", st[0].plan.passes[p].name);
+        for (int c = 0; c < NSET; ++c) fprintf(md, " %.2f |", st[c].pass_ms[p]);
+        fprintf(md, "\n");
+    }
+    fprintf(md, "| **frame** |");
+    for (int c = 0; c < NSET; ++c) fprintf(md, " **%.1f** |", st[c].frame_ms);
+    fprintf(md, "\n\n");
+    for (int c = 0; c < NSET; ++c) {
+        free(st[c].ms);
+        dm_renderer_destroy(st[c].r);
+    }
+    double default_1024 = st[1].frame_ms;
+
+    /* ---- default settings, three irradiance sizes ---- */
     static const int sizes[3] = {512, 1024, 2048};
-    result all[3];
+    run_state all[3];
     for (int i = 0; i < 3; ++i) {
         fprintf(stderr, "render bench: all effects, irradiance %d\n", sizes[i]);
-        if (!run(s, sizes[i], frames, &all[i])) return 3;
+        if (!run_alone(s, sizes[i], frames, &all[i])) return 3;
     }
-    fprintf(md, "## All effects: ms per pass\n\n| pass | 512 | 1024 | 2048 |\n|---|---:|---:|---:|\n");
+    fprintf(md, "## Default settings, all effects: ms per pass\n\n| pass | 512 | 1024 | 2048 |\n|---|---:|---:|---:|\n");
     for (int p = 0; p < all[0].plan.pass_count; ++p)
         fprintf(md, "| %s | %.2f | %.2f | %.2f |\n", all[0].plan.passes[p].name, all[0].pass_ms[p], all[1].pass_ms[p],
                 all[2].pass_ms[p]);
     fprintf(md, "| **frame** | **%.1f** | **%.1f** | **%.1f** |\n\n", all[0].frame_ms, all[1].frame_ms,
             all[2].frame_ms);
 
-    /* each effect alone, irradiance 1024 */
-    fprintf(md, "## Each effect alone (irradiance 1024)\n\n| effect | passes | frame ms | slowest pass |\n"
+    /* ---- each effect alone, irradiance 1024 ---- */
+    fprintf(md, "## Default settings, each effect alone (irradiance 1024)\n\n| effect | passes | frame ms | slowest pass |\n"
                 "|---|---:|---:|---|\n");
     dm_scene keep = s->scene;
-    for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
-        for (int k = 0; k < DM_EFFECT_COUNT; ++k) s->scene.effects[k] = k == e;
-        fprintf(stderr, "render bench: %s alone\n", dm_effect_name((dm_effect)e));
-        result r;
-        if (!run(s, 1024, frames, &r)) return 3;
+    for (int ef = 0; ef < DM_EFFECT_COUNT; ++ef) {
+        for (int k = 0; k < DM_EFFECT_COUNT; ++k) s->scene.effects[k] = k == ef;
+        fprintf(stderr, "render bench: %s alone\n", dm_effect_name((dm_effect)ef));
+        run_state r1;
+        if (!run_alone(s, 1024, frames, &r1)) return 3;
         int worst = 0;
-        for (int p = 1; p < r.plan.pass_count; ++p)
-            if (r.pass_ms[p] > r.pass_ms[worst]) worst = p;
-        fprintf(md, "| %s | %d | %.1f | %s %.1f |\n", dm_effect_name((dm_effect)e), r.plan.pass_count,
-                r.frame_ms, r.plan.passes[worst].name, r.pass_ms[worst]);
+        for (int p = 1; p < r1.plan.pass_count; ++p)
+            if (r1.pass_ms[p] > r1.pass_ms[worst]) worst = p;
+        fprintf(md, "| %s | %d | %.1f | %s %.1f |\n", dm_effect_name((dm_effect)ef), r1.plan.pass_count,
+                r1.frame_ms, r1.plan.passes[worst].name, r1.pass_ms[worst]);
     }
     s->scene = keep;
     fclose(md);
-    printf("render bench: wrote %s (all effects at 1024: %.1f ms/frame)\n", path, all[1].frame_ms);
+    printf("render bench: wrote %s (default settings, all effects at 1024: %.1f ms/frame)\n", path, default_1024);
     dm_synth_free(s);
     dm_osmesa_destroy(ctx);
     return 0;

@@ -47,6 +47,7 @@ uniform float u_env_intensity;
 uniform float u_env_rotation;
 uniform float u_env_level_m[6];
 uniform sampler2D u_env_level[6];
+uniform sampler2DArray u_env_array; // the same levels as layers (DM_ENV_ARRAY: all one size)
 uniform float u_mix;
 uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
 uniform sampler2D u_level[8];
@@ -81,6 +82,23 @@ vec3 env_specular(vec3 R, float m)
 {
     vec2 uv = dm_equirect_uv(R, u_env_rotation);
     const int n = DM_ENV_LEVELS;
+#ifdef DM_ENV_ARRAY
+    // The same choice as below, made in arithmetic, then two layer fetches: llvmpipe runs every
+    // branch, so the if-chains below cost every level's fetch several times over.
+    if (n <= 0) return vec3(0.0);
+    float lo = 0.0, t = 0.0;
+    for (int k = 1; k < n; ++k)
+        if (m > u_env_level_m[k - 1]) {
+            lo = float(k - 1);
+            t = (m - u_env_level_m[k - 1]) / max(u_env_level_m[k] - u_env_level_m[k - 1], 1e-6);
+        }
+    if (m > u_env_level_m[n - 1]) {
+        lo = float(n - 1);
+        t = 0.0;
+    }
+    return mix(texture(u_env_array, vec3(uv, lo)).rgb, texture(u_env_array, vec3(uv, min(lo + 1.0, float(n - 1)))).rgb,
+               t);
+#endif
     if (n <= 0) return vec3(0.0);
     if (m <= u_env_level_m[0] || n == 1) return env_level(0, uv);
     for (int k = 1; k < n; ++k)

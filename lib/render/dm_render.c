@@ -152,6 +152,7 @@ enum {
     UNIT_MASK,
     UNIT_DEPTH,
     UNIT_BACKGROUND,
+    UNIT_ENV_ARRAY,
     UNIT_COUNT
 };
 
@@ -169,6 +170,13 @@ struct dm_renderer {
     dm_render_desc desc;
     char shader_dir[4096];
     int width, height, irr_size, shadow_size, taps;
+    int shadow_taps;                            /* 1, 4 or 9 (DM_SHADOW_TAPS) */
+    int level_size[DM_PROFILE_MAX_GAUSSIANS];   /* texels per side of each irradiance level */
+    GLenum level_format;                        /* GL_RGBA32F or GL_RGBA16F */
+    bool ts_valid;                              /* texture-space results reusable (reuse_texture_space) */
+    int ts_pass_count;                          /* shadow + irradiance + blur passes of the final plan */
+    float ts_rotation;                          /* the light rotation they were made with, */
+    float ts_blur_scale, ts_roughness_scale;    /* and the per-frame scales */
     int stretch_count, env_level_count;
     float env_level_m[DM_RENDER_ENV_LEVELS_MAX];
     float env_sh[DM_RENDER_SH_COUNT][3];
@@ -188,8 +196,10 @@ struct dm_renderer {
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask, tex_env_level[DM_RENDER_ENV_LEVELS_MAX],
         tex_background;
     GLuint tex_white, tex_black;
+    GLuint tex_env_array; /* the env levels as one 2D array when they share size and format */
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS], tmp_tex, tmp_fbo;
+    GLuint tmp_small_tex, tmp_small_fbo; /* the U pass target of the reduced levels */
     GLuint screen_tex, screen_depth, screen_fbo;
     GLuint glow_tex[2], glow_fbo[2];
     GLuint display_tex, display_fbo;
@@ -264,7 +274,8 @@ static void set_sampler_units(GLuint p)
                  {"u_env_brdf", UNIT_ENV_BRDF},   {"u_shadow0", UNIT_SHADOW},
                  {"u_shadow1", UNIT_SHADOW + 1},   {"u_shadow2", UNIT_SHADOW + 2},  {"u_shadow3", UNIT_SHADOW + 3},
                  {"u_src", UNIT_SRC},             {"u_stretch", UNIT_STRETCH},     {"u_mask", UNIT_MASK},
-                 {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND}};
+                 {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
+                 {"u_env_array", UNIT_ENV_ARRAY}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
@@ -288,12 +299,14 @@ static dm_result build_program(dm_renderer *r, const char *file, GLuint *out, dm
     char defines[512];
     const dm_render_plan *p = &r->plan;
     snprintf(defines, sizeof defines,
-             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n",
+             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n"
+             "#define DM_SHADOW_TAPS %d\n%s",
              p->effects[DM_EFFECT_SUBSURFACE] ? "#define DM_SUBSURFACE 1\n" : "",
              p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
              p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
              p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
-             p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count);
+             p->shadow_count, r->taps, p->effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0, r->env_level_count,
+             r->shadow_taps, r->tex_env_array ? "#define DM_ENV_ARRAY 1\n" : "");
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
@@ -452,12 +465,16 @@ static dm_result make_targets(dm_renderer *r, dm_error *err)
     if (p->effects[DM_EFFECT_SUBSURFACE]) {
         for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
             snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
-            rc = color_target(r, name, r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->irr_tex[k],
-                              &r->irr_fbo[k], err);
+            rc = color_target(r, name, r->level_size[k], r->level_size[k], r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->irr_tex[k], &r->irr_fbo[k], err);
         }
         if (rc == DM_OK && p->blur_levels > 1)
-            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->tmp_tex,
-                              &r->tmp_fbo, err);
+            rc = color_target(r, "blur_tmp", r->irr_size, r->irr_size, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_tex, &r->tmp_fbo, err);
+        int small = r->level_size[p->blur_levels > 0 ? p->blur_levels - 1 : 0];
+        if (rc == DM_OK && p->blur_levels > 1 && small != r->irr_size)
+            rc = color_target(r, "blur_tmp_small", small, small, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_small_tex, &r->tmp_small_fbo, err);
     }
     if (rc != DM_OK) return rc;
     rc = color_target(r, "screen", r->width, r->height, GL_RGBA16F, GL_CLAMP_TO_EDGE, &r->screen_tex, &r->screen_fbo,
@@ -562,6 +579,8 @@ static void mesh_bounds(dm_renderer *r, const float *v, int n)
     r->radius = sqrtf(rad) > 1e-6f ? sqrtf(rad) : 1.0f;
 }
 
+static dm_result upload_env_array(dm_renderer *r, const dm_render_assets *a, dm_error *err);
+
 static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_error *err)
 {
     glGenVertexArrays(1, &r->vao_mesh);
@@ -604,6 +623,7 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
         }
         r->env_level_count = a->env_level_count;
         memcpy(r->env_level_m, a->env_level_m, sizeof r->env_level_m);
+        if (rc == DM_OK) rc = upload_env_array(r, a, err);
     }
     if (dm_render_plan_find(p, "background") >= 0) {
         UP(env_background, "env_background", false, GL_LINEAR, tex_background);
@@ -622,6 +642,31 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
     if (a->has_env_sh) memcpy(r->env_sh, a->env_sh, sizeof r->env_sh);
     if (rc != DM_OK) return rc;
     return gl_check("upload", err);
+}
+
+/* The env levels again as one 2D array texture (two fetches per pixel instead of a chain of
+ * branches that llvmpipe runs in full), when they share size and format, as a pack's do. */
+static dm_result upload_env_array(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    const dm_texture *t0 = &a->env_levels[0];
+    for (int k = 1; k < a->env_level_count; ++k)
+        if (a->env_levels[k].width != t0->width || a->env_levels[k].height != t0->height ||
+            a->env_levels[k].format != t0->format)
+            return DM_OK; /* the per-level path stays */
+    const fmt_gl *f = &formats[t0->format];
+    glGenTextures(1, &r->tex_env_array);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, r->tex_env_array);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, (GLint)f->internal, t0->width, t0->height, a->env_level_count, 0, f->format,
+                 f->type, NULL);
+    for (int k = 0; k < a->env_level_count; ++k)
+        glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, k, t0->width, t0->height, 1, f->format, f->type,
+                        a->env_levels[k].texels);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return gl_check("env_levels (array)", err);
 }
 
 static void prepare_blur(dm_renderer *r, float scale)
@@ -661,6 +706,13 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
     r->taps = a->scene->blur_taps;
     r->scene.profile = r->profile;
+    r->shadow_taps = desc->shadow_pcf_taps > 0 ? desc->shadow_pcf_taps : 4;
+    r->level_format = desc->blur_half_float ? GL_RGBA16F : GL_RGBA32F;
+    int shift = desc->blur_reduce_shift > 0 ? desc->blur_reduce_shift : 1;
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
+        bool reduced = desc->blur_reduce_from > 0 && k >= desc->blur_reduce_from;
+        r->level_size[k] = reduced ? r->irr_size >> shift : r->irr_size;
+    }
 
     dm_result rc = DM_OK;
     if (r->width < 1 || r->height < 1 || r->width > 16384 || r->height > 16384)
@@ -670,8 +722,23 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d, expected 8..8192", r->irr_size);
     else if (r->shadow_size < 16 || r->shadow_size > 8192)
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow size %d, expected 16..8192", r->shadow_size);
+    else if (r->shadow_taps != 1 && r->shadow_taps != 4 && r->shadow_taps != 9)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow_pcf_taps %d, expected 0 (4), 1, 4 or 9", r->shadow_taps);
+    else if (desc->blur_reduce_from < 0 || desc->blur_reduce_from >= DM_PROFILE_MAX_GAUSSIANS)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: blur_reduce_from %d, expected 0 (off) or a level 1..%d",
+                     desc->blur_reduce_from, DM_PROFILE_MAX_GAUSSIANS - 1);
+    else if (desc->blur_reduce_shift < 0 || desc->blur_reduce_shift > 3)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: blur_reduce_shift %d, expected 0 (1), 1, 2 or 3",
+                     desc->blur_reduce_shift);
+    else if (desc->blur_reduce_from > 0 && a->scene->effects[DM_EFFECT_SUBSURFACE] && (r->irr_size >> shift) < 8)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d >> blur_reduce_shift %d is below 8 texels",
+                     r->irr_size, shift);
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
+    for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i) {
+        dm_pass_kind k = r->plan.passes[i].kind;
+        r->ts_pass_count += k == DM_PASS_SHADOW || k == DM_PASS_IRRADIANCE || k == DM_PASS_BLUR_U || k == DM_PASS_BLUR_V;
+    }
     if (rc != DM_OK) {
         free(r);
         return rc;
@@ -716,7 +783,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->prog[k] && k != DM_PASS_BLUR_V && k != DM_PASS_GLOW_BLUR_V) glDeleteProgram(r->prog[k]);
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black,      r->tmp_tex,        r->screen_tex,
+                    r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
@@ -731,7 +798,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_fbo[k]) glDeleteFramebuffers(1, &r->shadow_fbo[k]);
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
-    GLuint fbo[] = {r->tmp_fbo, r->screen_fbo, r->glow_fbo[0], r->glow_fbo[1], r->display_fbo};
+    GLuint fbo[] = {r->tmp_fbo, r->tmp_small_fbo, r->screen_fbo, r->glow_fbo[0], r->glow_fbo[1], r->display_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);
@@ -850,6 +917,7 @@ static void bind_surface(const dm_renderer *r)
         bind(UNIT_ENV_LEVEL0 + k, GL_TEXTURE_2D, r->tex_env_level[k] ? r->tex_env_level[k] : r->tex_black);
     for (int k = 0; k < DM_PLAN_MAX_SHADOWS; ++k)
         if (r->shadow_tex[k]) bind(UNIT_SHADOW + k, GL_TEXTURE_2D, r->shadow_tex[k]);
+    if (r->tex_env_array) bind(UNIT_ENV_ARRAY, GL_TEXTURE_2D_ARRAY, r->tex_env_array);
 }
 
 static void draw_fullscreen(const dm_renderer *r)
@@ -908,11 +976,15 @@ static void pass_irradiance(dm_renderer *r)
 static void pass_blur(dm_renderer *r, int k, bool along_v)
 {
     GLuint p = r->prog[DM_PASS_BLUR_U];
-    target_begin(along_v ? r->irr_fbo[k] : r->tmp_fbo, r->irr_size, r->irr_size);
+    /* the U pass already writes at level k's size (the taps read level k−1 by UV) */
+    int n = r->level_size[k];
+    bool small = n != r->irr_size;
+    GLuint tmp_tex = small ? r->tmp_small_tex : r->tmp_tex, tmp_fbo = small ? r->tmp_small_fbo : r->tmp_fbo;
+    target_begin(along_v ? r->irr_fbo[k] : tmp_fbo, n, n);
     glDisable(GL_DEPTH_TEST);
     glUseProgram(p);
     int s = k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
-    bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? r->tmp_tex : r->irr_tex[k - 1]);
+    bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? tmp_tex : r->irr_tex[k - 1]);
     bind(UNIT_STRETCH, GL_TEXTURE_2D, r->tex_stretch[s]);
     u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
     glUniform1fv(loc(p, "u_offset_mm"), r->taps, r->blur_offset[k]);
@@ -1084,8 +1156,21 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         t_frame = dm_now_ms();
     }
     r->tonemapped = false;
+    /* reuse_texture_space: the shadow maps, irradiance and blur levels depend on the scene
+     * (dm_renderer_set_scene invalidates them), the light rotation and the blur and
+     * roughness scales; the camera and the view do not enter texture space. */
+    bool reuse = r->desc.reuse_texture_space && r->ts_valid && r->ts_rotation == opt->light_rotation_deg &&
+                 r->ts_blur_scale == blur_scale && r->ts_roughness_scale == r->roughness_scale;
+    int ts_passes = 0;
     for (int i = 0; i < plan.pass_count; ++i) {
         const dm_pass *ps = &plan.passes[i];
+        bool ts = ps->kind == DM_PASS_SHADOW || ps->kind == DM_PASS_IRRADIANCE || ps->kind == DM_PASS_BLUR_U ||
+                  ps->kind == DM_PASS_BLUR_V;
+        ts_passes += ts;
+        if (ts && reuse) {
+            r->pass_ms[i] = 0.0;
+            continue;
+        }
         double t0 = 0;
         if (timed && r->timing_cpu) {
             glFinish();
@@ -1105,12 +1190,22 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         if (rc != DM_OK) return rc;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!reuse) { /* valid only when this frame made every texture-space result */
+        r->ts_valid = ts_passes == r->ts_pass_count;
+        r->ts_rotation = opt->light_rotation_deg;
+        r->ts_blur_scale = blur_scale;
+        r->ts_roughness_scale = r->roughness_scale;
+    }
     if (timed) {
         glFinish();
         r->frame_ms = dm_now_ms() - t_frame;
         if (!r->timing_cpu) {
             double sum = 0;
             for (int i = 0; i < plan.pass_count; ++i) {
+                dm_pass_kind k = plan.passes[i].kind;
+                if (reuse && (k == DM_PASS_SHADOW || k == DM_PASS_IRRADIANCE || k == DM_PASS_BLUR_U ||
+                              k == DM_PASS_BLUR_V))
+                    continue; /* skipped: no query ran, pass_ms already 0 */
                 GLuint ns = 0;
                 glGetQueryObjectuiv(r->queries[i], GL_QUERY_RESULT, &ns);
                 r->pass_ms[i] = ns * 1e-6;
@@ -1140,6 +1235,7 @@ dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *s, dm_error *err
                        "renderer: the new scene changes %s, which the pass list depends on; recreate the renderer",
                        what);
     r->scene = *s;
+    r->ts_valid = false; /* lights, material, environment: texture space is stale */
     r->scene.profile = r->profile;
     return DM_OK;
 }

@@ -118,6 +118,26 @@ typedef struct dm_render_desc {
     int shadow_size;        /* shadow map size; 0 = 1024 */
     bool timings;           /* time every pass (CPU clock around glFinish on software
                              * renderers, GL_TIME_ELAPSED queries elsewhere) */
+
+    /* Speed/accuracy settings (DESIGN.md promise 1: bench/results/render.md gives each one's
+     * time and its error against the exact path). Zero is the default everywhere, and the
+     * default is the exact path or equal to it to float rounding. */
+    int shadow_pcf_taps;      /* 0 = 4: the 3x3 PCF filter (4x4 texels, bilinear compares)
+                               * taken with 4 taps, equal to 9 taps to float rounding;
+                               * 9: the same filter with 9 taps (reference); 1: one bilinear
+                               * compare (2x2 texels, harder shadow edges) */
+    int blur_reduce_from;     /* 0 = off. k in 1..(Gaussians − 1): blur levels k and wider are
+                               * rendered and stored at irradiance_size >> blur_reduce_shift
+                               * (the wide Gaussians span many texels; the final pass
+                               * upsamples them bilinearly) */
+    int blur_reduce_shift;    /* 0 = 1 (half resolution); 1..3 */
+    bool blur_half_float;     /* irradiance and blur targets in RGBA16F instead of RGBA32F
+                               * (11-bit mantissa: relative rounding 4.9e-4 per pass). Halves
+                               * memory and bandwidth on GPUs; on llvmpipe it is slower (the
+                               * half-float conversions cost more than the bytes saved) */
+    bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
+                               * they depend on (lights, light rotation) changed since the last
+                               * final-view frame: exact; their timings read 0 then */
 } dm_render_desc;
 
 typedef struct dm_renderer dm_renderer;

@@ -443,3 +443,89 @@ Test(render, golden_synthetic_sphere)
     free(rgba);
     close_fixture(&f);
 }
+
+/* The default 4-tap PCF takes the same 3x3-bilinear (4x4-texel) filter as the 9 reference
+ * taps: irradiance equal to float rounding of the tap weights (1e-5 absolute on values
+ * near 1: a few ulps of the position arithmetic, far below a texel's shadow step of
+ * 1/9). One bilinear compare is a different filter: it must differ somewhere, or the
+ * scene would not exercise shadows at all. Light at grazing incidence: the terminator
+ * band self-shadows. */
+static float *irradiance_with_taps(int taps, dm_target_info *info)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 48, .sphere_rings = 32});
+    dm_effect on[] = {DM_EFFECT_SUBSURFACE, DM_EFFECT_SHADOWS};
+    only(&f.synth->scene, on, 2);
+    dm_error err = {0};
+    dm_render_desc d = {.width = 32, .height = 32, .irradiance_size = 256, .shadow_size = 256, .shadow_pcf_taps = taps};
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &f.r, &err), DM_OK, "%s", err.detail);
+    dm_frame_options o = {.light_rotation_deg = 80.0f};
+    cr_assert_eq(dm_render_frame(f.r, &o, &err), DM_OK, "%s", err.detail);
+    float *px = read_target(&f, "irradiance", info);
+    close_fixture(&f);
+    return px;
+}
+
+Test(render, four_tap_pcf_equals_the_nine_tap_filter)
+{
+    dm_target_info info;
+    float *ref = irradiance_with_taps(9, &info), *four = irradiance_with_taps(4, &info),
+          *one = irradiance_with_taps(1, &info);
+    double d4 = 0, d1 = 0;
+    for (size_t i = 0; i < (size_t)info.width * info.height * 4; ++i) {
+        d4 = fmax(d4, fabs((double)four[i] - ref[i]));
+        d1 = fmax(d1, fabs((double)one[i] - ref[i]));
+    }
+    cr_expect_leq(d4, 1e-5, "4 taps differ from 9 by %.3g", d4);
+    cr_expect_gt(d1, 1e-3, "1 tap differs from 9 by only %.3g: shadows not exercised", d1);
+    free(ref), free(four), free(one);
+}
+
+/* Reusing texture space gives the frame it would have recomputed, and recomputes when the
+ * light turns. */
+Test(render, reuse_texture_space_is_exact_and_follows_every_change)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    dm_error err = {0};
+    dm_renderer *reuse = NULL;
+    dm_render_desc d = {.width = 64, .height = 48, .irradiance_size = 128, .shadow_size = 256};
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &f.r, &err), DM_OK, "%s", err.detail);
+    d.reuse_texture_space = true;
+    d.timings = true; /* skipped passes read exactly 0 ms: whether they ran, not how fast */
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &reuse, &err), DM_OK, "%s", err.detail);
+    /* Each change that feeds texture space must recompute it; each repeat must reuse it. */
+    const struct {
+        float turn, blur_scale, roughness_scale, mix; /* mix < 0: leave the scene alone */
+        bool recompute;
+    } frames[] = {{0, 0, 0, -1, true},    {0, 0, 0, -1, false},    {45, 0, 0, -1, true},  {45, 0, 0, -1, false},
+                  {45, 2, 0, -1, true},   {45, 2, 0, -1, false},   {45, 2, 1.5f, -1, true}, {45, 2, 1.5f, -1, false},
+                  {45, 2, 1.5f, 0.2f, true}, {45, 2, 1.5f, -1, false}};
+    size_t n = 64 * 48 * 4;
+    float *pa = malloc(n * sizeof *pa), *pb = malloc(n * sizeof *pb);
+    for (size_t i = 0; i < sizeof frames / sizeof *frames; ++i) {
+        if (frames[i].mix >= 0) {
+            dm_scene s = f.synth->scene;
+            s.mix = frames[i].mix;
+            cr_assert_eq(dm_renderer_set_scene(f.r, &s, &err), DM_OK, "%s", err.detail);
+            cr_assert_eq(dm_renderer_set_scene(reuse, &s, &err), DM_OK, "%s", err.detail);
+        }
+        dm_frame_options o = {.light_rotation_deg = frames[i].turn,
+                              .blur_scale = frames[i].blur_scale,
+                              .roughness_scale = frames[i].roughness_scale};
+        cr_assert_eq(dm_render_frame(f.r, &o, &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_render_frame(reuse, &o, &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_renderer_read_linear(f.r, pa, &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_renderer_read_linear(reuse, pb, &err), DM_OK, "%s", err.detail);
+        cr_expect_eq(memcmp(pa, pb, n * sizeof *pa), 0, "frame %zu differs from the exact renderer", i);
+        double ms[DM_PLAN_MAX_PASSES];
+        dm_renderer_last_timings(reuse, ms, NULL);
+        int irr = dm_render_plan_find(dm_renderer_plan(reuse), "irradiance");
+        cr_assert_geq(irr, 0);
+        if (frames[i].recompute) cr_expect_gt(ms[irr], 0.0, "frame %zu: irradiance skipped after a change", i);
+        else cr_expect_eq(ms[irr], 0.0, "frame %zu: irradiance ran although nothing changed", i);
+    }
+    free(pa), free(pb);
+    dm_renderer_destroy(reuse);
+    close_fixture(&f);
+}
