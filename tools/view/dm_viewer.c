@@ -148,8 +148,10 @@ static dm_result create_renderer(dm_viewer *v, dm_error *err)
 {
     dm_renderer_destroy(v->r);
     v->r = NULL;
+    /* Texture space is reused while the lights, scene and scales stay put (exact, tested in
+     * test_render): orbiting and zooming then cost only the screen passes. */
     dm_render_desc d = {.shader_dir = v->opt.shader_dir, .width = v->opt.width, .height = v->opt.height,
-                        .irradiance_size = v->irradiance_size, .timings = true};
+                        .irradiance_size = v->irradiance_size, .timings = true, .reuse_texture_space = true};
     v->assets.scene = &v->scene;
     dm_result rc = dm_renderer_create(&v->assets, &d, &v->r, err);
     if (rc == DM_OK) list_views(v);
