@@ -18,6 +18,7 @@ BUILD   := build/$(config)
 CC      ?= gcc
 CXX     ?= g++
 PKG     ?= pkg-config
+NPROC   ?= $(shell nproc 2>/dev/null || echo 2)
 
 ifeq ($(config),release)
   OPT := -O2 -g
@@ -171,16 +172,16 @@ deps:
 	@bash scripts/deps.sh
 
 test: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(NPROC) all
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
 	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS)
 
 bench: deps
-	@$(MAKE) --no-print-directory all
+	@$(MAKE) --no-print-directory -j$(NPROC) all
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/run-bench.sh $(BENCHES)
 
 demo: deps
-	@$(MAKE) --no-print-directory tools
+	@$(MAKE) --no-print-directory -j$(NPROC) tools
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/demo.sh
 
 # libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan.
