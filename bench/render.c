@@ -1,7 +1,8 @@
 /* bench/render — the skin renderer on OSMesa (llvmpipe): what each speed/accuracy setting of
  * dm_render_desc costs in accuracy and buys in time (DESIGN.md promise 1), then median ms
  * per pass and per frame at irradiance 512/1024/2048 and each effect alone at 1024.
- * Synthetic UV sphere (18,240 triangles), 1280x720, until packs of the head exist.
+ * The Lee Perry-Smith head packed from assets/scenes/lps.json (17,684 triangles), 1280x720;
+ * DERMIS_BENCH_SYNTHETIC=1 uses the synthetic UV sphere (18,240 triangles) instead.
  *
  * Settings table: every setting's renderer is created up front and the frames run round
  * robin (frame f of every setting, then frame f + 1), so a shared machine's load changes
@@ -18,13 +19,61 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include <sys/utsname.h>
 #include <unistd.h>
 
+#include "common/bench_util.h"
 #include "core/dm_cli.h"
+#include "core/dm_pack.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_pack.h"
 #include "render/dm_render_synth.h"
+
+/* What is rendered: the packed head, or the synthetic sphere. */
+typedef struct bench_source {
+    dm_render_assets assets;
+    dm_scene scene;
+    dm_profile profile;
+    int triangle_count;
+    const char *name;
+    dm_pack pack;
+    bool pack_open;
+    dm_synth *synth;
+} bench_source;
+
+static int source_open(bench_source *s, dm_error *err)
+{
+    memset(s, 0, sizeof *s);
+    const char *syn = getenv("DERMIS_BENCH_SYNTHETIC");
+    if (syn && strcmp(syn, "1") == 0) {
+        if (dm_synth_create(&(dm_synth_options){0}, &s->synth, err) != DM_OK) return 0;
+        s->assets = s->synth->assets;
+        s->scene = s->synth->scene;
+        s->assets.scene = &s->scene;
+        s->triangle_count = s->synth->triangle_count;
+        s->name = "Synthetic UV sphere";
+        return 1;
+    }
+    const char *bin = getenv("BUILD") ? getenv("BUILD") : "build/release";
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s/bin/dermis-pack assets/scenes/lps.json -o /tmp/dermis-bench-render.dpk --quiet", bin);
+    if (system(cmd) != 0) {
+        dm_fail(err, DM_ERR_FILE_READ, "'%s' failed (run from the repository root)", cmd);
+        return 0;
+    }
+    if (dm_pack_open("/tmp/dermis-bench-render.dpk", &s->pack, err) != DM_OK) return 0;
+    s->pack_open = true;
+    if (dm_render_assets_from_pack(&s->pack, &s->scene, &s->profile, &s->assets, err) != DM_OK) return 0;
+    s->triangle_count = s->assets.index_count / 3;
+    s->name = "The Lee Perry-Smith head (assets/scenes/lps.json, every effect)";
+    return 1;
+}
+
+static void source_close(bench_source *s)
+{
+    if (s->pack_open) dm_pack_close(&s->pack);
+    dm_synth_free(s->synth);
+}
 
 static int cmp(const void *a, const void *b)
 {
@@ -74,7 +123,7 @@ static double cpu_now_ms(void)
     return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
 }
 
-static dm_renderer *make(dm_synth *s, int irr, const dm_render_desc *knobs)
+static dm_renderer *make(bench_source *s, int irr, const dm_render_desc *knobs)
 {
     dm_error err = {0};
     dm_renderer *r = NULL;
@@ -119,7 +168,7 @@ static void medians(run_state *st, int frames)
 }
 
 /* One renderer alone: frames timed after a warm-up. */
-static int run_alone(dm_synth *s, int irr, int frames, run_state *st)
+static int run_alone(bench_source *s, int irr, int frames, run_state *st)
 {
     memset(st, 0, sizeof *st);
     st->r = make(s, irr, NULL);
@@ -225,8 +274,8 @@ int main(int argc, char **argv)
     if (frames > MAX_FRAMES) frames = MAX_FRAMES;
     dm_error err = {0};
     dm_osmesa *ctx = NULL;
-    dm_synth *s = NULL;
-    if (dm_osmesa_create(&ctx, &err) != DM_OK || dm_synth_create(&(dm_synth_options){0}, &s, &err) != DM_OK) {
+    bench_source src, *s = &src;
+    if (dm_osmesa_create(&ctx, &err) != DM_OK || !source_open(s, &err)) {
         fprintf(stderr, "error: %s\n", err.detail);
         return 3;
     }
@@ -237,19 +286,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "error: %s: cannot write\n", path);
         return 4;
     }
-    struct utsname u;
-    uname(&u);
-    char cpu[256] = "unknown";
-    FILE *ci = fopen("/proc/cpuinfo", "r");
-    char line[512];
-    while (ci && fgets(line, sizeof line, ci))
-        if (!strncmp(line, "model name", 10)) {
-            char *c = strchr(line, ':');
-            if (c) snprintf(cpu, sizeof cpu, "%s", c + 2);
-            cpu[strcspn(cpu, "\n")] = 0;
-            break;
-        }
-    if (ci) fclose(ci);
+    char machine[512];
+    bench_machine(machine, sizeof machine);
     double load[3] = {0, 0, 0};
     FILE *la = fopen("/proc/loadavg", "r");
     if (la) {
@@ -258,13 +296,12 @@ int main(int argc, char **argv)
     }
     const char *lp = getenv("LP_NUM_THREADS");
     fprintf(md, "# Renderer timings (llvmpipe)\n\n");
-    fprintf(md, "Machine: `%s %s %s %s`, CPU: %s, %ld cores online, LP_NUM_THREADS=%s, load average at start %.2f "
-                "(the machine is shared: compare rows of one table, not across runs).\n",
-            u.sysname, u.nodename, u.release, u.machine, cpu, sysconf(_SC_NPROCESSORS_ONLN), lp ? lp : "(default)",
-            load[0]);
-    fprintf(md, "Synthetic UV sphere, %d triangles, %dx%d, shadow map 1024, %d taps; median of %d frames after "
+    fprintf(md, "Machine: %s; LP_NUM_THREADS=%s, load average at start %.2f "
+                "(compare rows of one table, not across runs).\n",
+            machine, lp ? lp : "(default)", load[0]);
+    fprintf(md, "%s, %d triangles, %dx%d, shadow map 1024, %d taps; median of %d frames after "
                 "one warm-up; CPU clock around glFinish per pass (%s).\n\n",
-            s->triangle_count, W, H, s->scene.blur_taps, frames, "llvmpipe's timer queries are wrong");
+            s->name, s->triangle_count, W, H, s->scene.blur_taps, frames, "llvmpipe's timer queries are wrong");
 
     /* ---- settings: time and error against the exact path, irradiance 1024 ---- */
     const int irr = 1024;
@@ -358,7 +395,7 @@ int main(int argc, char **argv)
     s->scene = keep;
     fclose(md);
     printf("render bench: wrote %s (default settings, all effects at 1024: %.1f ms/frame)\n", path, default_1024);
-    dm_synth_free(s);
+    source_close(s);
     dm_osmesa_destroy(ctx);
     return 0;
 }
