@@ -12,6 +12,7 @@
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
 #include "render/dm_render_pack.h"
+#include "render/dm_render_prov.h"
 #include "render/dm_render_image.h"
 #include "render/dm_render_synth.h"
 
@@ -163,36 +164,8 @@ static double median(double *v, int n)
 static void provenance(const options *o, const dm_scene *s, const char *input_hash, const dm_renderer *r,
                        dm_provenance *p)
 {
-    dm_prov_init(p, "dermis-render");
-    snprintf(p->input_hash, sizeof p->input_hash, "%s", input_hash);
-    int w, h, irr;
-    dm_renderer_size(r, &w, &h, &irr);
-    dm_prov_add_string(p, "source", o->pack ? o->pack : o->synthetic);
-    dm_prov_add_string(p, "scene", s->path);
-    char fx[256] = "";
-    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
-        if (s->effects[e]) {
-            if (fx[0]) strcat(fx, ",");
-            strcat(fx, dm_effect_name((dm_effect)e));
-        }
-    dm_prov_add_string(p, "effects", fx);
-    dm_prov_add_string(p, "view", o->view_text);
-    dm_prov_add_int(p, "width", w);
-    dm_prov_add_int(p, "height", h);
-    dm_prov_add_int(p, "irradiance_size", irr);
-    dm_prov_add_int(p, "blur_taps", s->blur_taps);
-    dm_prov_add_string(p, "profile", s->profile.name);
-    dm_prov_add_double(p, "mix", s->mix);
-    dm_prov_add_double(p, "exposure", s->exposure);
-    dm_prov_add_double(p, "light_azimuth_deg", o->light_azimuth);
-    dm_prov_add_int(p, "light_count", s->light_count);
-    char cam[160];
-    snprintf(cam, sizeof cam, "eye %g %g %g target %g %g %g fov %g", (double)s->camera_eye[0],
-             (double)s->camera_eye[1], (double)s->camera_eye[2], (double)s->camera_target[0],
-             (double)s->camera_target[1], (double)s->camera_target[2], (double)s->fov_y_deg);
-    dm_prov_add_string(p, "camera", cam);
-    dm_prov_add_int(p, "frames", o->frames);
-    dm_prov_add_string(p, "renderer", dm_renderer_gl_name(r));
+    dm_render_provenance(p, "dermis-render", o->pack ? o->pack : o->synthetic, input_hash, s, r, o->view_text,
+                         o->light_azimuth, o->frames);
 }
 
 /* What is rendered: a verified pack (mapped, nothing copied) or a synthetic scene. */

@@ -10,12 +10,9 @@
 
 void dm_synth_scene(dm_scene *s, float distance)
 {
-    memset(s, 0, sizeof *s);
+    dm_scene_defaults(s); /* every effect on, gems3-skin, 7 taps, 1280x720 ... */
     snprintf(s->path, sizeof s->path, "synthetic");
     snprintf(s->mesh, sizeof s->mesh, "synthetic");
-    s->roughness = 0.3f;
-    s->rho_s = 0.18f;
-    s->mm_per_unit = 50.0;
     s->light_count = 1;
     dm_light *l = &s->lights[0];
     l->type = DM_LIGHT_DIRECTIONAL;
@@ -28,22 +25,7 @@ void dm_synth_scene(dm_scene *s, float distance)
     l->casts_shadow = true;
     snprintf(s->environment, sizeof s->environment, "synthetic-sky");
     s->env_intensity = 0.5f;
-    s->env_rotation_deg = 0.0f;
-    s->env_background = true;
-    for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = true;
-    dm_profile_gems3_skin(&s->profile);
-    snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
-    s->blur_taps = 7;
-    s->irradiance_size = 1024;
-    s->mix = 0.5f;
-    s->exposure = 0.0f;
-    s->glow_threshold = 1.0f;
-    s->glow_intensity = 0.1f;
     s->camera_eye[2] = distance;
-    s->camera_up[1] = 1.0f;
-    s->fov_y_deg = 30.0f;
-    s->width = 1280;
-    s->height = 720;
 }
 
 static void put_vertex(float *v, const float p[3], const float n[3], const float t[3], float sign, float u, float vv)

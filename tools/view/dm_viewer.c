@@ -16,6 +16,7 @@
 #include "core/dm_math.h"
 #include "render/dm_render_image.h"
 #include "render/dm_render_pack.h"
+#include "render/dm_render_prov.h"
 
 const char dm_viewer_attribution[] =
     "\"Infinite, 3D Head Scan\" by Lee Perry-Smith (Infinite-Realities), CC BY 3.0";
@@ -466,46 +467,16 @@ bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *x, int cou
 void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p)
 {
     const dm_scene *s = &v->scene;
-    dm_prov_init(p, "dermis-view");
-    int w = v->opt.width, h = v->opt.height, irr = v->irradiance_size;
-    if (v->r) dm_renderer_size(v->r, &w, &h, &irr);
+    char hash[DM_HASH_HEX_SIZE] = "";
     if (v->opt.pack) {
-        char hash[DM_HASH_HEX_SIZE];
         dm_error err = {0};
-        if (dm_hash_file_hex(v->opt.pack, hash, &err) == DM_OK)
-            snprintf(p->input_hash, sizeof p->input_hash, "%s", hash);
+        if (dm_hash_file_hex(v->opt.pack, hash, &err) != DM_OK) hash[0] = '\0';
     }
-    char synth[64];
-    snprintf(synth, sizeof synth, "%s", v->opt.synthetic ? v->opt.synthetic : "");
-    /* the keys of dermis-render first, so the two tools' files compare key by key */
-    dm_prov_add_string(p, "source", v->opt.pack ? v->opt.pack : synth);
-    dm_prov_add_string(p, "scene", s->path);
-    char fx[256] = "";
-    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
-        if (s->effects[e]) {
-            if (fx[0]) strcat(fx, ",");
-            strcat(fx, dm_effect_name((dm_effect)e));
-        }
-    dm_prov_add_string(p, "effects", fx);
     char view[16];
     dm_viewer_view_text(v, view, sizeof view);
-    dm_prov_add_string(p, "view", view);
-    dm_prov_add_int(p, "width", w);
-    dm_prov_add_int(p, "height", h);
-    dm_prov_add_int(p, "irradiance_size", irr);
-    dm_prov_add_int(p, "blur_taps", s->blur_taps);
-    dm_prov_add_string(p, "profile", s->profile.name);
-    dm_prov_add_double(p, "mix", s->mix);
-    dm_prov_add_double(p, "exposure", s->exposure);
-    dm_prov_add_double(p, "light_azimuth_deg", v->light_rotation_deg);
-    dm_prov_add_int(p, "light_count", s->light_count);
-    char cam[160];
-    snprintf(cam, sizeof cam, "eye %g %g %g target %g %g %g fov %g", (double)s->camera_eye[0],
-             (double)s->camera_eye[1], (double)s->camera_eye[2], (double)s->camera_target[0],
-             (double)s->camera_target[1], (double)s->camera_target[2], (double)s->fov_y_deg);
-    dm_prov_add_string(p, "camera", cam);
-    dm_prov_add_int(p, "frames", 1);
-    dm_prov_add_string(p, "renderer", v->r ? dm_renderer_gl_name(v->r) : "");
+    /* the keys of dermis-render first, so the two tools' files compare key by key */
+    dm_render_provenance(p, "dermis-view", v->opt.pack ? v->opt.pack : v->opt.synthetic ? v->opt.synthetic : "", hash,
+                         s, v->r, view, v->light_rotation_deg, 1);
     /* the viewer's own knobs */
     dm_prov_add_double(p, "view_scale", v->view_scale);
     dm_prov_add_double(p, "blur_scale", v->blur_scale);

@@ -1,0 +1,39 @@
+#include "render/dm_render_prov.h"
+
+#include <stdio.h>
+#include <string.h>
+
+void dm_render_provenance(dm_provenance *p, const char *tool, const char *source, const char *input_hash,
+                          const dm_scene *s, const dm_renderer *r, const char *view, double light_azimuth_deg,
+                          int frames)
+{
+    dm_prov_init(p, tool);
+    snprintf(p->input_hash, sizeof p->input_hash, "%s", input_hash);
+    int w = s->width, h = s->height, irr = s->irradiance_size;
+    if (r) dm_renderer_size(r, &w, &h, &irr);
+    dm_prov_add_string(p, "source", source);
+    dm_prov_add_string(p, "scene", s->path);
+    char fx[256] = "";
+    size_t n = 0;
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e)
+        if (s->effects[e] && n < sizeof fx)
+            n += (size_t)snprintf(fx + n, sizeof fx - n, "%s%s", n ? "," : "", dm_effect_name((dm_effect)e));
+    dm_prov_add_string(p, "effects", fx);
+    dm_prov_add_string(p, "view", view);
+    dm_prov_add_int(p, "width", w);
+    dm_prov_add_int(p, "height", h);
+    dm_prov_add_int(p, "irradiance_size", irr);
+    dm_prov_add_int(p, "blur_taps", s->blur_taps);
+    dm_prov_add_string(p, "profile", s->profile.name);
+    dm_prov_add_double(p, "mix", s->mix);
+    dm_prov_add_double(p, "exposure", s->exposure);
+    dm_prov_add_double(p, "light_azimuth_deg", light_azimuth_deg);
+    dm_prov_add_int(p, "light_count", s->light_count);
+    char cam[160];
+    snprintf(cam, sizeof cam, "eye %g %g %g target %g %g %g fov %g", (double)s->camera_eye[0],
+             (double)s->camera_eye[1], (double)s->camera_eye[2], (double)s->camera_target[0],
+             (double)s->camera_target[1], (double)s->camera_target[2], (double)s->fov_y_deg);
+    dm_prov_add_string(p, "camera", cam);
+    dm_prov_add_int(p, "frames", frames);
+    dm_prov_add_string(p, "renderer", r ? dm_renderer_gl_name(r) : "");
+}
