@@ -323,7 +323,7 @@ int main(int argc, char **argv)
 
     fprintf(md, "## Speed/accuracy settings (`dm_render_desc`), all effects, irradiance %d\n\n", irr);
     fprintf(md, "Error against `exact` on the same frame. Output: linear radiance before tonemapping, max / mean "
-                "|Δ| over RGB (the lit sphere's radiance peaks near %.2f); display: largest 8-bit step after "
+                "|Δ| over RGB (the reference's radiance peaks at %.2f); display: largest 8-bit step after "
                 "tonemapping. Blur: %s (rgb / coverage) where the reference has coverage, max / mean |Δ| (its "
                 "values peak at %.3f).\n\n",
             e[0].out_peak, level, e[0].blur_peak);
