@@ -86,7 +86,7 @@ BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # tests/view/: Criterion binaries that drive dermis-view under xvfb-run (scripts/run-tests.sh)
 VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%,$(wildcard tests/view/*.c)))
 
-.PHONY: all test bench demo deps clean fuzz tools
+.PHONY: all test run-tests bench demo deps clean fuzz tools
 all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
 tools: $(BAKE_BINS) $(RENDER_BINS) $(VIEW_BIN)
 
@@ -171,8 +171,14 @@ $(BENCHES): $(BUILD)/bench/%: $(BUILD)/obj/bench/%.c.o $(RENDER_LIB) $(HOST_LIB)
 deps:
 	@bash scripts/deps.sh
 
+# The entry points build and run in sub-makes: this make parsed the Makefile before deps.sh
+# installed anything, so what depends on installed packages (the viewer and its tests,
+# pkg-config flags) is only right in a make started after it.
 test: deps
 	@$(MAKE) --no-print-directory -j$(NPROC) all
+	@$(MAKE) --no-print-directory run-tests
+
+run-tests:
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
 	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS)
 

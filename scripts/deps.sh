@@ -7,7 +7,7 @@ set -euo pipefail
 required=(
   build-essential pkg-config
   libopenmesh-dev libopenimageio-dev openimageio-tools libopenexr-dev openexr
-  libglfw3-dev libosmesa6-dev xvfb xauth
+  libglfw3-dev libosmesa6-dev xvfb xauth libglx-mesa0 libgl1-mesa-dri
   libcriterion-dev libcjson-dev libxxhash-dev zlib1g-dev
 )
 optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev)
