@@ -10,7 +10,7 @@ required=(
   libglfw3-dev libosmesa6-dev xvfb xauth libglx-mesa0 libgl1-mesa-dri
   libcriterion-dev libcjson-dev libxxhash-dev zlib1g-dev
 )
-optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev)
+optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev libclang-rt-14-dev)
 
 want=("${required[@]}")
 if [ "${DERMIS_DEPS_OPTIONAL:-1}" != 0 ]; then want+=("${optional[@]}"); fi
