@@ -345,7 +345,7 @@ static void check_pack(result *r, const char *file)
         const dm_pack_need *nd = dm_pack_need_find(e->name);
         if (!nd)
             fail(r, "%s: not an entry dermis knows (dm_pack_needs.h)", where);
-        else if (!dm_pack_need_applies(nd, s))
+        else if (!dm_pack_entry_applies(e->name, s))
             fail(r, "%s: the scene's effects do not need it, expected it left out", where);
         dm_provenance p;
         bool has = e->provenance_json && dm_prov_from_json(&p, e->provenance_json, where, &err) == DM_OK;

@@ -88,7 +88,7 @@ static void job_free(job *j)
 static bool wanted(const job *j, const char *entry)
 {
     const dm_pack_need *n = dm_pack_need_find(entry);
-    return n && !n->pending && dm_pack_need_applies(n, &j->scene);
+    return n && !n->pending && dm_pack_entry_applies(entry, &j->scene);
 }
 
 static dm_result add(job *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
@@ -499,34 +499,51 @@ static dm_result step_stretch(job *j, dm_error *err)
     return r;
 }
 
-static dm_result step_environment(job *j, dm_error *err)
+/* One packed environment: k = 0 the main map (env.*), k > 0 alternative k (env<k>.*). */
+static dm_result bake_environment(job *j, int k, dm_error *err)
 {
-    bool lighting = wanted(j, "env.sh") || wanted(j, "env.specular");
-    bool background = wanted(j, "env.background");
+    const dm_pack_need *sh_row = dm_pack_need_find("env.sh"), *spec_row = dm_pack_need_find("env.specular"),
+                       *bg_row = dm_pack_need_find("env.background");
+    char sh_name[DM_PACK_NAME_SIZE], spec_name[DM_PACK_NAME_SIZE], bg_name[DM_PACK_NAME_SIZE];
+    dm_pack_need_entry_name(sh_row, k, sh_name);
+    dm_pack_need_entry_name(spec_row, k, spec_name);
+    dm_pack_need_entry_name(bg_row, k, bg_name);
+    const char *path = k == 0 ? j->scene.environment : j->scene.env_alternatives[k - 1];
+    bool lighting = wanted(j, sh_name) || wanted(j, spec_name);
+    bool background = wanted(j, bg_name);
+    if (!lighting && !background) return DM_OK;
     dm_pack_env env;
-    dm_result r = dm_pack_env_bake(j->scene.environment, lighting, background, TOOL, j->opt->threads, &env, err);
+    dm_result r = dm_pack_env_bake(path, lighting, background, TOOL, j->opt->threads, &env, err);
     char src[200];
-    snprintf(src, sizeof src, "from %.150s", base_name(j->scene.environment));
+    snprintf(src, sizeof src, "from %.150s", base_name(path));
     if (r == DM_OK && lighting) {
         dm_pack_entry d;
         memset(&d, 0, sizeof d);
-        snprintf(d.name, sizeof d.name, "env.sh");
+        snprintf(d.name, sizeof d.name, "%s", sh_name);
         d.kind = DM_PACK_ENV_SH;
         d.sh_order = 2;
         r = add(j, &d, env.sh, sizeof env.sh, &env.sh_prov, src, err);
         if (r == DM_OK) {
-            d = texture_desc("env.specular", DM_TEX_RGBA32F, env.spec_width, env.spec_height);
+            d = texture_desc(spec_name, DM_TEX_RGBA32F, env.spec_width, env.spec_height);
             d.layers = env.spec_layers;
             r = add(j, &d, env.spec_rgba, (size_t)env.spec_width * env.spec_height * env.spec_layers * 4 * sizeof(float),
                     &env.spec_prov, src, err);
         }
     }
     if (r == DM_OK && background) {
-        dm_pack_entry d = texture_desc("env.background", DM_TEX_RGBA32F, env.background_width, env.background_height);
+        dm_pack_entry d = texture_desc(bg_name, DM_TEX_RGBA32F, env.background_width, env.background_height);
         r = add(j, &d, env.background_rgba, (size_t)env.background_width * env.background_height * 4 * sizeof(float),
                 &env.background_prov, src, err);
     }
     dm_pack_env_free(&env);
+    return r;
+}
+
+/* The main environment, then each alternative of environment.alternatives. */
+static dm_result step_environment(job *j, dm_error *err)
+{
+    dm_result r = DM_OK;
+    for (int k = 0; r == DM_OK && k <= j->scene.env_alternative_count; ++k) r = bake_environment(j, k, err);
     return r;
 }
 
@@ -578,7 +595,14 @@ static void explain(const dm_scene *s)
         if (nd->when && m < sizeof by)
             snprintf(by + m, sizeof by - m, " if %s", dm_need_when_text(nd->when));
         const char *status = !applies ? "skip" : nd->pending ? "PENDING" : "pack";
-        printf("%-8s %-15s %-19s %-52s %s\n", status, nd->entry, kind, by, nd->why);
+        for (int c = 0; c < dm_pack_need_copies(nd, s); ++c) { /* env<k>.*: one per alternative map */
+            char name[DM_PACK_NAME_SIZE], why[1200];
+            if (c == 0)
+                snprintf(why, sizeof why, "%s", nd->why);
+            else
+                snprintf(why, sizeof why, "%s (alternative %d: %s)", nd->why, c, base_name(s->env_alternatives[c - 1]));
+            printf("%-8s %-15s %-19s %-52s %s\n", status, dm_pack_need_entry_name(nd, c, name), kind, by, why);
+        }
     }
     printf("\npack = baked and packed; skip = no enabled effect or input needs it; PENDING = needed, but its\n"
            "bake step is not wired into dermis-pack yet (mesh and stretch).\n");

@@ -2,6 +2,7 @@
  * dermis-render, with a panel (Dear ImGui behind tools/view/dm_viewer_ui.h).
  * Straight pipeline: parse → load (pack verified, or synthetic) → window + renderer →
  * event loop (render on demand) → exit code. --script replays timed input for tests. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -298,6 +299,14 @@ static bool run_event(app *a, const dm_script_event *e)
         for (int k = 1; k < e->arg_count; ++k) x[k - 1] = strtof(e->args[k], NULL);
         if (!strcmp(e->args[0], "irradiance")) dm_viewer_set_irradiance(v, (int)x[0]);
         else dm_viewer_set_param(v, e->args[0], x, e->arg_count - 1);
+    } else if (!strcmp(c, "env")) {
+        double k = strtod(e->args[0], NULL);
+        if (k != floor(k)) {
+            dm_viewer_set_status(v, true, "%s:%d: env: '%s' is not an environment index", a->script.path, e->line,
+                                 e->args[0]);
+            return false;
+        }
+        dm_viewer_set_env(v, (int)k);
     } else if (!strcmp(c, "screenshot")) {
         if (!dm_viewer_screenshot(v, e->args[0])) a->save_failures++;
     } else if (!strcmp(c, "window-shot")) {

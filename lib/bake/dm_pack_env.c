@@ -27,11 +27,14 @@ static void sample_rgb(const float *rgb, int w, int h, double u, double v, float
     }
 }
 
-static void base_prov(dm_provenance *p, const char *tool, const char *what, const char *hash)
+/* source: the map's file name (no folder, so packs do not depend on where they were made). */
+static void base_prov(dm_provenance *p, const char *tool, const char *what, const char *hash, const char *path)
 {
     dm_prov_init(p, tool);
     snprintf(p->input_hash, sizeof p->input_hash, "%s", hash);
     dm_prov_add_string(p, "product", what);
+    const char *slash = strrchr(path, '/');
+    dm_prov_add_string(p, "source", slash ? slash + 1 : path);
 }
 
 dm_result dm_pack_env_bake(const char *path, bool lighting, bool background, const char *tool, int threads,
@@ -54,7 +57,7 @@ dm_result dm_pack_env_bake(const char *path, bool lighting, bool background, con
     if (r == DM_OK && lighting) {
         for (int k = 0; k < 9; ++k)
             for (int c = 0; c < 3; ++c) out->sh[k][c] = (float)bake.sh[k][c];
-        base_prov(&out->sh_prov, tool, "radiance SH, order 2", hash);
+        base_prov(&out->sh_prov, tool, "radiance SH, order 2", hash, path);
         dm_prov_add_string(&out->sh_prov, "irradiance", "E(n) = sum A_l L_lm Y_lm(n), A = pi, 2pi/3, pi/4");
         const dm_env_level *top = &bake.levels[0];
         out->spec_width = top->width;
@@ -63,7 +66,7 @@ dm_result dm_pack_env_bake(const char *path, bool lighting, bool background, con
         size_t layer = (size_t)top->width * top->height * 4;
         out->spec_rgba = malloc(layer * (size_t)bake.level_count * sizeof(float));
         if (!out->spec_rgba) r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-        base_prov(&out->spec_prov, tool, "Beckmann-prefiltered radiance, one layer per m", hash);
+        base_prov(&out->spec_prov, tool, "Beckmann-prefiltered radiance, one layer per m", hash, path);
         dm_prov_add_int(&out->spec_prov, "samples", bake.samples);
         for (int k = 0; k < bake.level_count && r == DM_OK; ++k) {
             const dm_env_level *lv = &bake.levels[k];
@@ -99,7 +102,7 @@ dm_result dm_pack_env_bake(const char *path, bool lighting, bool background, con
             }
             out->background_width = w;
             out->background_height = h;
-            base_prov(&out->background_prov, tool, "background radiance", hash);
+            base_prov(&out->background_prov, tool, "background radiance", hash, path);
         }
         free(rgb);
     }

@@ -9,6 +9,7 @@
  *   env.background  RGBA32F equirect radiance at the source's width.
  * Float32 because HDR suns exceed half's 65504. All unrotated: the renderer turns the
  * environment by the scene's rotation at run time (the viewer turns it live). Alpha = 1.
+ * Each provenance names the map's file name (no folder) as string parameter "source".
  */
 #ifndef DM_PACK_ENV_H
 #define DM_PACK_ENV_H

@@ -612,25 +612,28 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
     int n;
     const dm_pack_need *needs = dm_pack_needs(&n);
     for (int k = 0; k < n && r == DM_OK; ++k) {
-        const dm_pack_need *nd = &needs[k];
-        const dm_pack_entry *e = dm_pack_find(pack, nd->entry);
-        if (!e) {
-            if (nd->pending || !dm_pack_need_applies(nd, s)) continue;
-            char by[256] = "";
-            size_t m = 0;
-            for (int fx = 0; fx < DM_EFFECT_COUNT; ++fx)
-                if ((nd->effects & DM_FX(fx)) && s->effects[fx])
-                    m += (size_t)snprintf(by + m, m < sizeof by ? sizeof by - m : 0, "%s%s", m ? ", " : "",
-                                          dm_effect_name((dm_effect)fx));
-            r = dm_fail(err, DM_ERR_FORMAT, "%s: missing required entry \"%s\" (%s, needed by %s%s%s)", pack->what,
-                        nd->entry, nd->why, m ? by : "every scene", nd->when ? " with a " : "",
-                        dm_need_when_text(nd->when));
-        } else if (e->kind != nd->kind || (nd->format >= 0 && e->format != (dm_tex_format)nd->format)) {
-            r = dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\" is %s%s%s, expected %s%s%s", pack->what, e->name,
-                        dm_pack_kind_name(e->kind), e->kind == DM_PACK_TEXTURE ? " " : "",
-                        e->kind == DM_PACK_TEXTURE ? dm_tex_format_get(e->format)->name : "",
-                        dm_pack_kind_name(nd->kind), nd->format >= 0 ? " " : "",
-                        nd->format >= 0 ? dm_tex_format_get((dm_tex_format)nd->format)->name : "");
+        for (int copy = 0; r == DM_OK && copy < dm_pack_need_copies(&needs[k], s); ++copy) { /* env<k>.* too */
+            const dm_pack_need *nd = &needs[k];
+            char name[DM_PACK_NAME_SIZE];
+            const dm_pack_entry *e = dm_pack_find(pack, dm_pack_need_entry_name(nd, copy, name));
+            if (!e) {
+                if (nd->pending || !dm_pack_need_applies(nd, s)) continue;
+                char by[256] = "";
+                size_t m = 0;
+                for (int fx = 0; fx < DM_EFFECT_COUNT; ++fx)
+                    if ((nd->effects & DM_FX(fx)) && s->effects[fx])
+                        m += (size_t)snprintf(by + m, m < sizeof by ? sizeof by - m : 0, "%s%s", m ? ", " : "",
+                                              dm_effect_name((dm_effect)fx));
+                r = dm_fail(err, DM_ERR_FORMAT, "%s: missing required entry \"%s\" (%s, needed by %s%s%s)", pack->what,
+                            name, nd->why, m ? by : "every scene", nd->when ? " with a " : "",
+                            dm_need_when_text(nd->when));
+            } else if (e->kind != nd->kind || (nd->format >= 0 && e->format != (dm_tex_format)nd->format)) {
+                r = dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\" is %s%s%s, expected %s%s%s", pack->what, e->name,
+                            dm_pack_kind_name(e->kind), e->kind == DM_PACK_TEXTURE ? " " : "",
+                            e->kind == DM_PACK_TEXTURE ? dm_tex_format_get(e->format)->name : "",
+                            dm_pack_kind_name(nd->kind), nd->format >= 0 ? " " : "",
+                            nd->format >= 0 ? dm_tex_format_get((dm_tex_format)nd->format)->name : "");
+            }
         }
     }
     free(s);

@@ -1,5 +1,6 @@
 #include "core/dm_pack_needs.h"
 
+#include <stdio.h>
 #include <string.h>
 
 /* The table. Order is the order dermis-pack writes entries and --explain lists them. */
@@ -42,11 +43,62 @@ const dm_pack_need *dm_pack_needs(int *count)
     return needs;
 }
 
-const dm_pack_need *dm_pack_need_find(const char *entry)
+static const dm_pack_need *find_row(const char *entry)
 {
     for (size_t k = 0; k < sizeof needs / sizeof needs[0]; ++k)
         if (strcmp(needs[k].entry, entry) == 0) return &needs[k];
     return NULL;
+}
+
+/* Environment rows are those named "env.<rest>". */
+static bool per_env(const dm_pack_need *n)
+{
+    return strncmp(n->entry, "env.", 4) == 0;
+}
+
+const dm_pack_need *dm_pack_need_find_copy(const char *entry, int *copy)
+{
+    if (copy) *copy = 0;
+    const dm_pack_need *n = find_row(entry);
+    if (n) return n;
+    /* "env<k>.<rest>" with k in [1, max] written without a leading zero */
+    if (strncmp(entry, "env", 3) != 0 || entry[3] < '1' || entry[3] > '9') return NULL;
+    int k = 0;
+    const char *p = entry + 3;
+    while (*p >= '0' && *p <= '9' && k <= DM_SCENE_MAX_ENV_ALTERNATIVES) k = k * 10 + (*p++ - '0');
+    if (*p != '.' || k > DM_SCENE_MAX_ENV_ALTERNATIVES) return NULL;
+    char base[DM_PACK_NAME_SIZE];
+    if (snprintf(base, sizeof base, "env%s", p) >= (int)sizeof base) return NULL;
+    n = find_row(base);
+    if (!n || !per_env(n)) return NULL;
+    if (copy) *copy = k;
+    return n;
+}
+
+const dm_pack_need *dm_pack_need_find(const char *entry)
+{
+    return dm_pack_need_find_copy(entry, NULL);
+}
+
+int dm_pack_need_copies(const dm_pack_need *n, const dm_scene *s)
+{
+    return per_env(n) ? 1 + s->env_alternative_count : 1;
+}
+
+char *dm_pack_need_entry_name(const dm_pack_need *n, int copy, char *out)
+{
+    if (copy == 0 || !per_env(n))
+        snprintf(out, DM_PACK_NAME_SIZE, "%s", n->entry);
+    else
+        snprintf(out, DM_PACK_NAME_SIZE, "env%d%s", copy, n->entry + 3);
+    return out;
+}
+
+bool dm_pack_entry_applies(const char *entry, const dm_scene *s)
+{
+    int copy;
+    const dm_pack_need *n = dm_pack_need_find_copy(entry, &copy);
+    return n && copy < dm_pack_need_copies(n, s) && dm_pack_need_applies(n, s);
 }
 
 bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s)

@@ -10,6 +10,11 @@
  * `pending` marks entries whose producer (mesh + stretch)
  * is not wired into dermis-pack yet: they are listed and explained but not yet required.
  * Wiring one = add its bake step to tools/dermis-pack.c and clear its flag here.
+ *
+ * Several environments: the rows "env.sh", "env.specular", "env.background" stand for one
+ * entry per packed environment: copy 0 is the main map (the row's own name), copy k =
+ * 1..scene's env_alternative_count its k-th alternative, named "env<k>.sh" ... Each copy
+ * applies exactly when its row does.
  */
 #ifndef DM_PACK_NEEDS_H
 #define DM_PACK_NEEDS_H
@@ -46,8 +51,20 @@ typedef struct dm_pack_need {
 
 /* The table; *count receives its length. */
 const dm_pack_need *dm_pack_needs(int *count);
-/* The row for an entry name, or NULL. */
+/* The row for an entry name ("env2.sh" gives the "env.sh" row), or NULL. */
 const dm_pack_need *dm_pack_need_find(const char *entry);
+/* The same, with *copy = the environment index k of an "env<k>." entry (0 otherwise);
+ * k is in [1, DM_SCENE_MAX_ENV_ALTERNATIVES]. copy may be NULL. */
+const dm_pack_need *dm_pack_need_find_copy(const char *entry, int *copy);
+/* How many entries the row stands for in this scene: 1 + s->env_alternative_count for an
+ * environment row, 1 for any other. */
+int dm_pack_need_copies(const dm_pack_need *n, const dm_scene *s);
+/* Writes copy k's entry name into out[DM_PACK_NAME_SIZE]: the row's name for k = 0, "env<k>.sh"
+ * for k > 0 of an environment row. Returns out. */
+char *dm_pack_need_entry_name(const dm_pack_need *n, int copy, char *out);
+/* Whether the entry named `entry` applies to the scene: its row applies and its copy index
+ * is below dm_pack_need_copies. False for names no row knows. */
+bool dm_pack_entry_applies(const char *entry, const dm_scene *s);
 /* Whether the row applies to the scene (pending rows included: check .pending). */
 bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s);
 /* "albedo map", "normal map", ...: the input a condition asks for; "" for DM_NEED_ALWAYS. */

@@ -348,9 +348,43 @@ static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
     return true;
 }
 
+/* "alternatives": an array of at most DM_SCENE_MAX_ENV_ALTERNATIVES non-empty paths. */
+static bool parse_env_alternatives(ctx *c, const cJSON *e, dm_scene *s)
+{
+    const cJSON *v = get(e, "alternatives");
+    if (!v) return true;
+    char want[96];
+    snprintf(want, sizeof want, "an array of at most %d environment map paths", DM_SCENE_MAX_ENV_ALTERNATIVES);
+    if (!cJSON_IsArray(v)) return fail_value(c, DM_ERR_FORMAT, "$.environment.alternatives", v, want);
+    int n = cJSON_GetArraySize(v);
+    if (n > DM_SCENE_MAX_ENV_ALTERNATIVES) {
+        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.environment.alternatives: %d maps, expected at most %d", c->file,
+                       n, DM_SCENE_MAX_ENV_ALTERNATIVES);
+        return false;
+    }
+    if (n > 0 && !*s->environment) {
+        c->r = dm_fail(c->err, DM_ERR_MISMATCH,
+                       "%s: $.environment.alternatives: %d maps, but $.environment.path is missing, expected the "
+                       "main map first",
+                       c->file, n);
+        return false;
+    }
+    s->env_alternative_count = 0;
+    int k = 0;
+    for (const cJSON *a = v->child; a; a = a->next, ++k) {
+        char p[JPATH_SIZE];
+        snprintf(p, sizeof p, "$.environment.alternatives[%d]", k);
+        if (!cJSON_IsString(a)) return fail_value(c, DM_ERR_FORMAT, p, a, "a file path string");
+        if (!*a->valuestring) return fail_value(c, DM_ERR_RANGE, p, a, "a non-empty file path");
+        if (!resolve(c, p, a->valuestring, s->env_alternatives[k])) return false;
+        s->env_alternative_count = k + 1;
+    }
+    return true;
+}
+
 static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
 {
-    static const char *const keys[] = {"path", "intensity", "rotation_deg", "background", NULL};
+    static const char *const keys[] = {"path", "intensity", "rotation_deg", "background", "alternatives", NULL};
     bool ok;
     const cJSON *e = get_object(c, root, "$", "environment", false, &ok);
     if (!ok) return false;
@@ -358,7 +392,7 @@ static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
     return check_keys(c, e, "$.environment", keys) && get_path(c, e, "$.environment", "path", true, s->environment) &&
            get_float(c, e, "$.environment", "intensity", 0.0, 1e6, &s->env_intensity) &&
            get_float(c, e, "$.environment", "rotation_deg", -360.0, 360.0, &s->env_rotation_deg) &&
-           get_bool(c, e, "$.environment", "background", &s->env_background);
+           get_bool(c, e, "$.environment", "background", &s->env_background) && parse_env_alternatives(c, e, s);
 }
 
 static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
@@ -653,6 +687,9 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
     cJSON_AddNumberToObject(env, "intensity", s->env_intensity);
     cJSON_AddNumberToObject(env, "rotation_deg", s->env_rotation_deg);
     cJSON_AddBoolToObject(env, "background", s->env_background);
+    cJSON *alts = cJSON_AddArrayToObject(env, "alternatives");
+    for (int k = 0; k < s->env_alternative_count; ++k)
+        cJSON_AddItemToArray(alts, cJSON_CreateString(s->env_alternatives[k]));
     cJSON *fx = cJSON_AddObjectToObject(r, "effects");
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
         const char *name = dm_effect_name((dm_effect)e);

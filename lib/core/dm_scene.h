@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-enum { DM_SCENE_PATH_SIZE = 1024, DM_SCENE_MAX_LIGHTS = 8 };
+enum { DM_SCENE_PATH_SIZE = 1024, DM_SCENE_MAX_LIGHTS = 8, DM_SCENE_MAX_ENV_ALTERNATIVES = 7 };
 
 typedef enum dm_effect {
     DM_EFFECT_SPECULAR = 0,         /* KS specular (Beckmann LUT, Fresnel, spec map) */
@@ -75,6 +75,10 @@ typedef struct dm_scene {
     float env_intensity;                  /* default 1 */
     float env_rotation_deg;               /* about +Y, default 0 */
     bool env_background;                  /* shown behind the head, default true */
+    /* more maps to choose among (the viewer's selector): packed as env<k>.* for k = 1..count,
+     * baked like the main one; the scene's intensity, rotation and background apply to each */
+    int env_alternative_count;            /* [0, DM_SCENE_MAX_ENV_ALTERNATIVES], default 0 */
+    char env_alternatives[DM_SCENE_MAX_ENV_ALTERNATIVES][DM_SCENE_PATH_SIZE];
 
     bool effects[DM_EFFECT_COUNT];
     /* subsurface */
@@ -102,7 +106,8 @@ typedef struct dm_scene {
  *                   "roughness": [0, 1], "rho_s": [0, 1] },
  *     "lights": [ { "type": "directional"|"point" REQUIRED, "direction"|"position" REQUIRED,
  *                   "color": [3 × [0, 1e6]], "intensity": [0, 1e6], "casts_shadow": bool } ] (≤ 8),
- *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background" },
+ *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background",
+ *                      "alternatives": [ ≤ 7 non-empty paths ] (needs "path") },
  *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
  *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
  *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1];

@@ -60,9 +60,20 @@ static dm_result mesh(const dm_pack *pack, dm_render_assets *a, dm_error *err)
     return DM_OK;
 }
 
-static dm_result environment(const dm_pack *pack, dm_render_assets *a, dm_error *err)
+/* The entry name of environment env's "env.<what>" ("env2.sh" for env 2). */
+static const char *env_entry(int env, const char *what, char out[DM_PACK_NAME_SIZE])
 {
-    const dm_pack_entry *sh = dm_pack_find(pack, "env.sh");
+    if (env == 0)
+        snprintf(out, DM_PACK_NAME_SIZE, "env.%s", what);
+    else
+        snprintf(out, DM_PACK_NAME_SIZE, "env%d.%s", env, what);
+    return out;
+}
+
+static dm_result environment(const dm_pack *pack, int env, dm_render_assets *a, dm_error *err)
+{
+    char name[DM_PACK_NAME_SIZE];
+    const dm_pack_entry *sh = dm_pack_find(pack, env_entry(env, "sh", name));
     if (sh) {
         if (sh->sh_order != 2 || sh->size != sizeof a->env_sh)
             return dm_fail(err, DM_ERR_FORMAT, "%s: env.sh of order %d, expected order 2 (9 RGB)", pack->what,
@@ -70,7 +81,7 @@ static dm_result environment(const dm_pack *pack, dm_render_assets *a, dm_error 
         memcpy(a->env_sh, sh->data, sizeof a->env_sh);
         a->has_env_sh = true;
     }
-    const dm_pack_entry *spec = dm_pack_find(pack, "env.specular");
+    const dm_pack_entry *spec = dm_pack_find(pack, env_entry(env, "specular", name));
     if (spec) {
         if (spec->levels != 1 || spec->layers < 1 || spec->layers > DM_RENDER_ENV_LEVELS_MAX)
             return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular has %d layers, expected 1..%d (one per m)",
@@ -90,7 +101,7 @@ static dm_result environment(const dm_pack *pack, dm_render_assets *a, dm_error 
         }
         a->env_level_count = spec->layers;
     }
-    return texture(pack, "env.background", &a->env_background, err);
+    return texture(pack, env_entry(env, "background", name), &a->env_background, err);
 }
 
 static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err)
@@ -105,10 +116,56 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     return texture(pack, "stretch.mask", &a->stretch_mask, err);
 }
 
+static bool has_env(const dm_pack *pack, int env)
+{
+    char name[DM_PACK_NAME_SIZE];
+    return dm_pack_find(pack, env_entry(env, "sh", name)) || dm_pack_find(pack, env_entry(env, "specular", name)) ||
+           dm_pack_find(pack, env_entry(env, "background", name));
+}
+
+int dm_render_env_count(const dm_pack *pack)
+{
+    int n = 0;
+    while (n <= DM_SCENE_MAX_ENV_ALTERNATIVES && has_env(pack, n)) ++n;
+    return n;
+}
+
+char *dm_render_env_name(const dm_pack *pack, const dm_scene *scene, int env, char *out, size_t size)
+{
+    static const char *const what[] = {"sh", "specular", "background"};
+    const char *path = env == 0 ? scene->environment
+                       : env > 0 && env <= scene->env_alternative_count ? scene->env_alternatives[env - 1] : "";
+    const char *slash = strrchr(path, '/');
+    snprintf(out, size, "%s", slash ? slash + 1 : path);
+    for (int k = 0; k < 3; ++k) {
+        char name[DM_PACK_NAME_SIZE];
+        const dm_pack_entry *e = dm_pack_find(pack, env_entry(env, what[k], name));
+        dm_provenance p;
+        dm_error ignored;
+        if (!e || !e->provenance_json || dm_prov_from_json(&p, e->provenance_json, pack->what, &ignored) != DM_OK)
+            continue;
+        const dm_param *src = dm_prov_find(&p, "source");
+        if (src && src->type == DM_PARAM_STRING && src->s[0]) {
+            snprintf(out, size, "%s", src->s);
+            break;
+        }
+    }
+    return out;
+}
+
 dm_result dm_render_assets_from_pack(const dm_pack *pack, dm_scene *scene, dm_profile *profile,
                                      dm_render_assets *assets, dm_error *err)
 {
+    return dm_render_assets_from_pack_env(pack, 0, scene, profile, assets, err);
+}
+
+dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene *scene, dm_profile *profile,
+                                         dm_render_assets *assets, dm_error *err)
+{
     memset(assets, 0, sizeof *assets);
+    if (env != 0 && (env < 0 || env >= dm_render_env_count(pack)))
+        return dm_fail(err, DM_ERR_RANGE, "%s: environment %d, expected 0..%d (the pack holds %d)", pack->what, env,
+                       dm_render_env_count(pack) - 1, dm_render_env_count(pack));
     dm_result r = dm_pack_scene(pack, scene, err);
     if (r != DM_OK) return r;
     *profile = scene->profile;
@@ -133,5 +190,5 @@ dm_result dm_render_assets_from_pack(const dm_pack *pack, dm_scene *scene, dm_pr
     if ((r = texture(pack, "lut.rho_dt", &assets->rho_dt, err)) != DM_OK) return r;
     if ((r = texture(pack, "lut.env_brdf", &assets->env_brdf, err)) != DM_OK) return r;
     if ((r = stretch(pack, assets, err)) != DM_OK) return r;
-    return environment(pack, assets, err);
+    return environment(pack, env, assets, err);
 }

@@ -29,6 +29,21 @@ extern "C" {
 dm_result dm_render_assets_from_pack(const dm_pack *pack, dm_scene *scene, dm_profile *profile,
                                      dm_render_assets *assets, dm_error *err);
 
+/* How many environments the pack holds: 1 + the scene's alternatives when it has env.*
+ * entries (env<k>.* for k ≥ 1, dm_pack_needs.h), 0 when it has none. */
+int dm_render_env_count(const dm_pack *pack);
+
+/* The same as dm_render_assets_from_pack with environment `env` in [0, dm_render_env_count)
+ * (0 = the main map, k = env<k>.*): the assets point at that environment's entries. Fails
+ * with DM_ERR_RANGE for an index the pack does not hold. */
+dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene *scene, dm_profile *profile,
+                                         dm_render_assets *assets, dm_error *err);
+
+/* The file name of environment `env`'s map ("venice_sunset_1k.hdr"), from its entries'
+ * provenance source ("from NAME"), else from the scene's path; "" when unknown. Writes at
+ * most size bytes into out and returns out. */
+char *dm_render_env_name(const dm_pack *pack, const dm_scene *scene, int env, char *out, size_t size);
+
 #ifdef __cplusplus
 }
 #endif

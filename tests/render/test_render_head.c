@@ -166,6 +166,7 @@ static void light_from_behind(dm_scene *s)
     /* the head faces +Z: the light comes from −Z; no environment, so every light is it */
     s->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] = false;
     s->environment[0] = '\0';
+    s->env_alternative_count = 0;
     s->light_count = 1;
     s->lights[0].type = DM_LIGHT_DIRECTIONAL;
     s->lights[0].direction[0] = 0.0f;

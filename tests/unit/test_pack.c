@@ -15,6 +15,7 @@
 #include "core/dm_hash.h"
 #include "core/dm_lut_check.h"
 #include "core/dm_pack.h"
+#include "core/dm_pack_needs.h"
 
 /* specular + energy conservation: needs scene, lut.beckmann (r8), lut.rho_dt (r32f) */
 static const char *scene_json = "{\"mesh\": {\"path\": \"head.obj\"}, "
@@ -623,4 +624,83 @@ Test(lut_prov, provenance_survives_png_and_exr_files)
     dm_image_free(&back);
     dm_beckmann_lut_free(&b);
     unlink(png);
+}
+
+/* --- several environments (environment.alternatives) -------------------------------- */
+
+/* Environment lighting with one alternative map and no background: needs scene, the mesh,
+ * lut.env_brdf, env.sh, env.specular, env1.sh, env1.specular. skip names one to leave out. */
+static uint8_t *build_env(const char *skip, size_t *size)
+{
+    static const char *json = "{\"mesh\": {\"path\": \"head.obj\"}, \"environment\": {\"path\": \"a.hdr\", "
+                              "\"background\": false, \"alternatives\": [\"b.hdr\"]}, "
+                              "\"effects\": {\"environment_lighting\": true}}";
+    dm_pack_writer w;
+    dm_pack_writer_init(&w);
+    dm_provenance p;
+    dm_prov_init(&p, "test_pack");
+    dm_error err = {0};
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "scene");
+    d.kind = DM_PACK_SCENE;
+    cr_assert_eq(dm_pack_writer_add(&w, &d, json, strlen(json), &p, &err), DM_OK, "%s", err.detail);
+    add_mesh(&w, &p, false);
+    float rg[4 * 4 * 2] = {0}, rgba[4 * 2 * 4] = {0}, sh[27] = {0};
+    d = tex("lut.env_brdf", DM_TEX_RG32F, 4, 4);
+    cr_assert_eq(dm_pack_writer_add(&w, &d, rg, sizeof rg, &p, &err), DM_OK, "%s", err.detail);
+    const char *names[] = {"env.sh", "env.specular", "env1.sh", "env1.specular"};
+    for (int k = 0; k < 4; ++k) {
+        if (skip && !strcmp(skip, names[k])) continue;
+        if (k % 2 == 0) {
+            memset(&d, 0, sizeof d);
+            snprintf(d.name, sizeof d.name, "%s", names[k]);
+            d.kind = DM_PACK_ENV_SH;
+            d.sh_order = 2;
+            cr_assert_eq(dm_pack_writer_add(&w, &d, sh, sizeof sh, &p, &err), DM_OK, "%s", err.detail);
+        } else {
+            d = tex(names[k], DM_TEX_RGBA32F, 4, 2);
+            cr_assert_eq(dm_pack_writer_add(&w, &d, rgba, sizeof rgba, &p, &err), DM_OK, "%s", err.detail);
+        }
+    }
+    uint8_t *buf = NULL;
+    cr_assert_eq(dm_pack_writer_build(&w, &p, &buf, size, &err), DM_OK, "%s", err.detail);
+    dm_pack_writer_free(&w);
+    return buf;
+}
+
+Test(pack_env, alternatives_present_open_and_are_known)
+{
+    size_t size;
+    uint8_t *buf = build_env(NULL, &size);
+    dm_pack pack;
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open_memory(buf, size, "t.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    dm_scene sc;
+    cr_assert_eq(dm_pack_scene(&pack, &sc, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(sc.env_alternative_count, 1);
+    int copy = -1;
+    cr_assert_eq(dm_pack_need_find_copy("env1.specular", &copy), dm_pack_need_find("env.specular"));
+    cr_assert_eq(copy, 1);
+    cr_assert(dm_pack_entry_applies("env1.sh", &sc));
+    cr_assert(!dm_pack_entry_applies("env2.sh", &sc), "only one alternative");
+    cr_assert(!dm_pack_entry_applies("env1.background", &sc), "background is off");
+    cr_assert_null(dm_pack_need_find("env8.sh"), "at most 7 alternatives");
+    cr_assert_null(dm_pack_need_find("env0.sh"));
+    cr_assert_null(dm_pack_need_find("env01.sh"));
+    cr_assert_null(dm_pack_need_find("env1.mesh"));
+    cr_assert_null(dm_pack_need_find("lut1.beckmann"));
+    dm_pack_close(&pack);
+    free(buf);
+}
+
+Test(pack_env, missing_alternative_is_refused_by_name)
+{
+    size_t size;
+    uint8_t *buf = build_env("env1.specular", &size);
+    expect_refused(buf, size, DM_ERR_FORMAT, "missing required entry \"env1.specular\"");
+    free(buf);
+    buf = build_env("env1.sh", &size);
+    expect_refused(buf, size, DM_ERR_FORMAT, "missing required entry \"env1.sh\"");
+    free(buf);
 }

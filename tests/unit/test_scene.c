@@ -47,6 +47,8 @@ Test(scene, bundled_full_scene_has_every_effect_and_existing_files)
     cr_assert_eq(access(scene.normal_map, R_OK), 0, "%s", scene.normal_map);
     cr_assert_eq(access(scene.specular_map, R_OK), 0, "%s", scene.specular_map);
     cr_assert_eq(access(scene.environment, R_OK), 0, "%s", scene.environment);
+    cr_assert_eq(scene.env_alternative_count, 1);
+    cr_assert_eq(access(scene.env_alternatives[0], R_OK), 0, "%s", scene.env_alternatives[0]);
     /* directional lights are normalised */
     const float *d = scene.lights[0].direction;
     cr_assert_float_eq(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1.0f, 1e-6f);
@@ -119,6 +121,20 @@ Test(scene, defaults_when_optional_sections_are_absent)
     cr_assert_eq(scene.light_count, 0);
 }
 
+Test(scene, environment_alternatives_resolve_in_order)
+{
+    dm_error err = {0};
+    const char *json = "{" BASE ", \"environment\": {\"path\": \"a.hdr\", "
+                       "\"alternatives\": [\"env/b.hdr\", \"/abs/c.exr\"]}}";
+    cr_assert_eq(dm_scene_parse(json, "/data/scenes/x.json", &scene, &err), DM_OK, "%s", err.detail);
+    cr_assert_str_eq(scene.environment, "/data/scenes/a.hdr");
+    cr_assert_eq(scene.env_alternative_count, 2);
+    cr_assert_str_eq(scene.env_alternatives[0], "/data/scenes/env/b.hdr");
+    cr_assert_str_eq(scene.env_alternatives[1], "/abs/c.exr");
+    cr_assert_eq(dm_scene_parse("{" BASE "}", "/s/t.json", &scene, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(scene.env_alternative_count, 0);
+}
+
 Test(scene_error, missing_effects)
 {
     expect_error("{" MESH "}", DM_ERR_FORMAT, "$.effects: missing", NULL);
@@ -143,6 +159,14 @@ Test(scene, to_json_round_trips)
     cr_assert_eq(b->mm_per_unit, a.mm_per_unit);
     cr_assert_eq(b->roughness, a.roughness);
     cr_assert_eq(b->env_rotation_deg, a.env_rotation_deg);
+    cr_assert_eq(b->env_alternative_count, a.env_alternative_count);
+    cr_assert_gt(a.env_alternative_count, 0);
+    for (int k = 0; k < a.env_alternative_count; ++k) { /* a relative path lands in the new home's folder */
+        char want[DM_SCENE_PATH_SIZE + 16];
+        snprintf(want, sizeof want, "%s%s", a.env_alternatives[k][0] == '/' ? "" : "/elsewhere/",
+                 a.env_alternatives[k]);
+        cr_assert_str_eq(b->env_alternatives[k], want);
+    }
     cr_assert_eq(memcmp(b->camera_eye, a.camera_eye, sizeof a.camera_eye), 0);
     cr_assert_eq(b->width, a.width);
     free(b);
@@ -280,6 +304,29 @@ Test(scene_error, too_many_lights)
         n += (size_t)snprintf(json + n, sizeof json - n, "%s{\"type\": \"point\", \"position\": [0,0,0]}", k ? "," : "");
     snprintf(json + n, sizeof json - n, "]}");
     expect_error(json, DM_ERR_RANGE, "$.lights: 9 lights, expected at most 8", NULL);
+}
+
+Test(scene_error, too_many_environment_alternatives)
+{
+    expect_error("{" BASE ", \"environment\": {\"path\": \"a.hdr\", \"alternatives\": "
+                 "[\"1\", \"2\", \"3\", \"4\", \"5\", \"6\", \"7\", \"8\"]}}",
+                 DM_ERR_RANGE, "$.environment.alternatives: 8 maps", "at most 7");
+}
+
+Test(scene_error, environment_alternatives_wrong_type)
+{
+    expect_error("{" BASE ", \"environment\": {\"path\": \"a.hdr\", \"alternatives\": \"b.hdr\"}}",
+                 DM_ERR_FORMAT, "$.environment.alternatives: \"b.hdr\" is not an array", NULL);
+    expect_error("{" BASE ", \"environment\": {\"path\": \"a.hdr\", \"alternatives\": [\"b.hdr\", 3]}}",
+                 DM_ERR_FORMAT, "$.environment.alternatives[1]: 3 is not a file path string", NULL);
+    expect_error("{" BASE ", \"environment\": {\"path\": \"a.hdr\", \"alternatives\": [\"\"]}}",
+                 DM_ERR_RANGE, "$.environment.alternatives[0]", "non-empty");
+}
+
+Test(scene_error, environment_alternatives_without_main_map)
+{
+    expect_error("{" BASE ", \"environment\": {\"alternatives\": [\"b.hdr\"]}}", DM_ERR_MISMATCH,
+                 "$.environment.alternatives", "$.environment.path is missing");
 }
 
 Test(scene_error, environment_lighting_without_map)

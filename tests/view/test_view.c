@@ -6,12 +6,14 @@
  * clearly. Sizes are small (llvmpipe). */
 #define _GNU_SOURCE /* memmem */
 #include <criterion/criterion.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
+#include "core/dm_scene.h"
 
 #define VIEW DERMIS_BIN "/dermis-view"
 #define SIZE "--size 192x108 --irradiance 128"
@@ -216,6 +218,66 @@ static char *pack_path(const char *dir, char *out, size_t size)
     snprintf(line, sizeof line, DERMIS_BIN "/dermis-pack assets/scenes/lps-specular.json -o %s --quiet", out);
     if (test_run(line, NULL) != 0) return NULL;
     return out;
+}
+
+/* A scene with one alternative environment (lps-env.json plus royal_esplanade), at a
+ * reduced size: dermis-check passes the pack, the viewer's `env K` switches maps and the
+ * pictures differ; switching back gives the first picture again; a missing index fails. */
+Test(view, env_command_switches_between_packed_environments, .timeout = 120)
+{
+    need_display();
+    char dir[64], abs_path[PATH_MAX], scene_path[128], pack[128], line[1024], log[160], script[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    cr_assert(realpath("assets/scenes/lps-env.json", abs_path), "run from the repository root");
+    dm_scene s;
+    dm_error err = {0};
+    cr_assert_eq(dm_scene_read(abs_path, &s, &err), DM_OK, "%s", err.detail);
+    s.irradiance_size = 128, s.width = 192, s.height = 108;
+    s.env_alternative_count = 1;
+    snprintf(s.env_alternatives[0], sizeof s.env_alternatives[0], "%s", DERMIS_ASSETS "/env/royal_esplanade_1k.hdr");
+    char *json = NULL;
+    cr_assert_eq(dm_scene_to_json(&s, &json, &err), DM_OK, "%s", err.detail);
+    snprintf(scene_path, sizeof scene_path, "%s/scene.json", dir);
+    write_text(scene_path, json);
+    free(json);
+    snprintf(pack, sizeof pack, "%s/env2.dpk", dir);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(line, sizeof line, DERMIS_BIN "/dermis-pack %s -o %s --quiet", scene_path, pack);
+    cr_assert_eq(test_run(line, log), 0, "dermis-pack failed: %s", test_slurp(log));
+    snprintf(line, sizeof line, DERMIS_BIN "/dermis-check %s", pack);
+    cr_assert_eq(test_run(line, log), 0, "dermis-check refused the pack: %s", test_slurp(log));
+    snprintf(script, sizeof script, "%s/s.txt", dir);
+    snprintf(line, sizeof line, "0 screenshot %s/a.png\n0.1 env 1\n0.1 screenshot %s/b.png\n0.2 env 0\n"
+             "0.2 screenshot %s/c.png\n", dir, dir, dir);
+    write_text(script, line);
+    snprintf(line, sizeof line, VIEW " %s " SIZE " --script %s", pack, script);
+    int rc = test_run(line, log);
+    char *out = test_slurp(log);
+    cr_assert_eq(rc, 0, "dermis-view exited %d:\n%s", rc, out);
+    cr_expect(strstr(out, "0 failed, 0 GL errors") != NULL, "no clean summary:\n%s", out);
+    free(out);
+    uint16_t *px[3];
+    int w = 0, h = 0, c = 0, bits = 0;
+    for (int k = 0; k < 3; ++k) {
+        char shot[160];
+        snprintf(shot, sizeof shot, "%s/%c.png", dir, 'a' + k);
+        expect_picture(shot, 192, 108);
+        px[k] = tpng_read(shot, &w, &h, &c, &bits);
+        cr_assert(px[k], "%s unreadable", shot);
+    }
+    size_t n = (size_t)w * h * c * sizeof **px;
+    cr_expect_neq(memcmp(px[0], px[1], n), 0, "env 1 changed nothing");
+    cr_expect_eq(memcmp(px[0], px[2], n), 0, "env 0 did not give back the first picture");
+    for (int k = 0; k < 3; ++k) free(px[k]);
+    /* an index the pack does not hold */
+    snprintf(line, sizeof line, "0 env 2\n");
+    write_text(script, line);
+    snprintf(line, sizeof line, VIEW " %s " SIZE " --script %s", pack, script);
+    rc = test_run(line, log);
+    out = test_slurp(log);
+    cr_expect_neq(rc, 0, "env 2 of 2 maps passed:\n%s", out);
+    cr_expect(strstr(out, "environment 2 is not in [0, 1]") != NULL, "unclear message:\n%s", out);
+    free(out);
 }
 
 /* The corrupt pack stops the viewer before any window: no display needed. */

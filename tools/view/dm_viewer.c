@@ -97,6 +97,7 @@ dm_result dm_viewer_load(dm_viewer *v, const dm_viewer_options *opt, dm_error *e
         dm_result rc = open_pack(opt->pack, &v->pack, &v->loaded, &v->profile, &v->assets, err);
         if (rc != DM_OK) return rc;
         v->pack_open = true;
+        v->env_count = dm_render_env_count(&v->pack);
         file_stamp(opt->pack, &v->watch_mtime_ns, &v->watch_size);
     } else {
         dm_synth_options so = {.shape = strcmp(opt->synthetic, "quad") ? DM_SYNTH_SPHERE : DM_SYNTH_QUAD};
@@ -371,6 +372,60 @@ bool dm_viewer_set_irradiance(dm_viewer *v, int size)
     return rebuild(v, &prev_scene, prev, what);
 }
 
+/* Points v->assets at packed environment k and names its map in the edited scene. */
+static dm_result assets_for_env(dm_viewer *v, int k, dm_error *err)
+{
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets a;
+    dm_result rc = dm_render_assets_from_pack_env(&v->pack, k, &scene, &profile, &a, err);
+    if (rc != DM_OK) return rc;
+    a.scene = &v->scene;
+    a.profile = &v->profile;
+    v->assets = a;
+    v->env = k;
+    snprintf(v->scene.environment, sizeof v->scene.environment, "%s",
+             k == 0 ? v->loaded.environment : v->loaded.env_alternatives[k - 1]);
+    return DM_OK;
+}
+
+bool dm_viewer_set_env(dm_viewer *v, int k)
+{
+    if (!v->pack_open || k < 0 || k >= v->env_count) {
+        dm_viewer_set_status(v, true, "environment %d is not in [0, %d] (the %s holds %d)", k,
+                             v->env_count > 0 ? v->env_count - 1 : 0, v->pack_open ? "pack" : "synthetic scene",
+                             v->env_count);
+        return false;
+    }
+    if (k == v->env) return true;
+    int prev = v->env;
+    dm_error err = {0};
+    char name[256], what[300];
+    dm_viewer_env_name(v, k, name, (int)sizeof name);
+    snprintf(what, sizeof what, "environment %d (%s)", k, name);
+    if (assets_for_env(v, k, &err) == DM_OK && create_renderer(v, &err) == DM_OK) {
+        dm_viewer_set_status(v, false, "%s", what);
+        return true;
+    }
+    char why[sizeof err.detail];
+    snprintf(why, sizeof why, "%s", err.detail);
+    dm_error err2 = {0};
+    if (assets_for_env(v, prev, &err2) != DM_OK || create_renderer(v, &err2) != DM_OK)
+        fprintf(stderr, "error: cannot restore the renderer: %s\n", err2.detail);
+    dm_viewer_set_status(v, true, "%s refused: %s", what, why);
+    return false;
+}
+
+void dm_viewer_env_name(const dm_viewer *v, int k, char *out, int size)
+{
+    if (v->pack_open) {
+        dm_render_env_name(&v->pack, &v->loaded, k, out, (size_t)size);
+    } else {
+        const char *slash = strrchr(v->loaded.environment, '/');
+        snprintf(out, (size_t)size, "%s", slash ? slash + 1 : v->loaded.environment);
+    }
+}
+
 bool dm_viewer_set_view(dm_viewer *v, const char *name)
 {
     dm_view view;
@@ -487,6 +542,7 @@ void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p)
     dm_prov_add_double(p, "env_intensity", s->env_intensity);
     dm_prov_add_double(p, "env_rotation_deg", s->env_rotation_deg);
     dm_prov_add_int(p, "env_background", s->env_background);
+    dm_prov_add_int(p, "env_index", v->env);
     dm_prov_add_double(p, "glow_threshold", s->glow_threshold);
     dm_prov_add_double(p, "glow_intensity", s->glow_intensity);
     for (int i = 0; i < s->light_count && i < 8; ++i) {
@@ -571,6 +627,11 @@ void dm_viewer_watch(dm_viewer *v, double now_ms)
     v->assets = assets;
     v->assets.profile = &v->profile;
     v->assets.scene = &v->scene;
+    v->env_count = dm_render_env_count(&v->pack);
+    int env = v->env;
+    v->env = 0;
+    if (env > 0 && env < v->env_count && assets_for_env(v, env, &err) != DM_OK)
+        fprintf(stderr, "warning: reload shows the main environment: %s\n", err.detail);
     if (create_renderer(v, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "reload: %s", err.detail);
         return;

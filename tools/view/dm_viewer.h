@@ -63,6 +63,8 @@ typedef struct dm_viewer {
     float rotate_deg_per_s;
     int light; /* the light the panel and light drag edit */
     int irradiance_size;
+    /* packed environments (dm_render_env_count): env is the one shown, 0 = the main map */
+    int env, env_count;
     /* debug views available in the current pass list */
     int view_count;
     char view_names[DM_VIEWER_MAX_VIEWS][16];
@@ -102,6 +104,11 @@ void dm_viewer_reset_camera(dm_viewer *v);
 bool dm_viewer_set_effect(dm_viewer *v, dm_effect e, bool on);
 bool dm_viewer_set_background(dm_viewer *v, bool on);
 bool dm_viewer_set_irradiance(dm_viewer *v, int size);
+/* Shows packed environment k in [0, env_count) (0 = the scene's main map, k = its k-th
+ * alternative): the renderer is recreated over that environment's entries (no copies). */
+bool dm_viewer_set_env(dm_viewer *v, int k);
+/* The file name of packed environment k (from its provenance, else the scene). */
+void dm_viewer_env_name(const dm_viewer *v, int k, char *out, int size);
 bool dm_viewer_set_view(dm_viewer *v, const char *name);
 bool dm_viewer_cycle_view(dm_viewer *v, int step);
 /* "exposure", "mix", "blur_scale", "roughness_scale", "view_scale", "env_intensity",

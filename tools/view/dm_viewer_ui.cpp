@@ -104,10 +104,15 @@ static void section_view(dm_viewer *v)
 static void section_environment(dm_viewer *v)
 {
     dm_scene *s = &v->scene;
-    const char *name = s->environment[0] ? strrchr(s->environment, '/') : NULL;
-    name = name ? name + 1 : (s->environment[0] ? s->environment : "(none)");
-    if (ImGui::BeginCombo("map", name)) { /* a pack holds its scene's one environment */
-        ImGui::Selectable(name, true);
+    char name[256];
+    dm_viewer_env_name(v, v->env, name, (int)sizeof name);
+    if (ImGui::BeginCombo("map", name[0] ? name : "(none)")) { /* every packed environment */
+        for (int k = 0; k < (v->env_count > 0 ? v->env_count : 1); ++k) { /* synthetic: its one map */
+            char item[280];
+            dm_viewer_env_name(v, k, name, (int)sizeof name);
+            snprintf(item, sizeof item, "%s##env%d", name[0] ? name : "(unnamed)", k);
+            if (ImGui::Selectable(item, k == v->env) && k != v->env) dm_viewer_set_env(v, k);
+        }
         ImGui::EndCombo();
     }
     if (ImGui::SliderFloat("env intensity", &s->env_intensity, 0.0f, 4.0f, "%.2f")) v->dirty = true;
