@@ -38,6 +38,8 @@ static void usage(FILE *f)
             "  --beckmann FILE.png    take this baked Beckmann LUT instead of baking (provenance must match)\n"
             "  --rho-dt FILE.exr      take this baked rho_dt LUT (channel \"rho_dt\"; provenance must match)\n"
             "  --env-brdf FILE.exr    take this baked env-BRDF LUT (channels \"scale\", \"bias\")\n"
+            "  --env FILE.exr         take this dermis-bake-env output for the scene map it was baked\n"
+            "                         from (matched by content hash; unrotated); repeat for several maps\n"
             "  --beckmann-size N      Beckmann LUT size, N x N (default %d, range 16..%d)\n"
             "  --lut-size N           rho_dt / env-BRDF LUT size, N x N (default %d, range 8..1024)\n"
             "  --lut-nodes N          Gauss-Legendre nodes for rho_dt (default %d, range 8..128)\n"
@@ -52,6 +54,8 @@ static void usage(FILE *f)
 
 typedef struct options {
     const char *scene, *output, *beckmann, *rho_dt, *env_brdf;
+    const char *env_files[8];
+    int env_file_count;
     bool explain, verbose, quiet;
     int beckmann_size, lut_size, lut_nodes, threads;
 } options;
@@ -71,6 +75,7 @@ typedef struct job {
     report_row rows[64];
     int row_count;
     double step_t0;
+    bool env_file_used[8]; /* which --env files served a map */
     dm_mesh mesh; /* loaded once, for the mesh and stretch steps */
     bool mesh_loaded;
     char mesh_hash[DM_HASH_HEX_SIZE];
@@ -513,9 +518,30 @@ static dm_result bake_environment(job *j, int k, dm_error *err)
     bool background = wanted(j, bg_name);
     if (!lighting && !background) return DM_OK;
     dm_pack_env env;
-    dm_result r = dm_pack_env_bake(path, lighting, background, TOOL, j->opt->threads, &env, err);
+    dm_result r = DM_OK;
     char src[200];
     snprintf(src, sizeof src, "from %.150s", base_name(path));
+    /* An already-baked file for this map (matched by content hash), else bake. A file for
+     * another map is skipped; an unreadable file, or one for this map that cannot serve,
+     * is an error that says why. */
+    int used = -1;
+    for (int f = 0; f < j->opt->env_file_count && used < 0; ++f) {
+        bool same_map = false;
+        r = dm_pack_env_from_file(j->opt->env_files[f], path, lighting, background, TOOL, &env, &same_map, err);
+        if (r == DM_OK) {
+            used = f;
+            break;
+        }
+        dm_pack_env_free(&env);
+        if (r != DM_ERR_MISMATCH || same_map) return r;
+        r = DM_OK;
+    }
+    if (used >= 0) {
+        j->env_file_used[used] = true;
+        snprintf(src, sizeof src, "from %.150s", base_name(j->opt->env_files[used]));
+    } else {
+        r = dm_pack_env_bake(path, lighting, background, TOOL, j->opt->threads, &env, err);
+    }
     if (r == DM_OK && lighting) {
         dm_pack_entry d;
         memset(&d, 0, sizeof d);
@@ -631,6 +657,12 @@ static int parse_args(int argc, char **argv, options *o)
             if (!(o->rho_dt = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--env-brdf")) {
             if (!(o->env_brdf = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--env")) {
+            if (o->env_file_count == 8) {
+                fprintf(stderr, "error: --env: at most 8 files (one per environment map)\n");
+                return DM_EXIT_USAGE;
+            }
+            if (!(o->env_files[o->env_file_count++] = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--beckmann-size")) {
             const char *t = dm_cli_value(argc, argv, &i);
             if (!t || !dm_cli_int(a, t, 16, DM_LUT_SIZE_MAX, &v)) return DM_EXIT_USAGE;
@@ -736,6 +768,10 @@ int main(int argc, char **argv)
                        : DM_EXIT_PROCESS;
         }
     }
+    for (int f = 0; f < opt.env_file_count; ++f)
+        if (!j->env_file_used[f] && !opt.quiet)
+            fprintf(stderr, "warning: --env %s: baked from none of the scene's environment maps (or none is "
+                            "needed); ignored\n", opt.env_files[f]);
     int n;
     const dm_pack_need *needs = dm_pack_needs(&n);
     char pending[512] = "";

@@ -290,7 +290,7 @@ dm_result dm_env_read(const char *path, dm_env_bake *out, dm_provenance *prov, d
     const dm_param *samples = dm_prov_find(p, "samples");
     if (samples && samples->type == DM_PARAM_INT) out->samples = (int)samples->i;
     const dm_param *rot = dm_prov_find(p, "rotate_deg");
-    if (rot && rot->type == DM_PARAM_DOUBLE) out->rotate_deg = rot->d;
+    if (rot && rot->type != DM_PARAM_STRING) out->rotate_deg = rot->d; /* JSON reads 30.0 back as an int */
     out->level_count = r == DM_OK ? count : 0;
     for (int k = 0; k < out->level_count && r == DM_OK; ++k) {
         dm_env_level *lv = &out->levels[k];

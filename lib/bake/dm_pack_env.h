@@ -39,6 +39,13 @@ typedef struct dm_pack_env {
  * background. tool names the provenance. Free with dm_pack_env_free, also after failure. */
 dm_result dm_pack_env_bake(const char *path, bool lighting, bool background, const char *tool, int threads,
                            dm_pack_env *out, dm_error *err);
+/* The same from a file written by dermis-bake-env (bake/dm_env_bake.h) instead of baking:
+ * the file's provenance must name `path`'s content hash (else DM_ERR_MISMATCH with
+ * *same_map false: try another file), and then be unrotated and hold a background when one
+ * is asked for (else DM_ERR_MISMATCH with *same_map true: the file is for this map but
+ * unusable). */
+dm_result dm_pack_env_from_file(const char *file, const char *path, bool lighting, bool background, const char *tool,
+                                dm_pack_env *out, bool *same_map, dm_error *err);
 void dm_pack_env_free(dm_pack_env *env);
 
 #ifdef __cplusplus

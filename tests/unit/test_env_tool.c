@@ -9,6 +9,7 @@
 
 #include "../common/tmpdir.h"
 #include "bake/dm_exr.h"
+#include "core/dm_pack.h"
 
 #define BIN DERMIS_BIN "/dermis-bake-env"
 #define FAST "--samples 32 --levels 2 --spec-size 32 --background-size 64 --check-texels 2 --quiet"
@@ -82,4 +83,50 @@ Test(env_tool, exit_codes_and_no_partial_file)
     cr_expect_eq(test_run(BIN " " DERMIS_ASSETS "/env/studio.exr -o /nonexistent/o.exr " FAST, NULL), 4);
     cr_expect_eq(test_count_files(dir, ".tmp."), 0);
     cr_expect_eq(test_count_files(dir, "o.exr"), 0, "no output after failures");
+}
+
+/* dermis-pack takes dermis-bake-env's output for the map it was baked from. */
+Test(env_tool, pack_takes_the_baked_file_for_its_map, .timeout = 120)
+{
+    char dir[64], cmd[1024], ven[160], rot[160], roy[160], pack[160], log[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(ven, sizeof ven, "%s/venice.exr", dir);
+    snprintf(rot, sizeof rot, "%s/venice-rot.exr", dir);
+    snprintf(roy, sizeof roy, "%s/royal.exr", dir);
+    snprintf(pack, sizeof pack, "%s/env.dpk", dir);
+    snprintf(log, sizeof log, "%s/log", dir);
+    snprintf(cmd, sizeof cmd, BIN " " DERMIS_ASSETS "/env/venice_sunset_1k.hdr -o %s " FAST, ven);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd, BIN " " DERMIS_ASSETS "/env/venice_sunset_1k.hdr -o %s --rotate 30 " FAST, rot);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd, BIN " " DERMIS_ASSETS "/env/royal_esplanade_1k.hdr -o %s " FAST, roy);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+
+    /* the matching file serves (its 2 levels, not the packer's 6), the other map's is ignored */
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-env.json -o %s --env %s --env %s", pack, roy,
+             ven);
+    cr_assert_eq(test_run(cmd, log), 0);
+    char *text = test_slurp(log);
+    cr_expect(text && strstr(text, "warning: --env") && strstr(text, "royal.exr"), "no warning for royal.exr: %s",
+              text ? text : "");
+    free(text);
+    dm_pack p;
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open(pack, &p, &err), DM_OK, "%s", err.detail);
+    const dm_pack_entry *spec = dm_pack_find(&p, "env.specular");
+    cr_assert_not_null(spec);
+    cr_expect_eq(spec->layers, 2, "env.specular has %d layers: the file was not used", spec->layers);
+    cr_expect(strstr(spec->provenance_json, "venice.exr") != NULL, "%s", spec->provenance_json);
+    dm_pack_close(&p);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-check %s", pack);
+    cr_expect_eq(test_run(cmd, NULL), 0);
+
+    /* a file for this map baked rotated cannot serve: an error that says why, no pack */
+    snprintf(cmd, sizeof cmd, "rm -f %s; " DERMIS_BIN "/dermis-pack assets/scenes/lps-env.json -o %s --env %s", pack,
+             pack, rot);
+    cr_expect_eq(test_run(cmd, log), 2);
+    text = test_slurp(log);
+    cr_expect(text && strstr(text, "rotate 30"), "%s", text ? text : "");
+    free(text);
+    cr_expect_eq(test_count_files(dir, "env.dpk"), 0, "a refused pack was written");
 }
