@@ -93,7 +93,7 @@ static void job_free(job *j)
 static bool wanted(const job *j, const char *entry)
 {
     const dm_pack_need *n = dm_pack_need_find(entry);
-    return n && !n->pending && dm_pack_entry_applies(entry, &j->scene);
+    return n && dm_pack_entry_applies(entry, &j->scene);
 }
 
 static dm_result add(job *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
@@ -620,7 +620,7 @@ static void explain(const dm_scene *s)
                                       dm_effect_name((dm_effect)e), s->effects[e] ? "" : "(off)");
         if (nd->when && m < sizeof by)
             snprintf(by + m, sizeof by - m, " if %s", dm_need_when_text(nd->when));
-        const char *status = !applies ? "skip" : nd->pending ? "PENDING" : "pack";
+        const char *status = applies ? "pack" : "skip";
         for (int c = 0; c < dm_pack_need_copies(nd, s); ++c) { /* env<k>.*: one per alternative map */
             char name[DM_PACK_NAME_SIZE], why[1200];
             if (c == 0)
@@ -630,8 +630,7 @@ static void explain(const dm_scene *s)
             printf("%-8s %-15s %-19s %-52s %s\n", status, dm_pack_need_entry_name(nd, c, name), kind, by, why);
         }
     }
-    printf("\npack = baked and packed; skip = no enabled effect or input needs it; PENDING = needed, but its\n"
-           "bake step is not wired into dermis-pack yet (mesh and stretch).\n");
+    printf("\npack = baked and packed; skip = no enabled effect or input needs it\n");
 }
 
 /* --- main --------------------------------------------------------------------------- */
@@ -772,16 +771,6 @@ int main(int argc, char **argv)
         if (!j->env_file_used[f] && !opt.quiet)
             fprintf(stderr, "warning: --env %s: baked from none of the scene's environment maps (or none is "
                             "needed); ignored\n", opt.env_files[f]);
-    int n;
-    const dm_pack_need *needs = dm_pack_needs(&n);
-    char pending[512] = "";
-    size_t pm = 0;
-    for (int k = 0; k < n; ++k)
-        if (needs[k].pending && dm_pack_need_applies(&needs[k], &j->scene))
-            pm += (size_t)snprintf(pending + pm, pm < sizeof pending ? sizeof pending - pm : 0, "%s%s", pm ? ", " : "",
-                                   needs[k].entry);
-    if (pm && !opt.quiet)
-        fprintf(stderr, "warning: %s: not packed yet, their bake steps are not wired: %s\n", opt.scene, pending);
 
     dm_provenance pp;
     dm_prov_init(&pp, TOOL);

@@ -7,10 +7,6 @@
  * needs it, or one of its effects is on) and its input condition holds (e.g. the scene
  * names a specular map).
  *
- * `pending` marks entries whose producer (mesh + stretch)
- * is not wired into dermis-pack yet: they are listed and explained but not yet required.
- * Wiring one = add its bake step to tools/dermis-pack.c and clear its flag here.
- *
  * Several environments: the rows "env.sh", "env.specular", "env.background" stand for one
  * entry per packed environment: copy 0 is the main map (the row's own name), copy k =
  * 1..scene's env_alternative_count its k-th alternative, named "env<k>.sh" ... Each copy
@@ -45,7 +41,6 @@ typedef struct dm_pack_need {
     int format;          /* dm_tex_format for textures, -1 for other kinds */
     unsigned effects;    /* DM_FX bits: needed when any is on; 0 = needed by the base shading */
     dm_need_when when;
-    bool pending;        /* producer not wired yet: not required (see above) */
     const char *why;     /* one line for --explain */
 } dm_pack_need;
 
@@ -65,7 +60,7 @@ char *dm_pack_need_entry_name(const dm_pack_need *n, int copy, char *out);
 /* Whether the entry named `entry` applies to the scene: its row applies and its copy index
  * is below dm_pack_need_copies. False for names no row knows. */
 bool dm_pack_entry_applies(const char *entry, const dm_scene *s);
-/* Whether the row applies to the scene (pending rows included: check .pending). */
+/* Whether the row applies to the scene. */
 bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s);
 /* "albedo map", "normal map", ...: the input a condition asks for; "" for DM_NEED_ALWAYS. */
 const char *dm_need_when_text(dm_need_when w);
