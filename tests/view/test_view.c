@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
@@ -377,4 +378,56 @@ Test(view, no_gl33_context_is_a_clear_error)
     cr_expect_eq(rc, 3, "exit %d:\n%s", rc, out);
     cr_expect(strstr(out, "error: no OpenGL 3.3 core context") != NULL, "%s", out);
     free(out);
+}
+
+/* --watch: replacing the pack file (dermis-pack renames into place) reloads it, keeping the
+ * camera; the picture after the swap is the new pack's. */
+Test(view, watch_reloads_a_replaced_pack, .timeout = 180)
+{
+    need_display();
+    char dir[64], a[160], b[160], live[160], line[1024], script[512], path[256], log[256], shot1[192], shot2[192];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(a, sizeof a, "%s/spec.dpk", dir);
+    snprintf(b, sizeof b, "%s/sss.dpk", dir);
+    snprintf(live, sizeof live, "%s/live.dpk", dir);
+    snprintf(line, sizeof line, DERMIS_BIN "/dermis-pack assets/scenes/lps-specular.json -o %s --quiet && "
+                                DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --quiet && cp %s %s",
+             a, b, a, live);
+    cr_assert_eq(test_run(line, NULL), 0, "packing failed");
+    snprintf(shot1, sizeof shot1, "%s/before.png", dir);
+    snprintf(shot2, sizeof shot2, "%s/after.png", dir);
+    /* orbit first, so keeping the camera is visible in the provenance */
+    snprintf(script, sizeof script, "0 drag 60 50 90 60\n0.1 screenshot %s\n10 screenshot %s\n10.5 quit\n", shot1,
+             shot2);
+    snprintf(path, sizeof path, "%s/script.txt", dir);
+    write_text(path, script);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(line, sizeof line, VIEW " %s " SIZE " --watch --script %s >%s 2>&1 & echo $! > %s/pid", live, path, log,
+             dir);
+    cr_assert_eq(system(line), 0);
+    /* once the first screenshot exists, swap the pack as dermis-pack would (rename) */
+    int waited = 0;
+    while (test_count_files(dir, "before.png") == 0 && waited++ < 600) usleep(100000);
+    cr_assert_eq(test_count_files(dir, "before.png"), 1, "no first screenshot");
+    snprintf(line, sizeof line, "cp %s %s/next.tmp && mv %s/next.tmp %s", b, dir, dir, live);
+    cr_assert_eq(system(line), 0);
+    snprintf(line, sizeof line, "while kill -0 $(cat %s/pid) 2>/dev/null; do sleep 0.2; done", dir);
+    cr_assert_eq(system(line), 0);
+    char *out = test_slurp(log);
+    cr_expect(out && strstr(out, "reloaded"), "no reload reported:\n%s", out ? out : "");
+    free(out);
+    int w, h, c, bits;
+    uint16_t *p1 = tpng_read(shot1, &w, &h, &c, &bits), *p2 = tpng_read(shot2, &w, &h, &c, &bits);
+    cr_assert(p1 && p2, "screenshots missing");
+    cr_expect_neq(memcmp(p1, p2, (size_t)w * h * c * sizeof *p1), 0, "the picture did not change with the pack");
+    free(p1), free(p2);
+    /* the camera survived the reload: both screenshots record the same orbited camera */
+    size_t n1 = 0, n2 = 0;
+    char *t1 = png_bytes(shot1, &n1), *t2 = png_bytes(shot2, &n2);
+    cr_assert(t1 && t2);
+    const char *c1 = memmem(t1, n1, "eye ", 4), *c2 = memmem(t2, n2, "eye ", 4);
+    cr_assert(c1 && c2, "no camera in the provenance");
+    cr_assert(c1 + 40 <= t1 + n1 && c2 + 40 <= t2 + n2);
+    cr_expect_eq(memcmp(c1, c2, 40), 0, "camera changed on reload: %.40s vs %.40s", c1, c2);
+    free(t1), free(t2);
 }
