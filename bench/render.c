@@ -26,6 +26,7 @@
 #include "core/dm_pack.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_compare.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_synth.h"
 
@@ -181,89 +182,12 @@ static int run_alone(bench_source *s, int irr, int frames, run_state *st)
     return 1;
 }
 
-static float *read_named(dm_renderer *r, const char *name, dm_target_info *info)
-{
-    int idx = dm_renderer_find_target(r, name);
-    if (idx < 0) return NULL;
-    dm_renderer_target_info(r, idx, info);
-    float *px = malloc((size_t)info->width * info->height * info->channels * sizeof *px);
-    dm_error err = {0};
-    if (px && dm_renderer_read_target(r, idx, px, &err) != DM_OK) {
-        free(px);
-        return NULL;
-    }
-    return px;
-}
-
-/* Bilinear, clamp-to-border-0 sample of an RGBA image at uv (texel centres at (i+0.5)/n). */
-static void bilinear(const float *img, int n, double u, double v, double out[4])
-{
-    double x = u * n - 0.5, y = v * n - 0.5;
-    int x0 = (int)floor(x), y0 = (int)floor(y);
-    double fx = x - x0, fy = y - y0;
-    for (int c = 0; c < 4; ++c) out[c] = 0;
-    for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 2; ++i) {
-            int xi = x0 + i, yj = y0 + j;
-            if (xi < 0 || yj < 0 || xi >= n || yj >= n) continue;
-            double w = (i ? fx : 1 - fx) * (j ? fy : 1 - fy);
-            for (int c = 0; c < 4; ++c) out[c] += w * img[((size_t)yj * n + xi) * 4 + c];
-        }
-}
-
-typedef struct errors {
-    double out_max, out_mean, out_peak, blur_max, blur_mean, blur_peak;
-    int display_steps;
-} errors;
+typedef dm_render_difference errors;
 
 static void compare(dm_renderer *ref, dm_renderer *r, const char *level, errors *e)
 {
-    memset(e, 0, sizeof *e);
     dm_error err = {0};
-    size_t n = (size_t)W * H;
-    float *a = malloc(n * 4 * sizeof *a), *b = malloc(n * 4 * sizeof *b);
-    uint8_t *da = malloc(n * 4), *db = malloc(n * 4);
-    if (dm_renderer_read_linear(ref, a, &err) == DM_OK && dm_renderer_read_linear(r, b, &err) == DM_OK) {
-        double sum = 0;
-        for (size_t i = 0; i < n; ++i)
-            for (int c = 0; c < 3; ++c) {
-                double d = fabs((double)a[i * 4 + c] - b[i * 4 + c]);
-                e->out_max = fmax(e->out_max, d);
-                e->out_peak = fmax(e->out_peak, a[i * 4 + c]);
-                sum += d;
-            }
-        e->out_mean = sum / (double)(n * 3);
-    }
-    if (dm_renderer_read_display(ref, da, &err) == DM_OK && dm_renderer_read_display(r, db, &err) == DM_OK)
-        for (size_t i = 0; i < n * 4; ++i) {
-            int d = abs((int)da[i] - (int)db[i]);
-            if (d > e->display_steps) e->display_steps = d;
-        }
-    free(a), free(b), free(da), free(db);
-    dm_target_info ia, ib;
-    float *la = read_named(ref, level, &ia), *lb = read_named(r, level, &ib);
-    if (la && lb) {
-        int na = ia.width, nb = ib.width;
-        double sum = 0;
-        size_t count = 0;
-        for (int j = 0; j < na; ++j)
-            for (int i = 0; i < na; ++i) {
-                const float *pa = la + ((size_t)j * na + i) * 4;
-                if (pa[3] <= 1e-4f) continue;
-                double pb[4];
-                bilinear(lb, nb, (i + 0.5) / na, (j + 0.5) / na, pb);
-                for (int c = 0; c < 3; ++c) {
-                    double ra = pa[c] / pa[3], rb = pb[3] > 1e-4 ? pb[c] / pb[3] : 0.0;
-                    double d = fabs(ra - rb);
-                    e->blur_max = fmax(e->blur_max, d);
-                    e->blur_peak = fmax(e->blur_peak, ra);
-                    sum += d;
-                    ++count;
-                }
-            }
-        e->blur_mean = count ? sum / (double)count : 0;
-    }
-    free(la), free(lb);
+    if (dm_render_compare(ref, r, level, e, &err) != DM_OK) fprintf(stderr, "warning: %s\n", err.detail);
 }
 
 int main(int argc, char **argv)
@@ -326,7 +250,7 @@ int main(int argc, char **argv)
                 "|Δ| over RGB (the reference's radiance peaks at %.2f); display: largest 8-bit step after "
                 "tonemapping. Blur: %s (rgb / coverage) where the reference has coverage, max / mean |Δ| (its "
                 "values peak at %.3f).\n\n",
-            e[0].out_peak, level, e[0].blur_peak);
+            e[0].out_peak, level, e[0].level_peak);
     fprintf(md, "Frame ms: wall clock (what a viewer sees); CPU ms: process CPU time per frame, every llvmpipe "
                 "thread summed (less sensitive to other users of the shared cores; 2 cores give at best half of "
                 "it as wall time).\n\n");
@@ -342,7 +266,7 @@ int main(int argc, char **argv)
         }
         fprintf(md, "| %s | %s | **%.1f** | %.0f | %.1f | %.1f | %.1f | %.2e / %.2e | %d | %.2e / %.2e |\n", settings[c].name,
                 settings[c].what, st[c].frame_ms, st[c].cpu_ms, irr_ms, blur_ms, final_ms, e[c].out_max, e[c].out_mean,
-                e[c].display_steps, e[c].blur_max, e[c].blur_mean);
+                e[c].display_steps, e[c].level_max, e[c].level_mean);
     }
     fprintf(md, "\nPer pass, ms (same run):\n\n| pass |");
     for (int c = 0; c < NSET; ++c) fprintf(md, " %s |", settings[c].name);

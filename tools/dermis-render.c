@@ -11,6 +11,7 @@
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_compare.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_prov.h"
 #include "render/dm_render_image.h"
@@ -39,6 +40,16 @@ static void usage(FILE *f)
             "  --explain            print the pass list and why each pass is there (renders only\n"
             "                       when -o is given)\n"
             "  --shader-dir DIR     load shaders from DIR/*.glsl instead of the embedded copies\n"
+            "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
+            "  --pcf-taps N         shadow filter: 4 (default, the 3x3 PCF exactly), 9 (reference),\n"
+            "                       1 (one bilinear compare: harder edges)\n"
+            "  --blur-reduce-from K blur levels K and wider at reduced resolution, default off;\n"
+            "                       1..7 (on the head, K = 3 at half resolution: -22 %% frame time,\n"
+            "                       up to 7 display steps)\n"
+            "  --blur-reduce-shift S  that resolution is irradiance >> S, default 1; 1..3\n"
+            "  --half-float         RGBA16F irradiance and blur targets (slower on llvmpipe)\n"
+            "  --compare-exact      also render the exact path and print this setting's error\n"
+            "                       against it (linear output, display steps, blur5) and both times\n"
             "  -v                   more detail on stderr\n"
             "  --quiet              nothing on stdout but requested output\n"
             "  -h, --help           this text\n"
@@ -52,7 +63,8 @@ typedef struct options {
     int width, height, irradiance, frames, view_index;
     dm_view view;
     double view_scale, light_azimuth;
-    bool timings, explain, verbose, quiet;
+    bool timings, explain, verbose, quiet, compare_exact;
+    dm_render_desc speed; /* the speed/accuracy fields only */
 } options;
 
 static bool ends_with(const char *s, const char *suffix)
@@ -94,6 +106,23 @@ static int parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--irradiance")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 8, 8192, &n)) return 0;
             o->irradiance = (int)n;
+        } else if (!strcmp(a, "--pcf-taps")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 9, &n)) return 0;
+            if (n != 1 && n != 4 && n != 9) {
+                fprintf(stderr, "error: --pcf-taps: %lld is not 1, 4 or 9\n", (long long)n);
+                return 0;
+            }
+            o->speed.shadow_pcf_taps = (int)n;
+        } else if (!strcmp(a, "--blur-reduce-from")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 7, &n)) return 0;
+            o->speed.blur_reduce_from = (int)n;
+        } else if (!strcmp(a, "--blur-reduce-shift")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 3, &n)) return 0;
+            o->speed.blur_reduce_shift = (int)n;
+        } else if (!strcmp(a, "--half-float")) {
+            o->speed.blur_half_float = true;
+        } else if (!strcmp(a, "--compare-exact")) {
+            o->compare_exact = true;
         } else if (!strcmp(a, "--frames")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 100000, &n)) return 0;
             o->frames = (int)n;
@@ -130,6 +159,10 @@ static int parse(int argc, char **argv, options *o)
             return 0;
         }
     }
+    if (o->speed.blur_reduce_shift && !o->speed.blur_reduce_from) {
+        fprintf(stderr, "error: --blur-reduce-shift needs --blur-reduce-from\n");
+        return 0;
+    }
     if (!!o->pack == !!o->synthetic) {
         fprintf(stderr, "error: give either a PACK or --synthetic SHAPE\n");
         return 0;
@@ -138,8 +171,8 @@ static int parse(int argc, char **argv, options *o)
         fprintf(stderr, "error: -v and --quiet conflict\n");
         return 0;
     }
-    if (!o->out && !o->explain && !o->timings) {
-        fprintf(stderr, "error: nothing to do: give -o FILE, --timings or --explain\n");
+    if (!o->out && !o->explain && !o->timings && !o->compare_exact) {
+        fprintf(stderr, "error: nothing to do: give -o FILE, --timings, --compare-exact or --explain\n");
         return 0;
     }
     if (o->out && !ends_with(o->out, ".png") && !ends_with(o->out, ".exr")) {
@@ -227,15 +260,31 @@ int main(int argc, char **argv)
 
     /* context + renderer */
     dm_osmesa *ctx = NULL;
-    dm_renderer *r = NULL;
-    dm_render_desc desc = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
-                           .irradiance_size = o.irradiance, .timings = o.timings};
+    dm_renderer *r = NULL, *exact = NULL;
+    double *exact_ms = NULL;
+    dm_render_desc desc = o.speed;
+    desc.shader_dir = o.shader_dir;
+    desc.width = o.width;
+    desc.height = o.height;
+    desc.irradiance_size = o.irradiance;
+    desc.timings = o.timings || o.compare_exact;
     if (dm_osmesa_create(&ctx, &err) != DM_OK || dm_renderer_create(src.assets, &desc, &r, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_PROCESS;
         goto done;
     }
     if (o.verbose) fprintf(stderr, "renderer: %s\n", dm_renderer_gl_name(r));
+    /* --compare-exact: the reference renderer, the exact path at the same sizes */
+    if (o.compare_exact) {
+        dm_render_desc ed = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
+                             .irradiance_size = o.irradiance, .timings = true, .shadow_pcf_taps = 9};
+        exact_ms = calloc((size_t)o.frames, sizeof *exact_ms);
+        if (!exact_ms || dm_renderer_create(src.assets, &ed, &exact, &err) != DM_OK) {
+            fprintf(stderr, "error: the exact path: %s\n", exact_ms ? err.detail : "out of memory");
+            rc = DM_EXIT_PROCESS;
+            goto done;
+        }
+    }
 
     dm_frame_options fo = {.view = o.view, .view_index = o.view_index, .view_scale = (float)o.view_scale,
                            .light_rotation_deg = (float)o.light_azimuth};
@@ -249,7 +298,7 @@ int main(int argc, char **argv)
         char text[8192];
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);
-        if (!o.out && !o.timings) goto done;
+        if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 
     /* frames */
@@ -269,9 +318,39 @@ int main(int argc, char **argv)
         }
         dm_renderer_last_timings(r, ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1),
                                  ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES);
+        if (exact) {
+            if (dm_render_frame(exact, &fo, &err) != DM_OK) {
+                fprintf(stderr, "error: the exact path, frame %d: %s\n", f, err.detail);
+                rc = DM_EXIT_PROCESS;
+                free(ms);
+                goto done;
+            }
+            dm_renderer_last_timings(exact, NULL, &exact_ms[f]);
+        }
         dm_progress_update(&prog, (f + 1.0) / o.frames);
     }
     dm_progress_end(&prog);
+    if (exact) {
+        dm_render_difference d;
+        const char *level = dm_renderer_find_target(exact, "blur5") >= 0 ? "blur5" : NULL;
+        if (dm_render_compare(exact, r, level, &d, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            rc = DM_EXIT_PROCESS;
+            free(ms);
+            goto done;
+        }
+        double *col = malloc((size_t)o.frames * sizeof *col);
+        for (int f = 0; col && f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES];
+        double mine = col ? median(col, o.frames) : 0.0, ref = median(exact_ms, o.frames);
+        free(col);
+        printf("compare-exact: this setting %.1f ms, exact path %.1f ms per frame (median of %d)\n", mine, ref,
+               o.frames);
+        printf("  output (linear, RGB): max |d| %.3e, mean %.3e (peak %.3g); display: %d steps of 255\n", d.out_max,
+               d.out_mean, d.out_peak, d.display_steps);
+        if (level)
+            printf("  %s (coverage-normalised): max |d| %.3e, mean %.3e (peak %.3g)\n", level, d.level_max,
+                   d.level_mean, d.level_peak);
+    }
     if (o.timings) {
         const dm_render_plan *plan = dm_renderer_plan(r);
         double *col = malloc((size_t)o.frames * sizeof *col);
@@ -309,6 +388,8 @@ int main(int argc, char **argv)
         free(px);
     }
 done:
+    dm_renderer_destroy(exact);
+    free(exact_ms);
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     unload(&src);

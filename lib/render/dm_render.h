@@ -136,8 +136,9 @@ typedef struct dm_render_desc {
                                * memory and bandwidth on GPUs; on llvmpipe it is slower (the
                                * half-float conversions cost more than the bytes saved) */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
-                               * they depend on (lights, light rotation) changed since the last
-                               * final-view frame: exact; their timings read 0 then */
+                               * they depend on (the scene: dm_renderer_set_scene; the light
+                               * rotation; blur and roughness scales) changed since the last
+                               * frame that made them: exact; their timings read 0 then */
 } dm_render_desc;
 
 typedef struct dm_renderer dm_renderer;

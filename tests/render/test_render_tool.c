@@ -1,0 +1,57 @@
+/* dermis-render as a person runs it: exit codes, no partial output, --compare-exact. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../common/tmpdir.h"
+
+#define BIN DERMIS_BIN "/dermis-render"
+#define SMALL "--synthetic sphere --size 96x64 --irradiance 128"
+
+Test(render_tool, exit_codes_and_no_partial_file)
+{
+    char dir[64], cmd[512], log[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(log, sizeof log, "%s/log", dir);
+    cr_expect_eq(test_run(BIN " " SMALL " --pcf-taps 3", NULL), 1);
+    cr_expect_eq(test_run(BIN " " SMALL " --blur-reduce-shift 2", NULL), 1, "shift without from");
+    cr_expect_eq(test_run(BIN " " SMALL " --view nope", NULL), 1);
+    cr_expect_eq(test_run(BIN " /nonexistent.dpk -o /tmp/x.png", log), 2);
+    char *text = test_slurp(log);
+    cr_expect(text && strstr(text, "/nonexistent.dpk"), "%s", text ? text : "");
+    free(text);
+    snprintf(cmd, sizeof cmd, "printf garbage > %s/bad.dpk; " BIN " %s/bad.dpk -o %s/x.png", dir, dir, dir);
+    cr_expect_eq(test_run(cmd, NULL), 2, "a corrupt pack is a load error");
+    cr_expect_eq(test_run(BIN " " SMALL " -o /nonexistent/x.png", NULL), 4);
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " -o %s/ok.png", dir);
+    cr_expect_eq(test_run(cmd, NULL), 0);
+    cr_expect_eq(test_count_files(dir, ".tmp."), 0);
+    cr_expect_eq(test_count_files(dir, "x.png"), 0);
+}
+
+/* Every speed setting reports its error against the exact path and both times. */
+Test(render_tool, compare_exact_reports_error_and_time, .timeout = 120)
+{
+    char dir[64], cmd[512], log[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(log, sizeof log, "%s/log", dir);
+    /* the default equals the exact path to float rounding: no display step */
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2");
+    cr_assert_eq(test_run(cmd, log), 0);
+    char *text = test_slurp(log);
+    cr_assert(text && strstr(text, "compare-exact: this setting"), "%s", text ? text : "");
+    cr_expect(strstr(text, "display: 0 steps"), "default differs from exact:\n%s", text);
+    cr_expect(strstr(text, "blur5"), "no blur level compared:\n%s", text);
+    free(text);
+    /* a real trade shows a real difference */
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --pcf-taps 1 --blur-reduce-from 3");
+    cr_assert_eq(test_run(cmd, log), 0);
+    text = test_slurp(log);
+    cr_assert(text);
+    double max = 0;
+    const char *at = strstr(text, "max |d| ");
+    cr_assert(at && sscanf(at, "max |d| %lf", &max) == 1, "%s", text);
+    cr_expect_gt(max, 0.0, "a one-tap shadow and half-resolution blurs changed nothing:\n%s", text);
+    free(text);
+}
