@@ -8,7 +8,7 @@
  * memory) run only with DERMIS_BENCH_LARGE=1: they take minutes on 2 cores.
  * Each case runs in its own child process so its peak RSS (getrusage ru_maxrss) is its
  * own; times are medians over repeats of the bake alone (mesh already loaded); the EXR
- * write is timed once, at sizes up to 2048 (ZIP is single-threaded and dominates above).
+ * write is timed once, at sizes up to 2048 (ZIP compression dominates above it).
  */
 #include <stdio.h>
 #include <stdlib.h>
@@ -208,7 +208,7 @@ int main(int argc, char **argv)
                "(1,131,776 triangles). mm_per_unit 50, gems3-skin chain. Times are medians of the bake alone "
                "(mesh in memory): raster includes the per-triangle Jacobians and the base map, stats the "
                "percentiles and UV islands, fill the gutter distance transform, blur the chain (5 levels × U+V). "
-               "Write: dm_exr_write (ZIP, single-threaded), once, up to 2048². Peak RSS is the whole child "
+               "Write: dm_exr_write (ZIP, chunks compressed on every core, held in memory until written in order), once, up to 2048². Peak RSS is the whole child "
                "process (mesh included); output = the map in memory, (2·levels + 1) floats per texel.\n\n");
     fprintf(f, "| mesh | triangles | size | levels | runs | bake ms | raster | stats | fill | blur | write ms | "
                "peak RSS MiB | mesh RSS MiB | output MiB | (peak − mesh) / output |\n");
