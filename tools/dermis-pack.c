@@ -38,6 +38,8 @@ static void usage(FILE *f)
             "  --beckmann FILE.png    take this baked Beckmann LUT instead of baking (provenance must match)\n"
             "  --rho-dt FILE.exr      take this baked rho_dt LUT (channel \"rho_dt\"; provenance must match)\n"
             "  --env-brdf FILE.exr    take this baked env-BRDF LUT (channels \"scale\", \"bias\")\n"
+            "  --stretch FILE.exr     take this dermis-bake-stretch output (same mesh, mm_per_unit,\n"
+            "                         irradiance size and profile variances as the scene)\n"
             "  --env FILE.exr         take this dermis-bake-env output for the scene map it was baked\n"
             "                         from (matched by content hash; unrotated); repeat for several maps\n"
             "  --beckmann-size N      Beckmann LUT size, N x N (default %d, range 16..%d)\n"
@@ -56,6 +58,7 @@ typedef struct options {
     const char *scene, *output, *beckmann, *rho_dt, *env_brdf;
     const char *env_files[8];
     int env_file_count;
+    const char *stretch_file;
     bool explain, verbose, quiet;
     int beckmann_size, lut_size, lut_nodes, threads;
 } options;
@@ -448,6 +451,36 @@ static dm_result step_mesh(job *j, dm_error *err)
     return r;
 }
 
+/* A dermis-bake-stretch EXR in place of the bake, when it was made from this mesh (content
+ * hash), at this mm_per_unit and irradiance size, through this profile's variances. */
+static dm_result read_stretch(job *j, const char *file, dm_stretch_map *map, dm_error *err)
+{
+    dm_provenance p;
+    dm_result r = dm_stretch_read(file, map, &p, err);
+    if (r != DM_OK) return r;
+    const dm_param *mm = dm_prov_find(&p, "mm_per_unit");
+    const int n = j->scene.irradiance_size;
+    const dm_profile *pr = &j->scene.profile;
+    if (strcmp(p.input_hash, j->mesh_hash) != 0)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: baked from a mesh with hash %s, %s has %s", file,
+                    p.input_hash[0] ? p.input_hash : "(none)", j->scene.mesh, j->mesh_hash);
+    else if (!mm || mm->type == DM_PARAM_STRING || mm->d != j->scene.mm_per_unit)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: mm_per_unit is %g, the scene says %g", file, mm ? mm->d : 0.0,
+                    j->scene.mm_per_unit);
+    else if (map->width != n || map->height != n)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: %dx%d, the scene's irradiance size is %d (bake it with --size %d)",
+                    file, map->width, map->height, n, n);
+    else if (map->level_count != pr->count)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: %d levels, the scene's profile %s has %d Gaussians", file,
+                    map->level_count, pr->name, pr->count);
+    for (int k = 0; r == DM_OK && k < pr->count; ++k)
+        if (map->variance_mm2[k] != pr->variance_mm2[k])
+            r = dm_fail(err, DM_ERR_MISMATCH, "%s: level %d stands for %.17g mm^2, the scene's profile has %.17g",
+                        file, k, map->variance_mm2[k], pr->variance_mm2[k]);
+    if (r != DM_OK) dm_stretch_map_free(map);
+    return r;
+}
+
 /* The stretch chain at the scene's irradiance size: one RG32F layer per Gaussian (u, v in
  * UV units per mm), and the chart mask as R8. */
 static dm_result step_stretch(job *j, dm_error *err)
@@ -461,7 +494,14 @@ static dm_result step_stretch(job *j, dm_error *err)
                              .profile = &j->scene.profile,
                              .thread_count = j->opt->threads};
     dm_stretch_map map;
-    if ((r = dm_stretch_bake(&j->mesh, &so, &map, err)) != DM_OK) return r;
+    char src[200];
+    snprintf(src, sizeof src, "baked from %.150s", base_name(j->scene.mesh));
+    if (j->opt->stretch_file) {
+        if ((r = read_stretch(j, j->opt->stretch_file, &map, err)) != DM_OK) return r;
+        snprintf(src, sizeof src, "from %.150s", base_name(j->opt->stretch_file));
+    } else if ((r = dm_stretch_bake(&j->mesh, &so, &map, err)) != DM_OK) {
+        return r;
+    }
     const size_t texels = (size_t)n * n;
     float *rg = malloc(texels * 2 * (size_t)map.level_count * sizeof *rg);
     uint8_t *mask = malloc(texels);
@@ -482,8 +522,7 @@ static dm_result step_stretch(job *j, dm_error *err)
         dm_prov_add_double(&p, name, map.variance_mm2[k]);
     }
     dm_prov_add_double(&p, "coverage", map.stats.coverage);
-    char src[200];
-    snprintf(src, sizeof src, "baked from %.150s", base_name(j->scene.mesh));
+    if (j->opt->stretch_file) dm_prov_add_string(&p, "baked_file", j->opt->stretch_file);
     if (r == DM_OK) {
         dm_pack_entry d = texture_desc("stretch", DM_TEX_RG32F, n, n);
         d.layers = map.level_count;
@@ -656,6 +695,8 @@ static int parse_args(int argc, char **argv, options *o)
             if (!(o->rho_dt = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--env-brdf")) {
             if (!(o->env_brdf = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--stretch")) {
+            if (!(o->stretch_file = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--env")) {
             if (o->env_file_count == 8) {
                 fprintf(stderr, "error: --env: at most 8 files (one per environment map)\n");
@@ -747,7 +788,7 @@ int main(int argc, char **argv)
     /* Files given for entries the scene does not need are a mistake worth saying. */
     const struct { const char *file, *entry, *opt; } given[] = {
         {opt.beckmann, "lut.beckmann", "--beckmann"}, {opt.rho_dt, "lut.rho_dt", "--rho-dt"},
-        {opt.env_brdf, "lut.env_brdf", "--env-brdf"}};
+        {opt.env_brdf, "lut.env_brdf", "--env-brdf"}, {opt.stretch_file, "stretch", "--stretch"}};
     for (size_t k = 0; k < sizeof given / sizeof given[0]; ++k)
         if (given[k].file && !wanted(j, given[k].entry) && !opt.quiet)
             fprintf(stderr, "warning: %s %s: the scene's effects do not need %s; ignored\n", given[k].opt,

@@ -36,6 +36,7 @@
 
 #include "bake/dm_mesh.h"
 #include "core/dm_profile.h"
+#include "core/dm_prov.h"
 #include "core/dm_result.h"
 
 #ifdef __cplusplus
@@ -113,6 +114,10 @@ typedef struct dm_stretch_map {
  * failure. */
 dm_result dm_stretch_bake(const dm_mesh *m, const dm_stretch_options *opt, dm_stretch_map *out, dm_error *err);
 void dm_stretch_map_free(dm_stretch_map *map);
+/* Reads what dermis-bake-stretch wrote (channels stretch<k>.u/.v and mask, the variances
+ * from its provenance "variance_mm2_<k>") back into a map, and its provenance into prov.
+ * Free with dm_stretch_map_free, also after a failure. */
+dm_result dm_stretch_read(const char *path, dm_stretch_map *out, dm_provenance *prov, dm_error *err);
 
 /* The 7 normalised tap weights (i = −3..3) of the chain's blur. */
 void dm_stretch_blur_weights(double w[DM_STRETCH_TAPS]);

@@ -10,12 +10,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "../common/tmpdir.h"
 #include "bake/dm_exr.h"
 #include "bake/dm_gutter.h"
 #include "bake/dm_mesh.h"
 #include "bake/dm_stretch.h"
 #include "bake/dm_uv_raster.h"
 #include "core/dm_math.h"
+#include "core/dm_pack.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 
@@ -687,4 +689,49 @@ Test(stretch, tool_exit_codes)
     cr_assert_eq(run(cmd), 4);
     snprintf(cmd, sizeof cmd, "%s --help >/dev/null", tool);
     cr_assert_eq(run(cmd), 0);
+}
+
+/* dermis-pack --stretch takes dermis-bake-stretch's file when it matches the scene, and the
+ * packed chain is then the one the packer would bake itself, byte for byte. */
+Test(stretch_tool, pack_takes_a_matching_baked_file, .timeout = 180)
+{
+    char dir[64], cmd[1024], exr[160], small[160], a[160], b[160], log[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(exr, sizeof exr, "%s/st.exr", dir);
+    snprintf(small, sizeof small, "%s/st512.exr", dir);
+    snprintf(a, sizeof a, "%s/baked.dpk", dir);
+    snprintf(b, sizeof b, "%s/file.dpk", dir);
+    snprintf(log, sizeof log, "%s/log", dir);
+    /* lps-sss.json: irradiance 1024, mm_per_unit 50, gems3-skin */
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s/lps/LeePerrySmith.obj -o %s --size 1024 --quiet && "
+             DERMIS_BIN "/dermis-bake-stretch %s/lps/LeePerrySmith.obj -o %s --size 512 --quiet",
+             DERMIS_ASSETS, exr, DERMIS_ASSETS, small);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --quiet", a);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --stretch %s", b, exr);
+    cr_assert_eq(test_run(cmd, log), 0);
+    char *text = test_slurp(log);
+    cr_expect(text && strstr(text, "from st.exr"), "the file was not used:\n%s", text ? text : "");
+    free(text);
+    dm_pack pa, pb;
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open(a, &pa, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_pack_open(b, &pb, &err), DM_OK, "%s", err.detail);
+    const char *names[2] = {"stretch", "stretch.mask"};
+    for (int k = 0; k < 2; ++k) {
+        const dm_pack_entry *ea = dm_pack_find(&pa, names[k]), *eb = dm_pack_find(&pb, names[k]);
+        cr_assert(ea && eb && ea->size == eb->size, "%s missing or sized differently", names[k]);
+        cr_expect_eq(memcmp(ea->data, eb->data, ea->size), 0, "%s differs from the packer's own bake", names[k]);
+    }
+    dm_pack_close(&pa);
+    dm_pack_close(&pb);
+    /* the wrong size is refused, naming it; nothing is written */
+    snprintf(cmd, sizeof cmd, "rm -f %s; " DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --stretch %s", b,
+             b, small);
+    cr_expect_eq(test_run(cmd, log), 2);
+    text = test_slurp(log);
+    cr_expect(text && strstr(text, "512x512") && strstr(text, "1024"), "%s", text ? text : "");
+    free(text);
+    cr_expect_eq(test_count_files(dir, "file.dpk"), 0);
 }
