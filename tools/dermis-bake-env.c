@@ -93,6 +93,7 @@ static int parse(int argc, char **argv, args *a)
         const char *s = argv[i], *v;
         int64_t n;
         double d;
+        if (dm_cli_version(s, "dermis-bake-env")) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             help();
             exit(DM_EXIT_OK);

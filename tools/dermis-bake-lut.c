@@ -115,8 +115,7 @@ static int parse_args(int argc, char **argv, options *o)
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             exit(DM_EXIT_OK);
-        } else if (!strcmp(a, "--version")) {
-            printf(TOOL " " DM_VERSION "\n");
+        } else if (dm_cli_version(a, TOOL)) {
             exit(DM_EXIT_OK);
         } else if (!strcmp(a, "-o") || !strcmp(a, "--out-dir")) {
             if (!(o->out_dir = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;

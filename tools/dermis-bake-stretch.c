@@ -61,6 +61,7 @@ static int parse(int argc, char **argv, args *a)
     *a = (args){.size = DM_STRETCH_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT};
     for (int i = 1; i < argc; ++i) {
         const char *s = argv[i], *v;
+        if (dm_cli_version(s, "dermis-bake-stretch")) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             usage(stdout);
             return DM_EXIT_OK;

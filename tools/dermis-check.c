@@ -12,6 +12,7 @@
 
 #include "bake/dm_exr.h"
 #include "bake/dm_image.h"
+#include "core/dm_cli.h"
 #include "core/dm_brdf.h"
 #include "core/dm_file.h"
 #include "core/dm_lut_check.h"
@@ -455,6 +456,7 @@ int main(int argc, char **argv)
     int nfiles = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
+        if (dm_cli_version(a, "dermis-check")) exit(0);
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             return CHECK_OK;

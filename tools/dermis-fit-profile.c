@@ -86,6 +86,7 @@ static int parse(int argc, char **argv, options *o)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         int64_t n;
+        if (dm_cli_version(a, "dermis-fit-profile")) exit(0);
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             help();
             exit(DM_EXIT_OK);

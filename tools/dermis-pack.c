@@ -682,6 +682,7 @@ static int parse_args(int argc, char **argv, options *o)
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         int64_t v;
+        if (dm_cli_version(a, "dermis-pack")) exit(0);
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             exit(DM_EXIT_OK);

@@ -61,6 +61,7 @@ static int parse(int argc, char **argv, options *o)
         const char *a = argv[i], *val = NULL;
         int64_t n;
         double d;
+        if (dm_cli_version(a, "dermis-view")) exit(0);
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
             exit(DM_EXIT_OK);

@@ -6,7 +6,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+#include <string.h>
 #include <unistd.h>
+
+#include "core/dm_version.h"
 
 bool dm_cli_int(const char *option, const char *text, int64_t min, int64_t max, int64_t *out)
 {
@@ -42,6 +45,13 @@ const char *dm_cli_value(int argc, char **argv, int *i)
         return NULL;
     }
     return argv[++*i];
+}
+
+bool dm_cli_version(const char *arg, const char *tool)
+{
+    if (!arg || strcmp(arg, "--version") != 0) return false;
+    printf("%s %s\n", tool, DM_VERSION);
+    return true;
 }
 
 double dm_now_ms(void)

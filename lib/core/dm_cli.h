@@ -28,6 +28,9 @@ bool dm_cli_double(const char *option, const char *text, double min, double max,
  * returns NULL. */
 const char *dm_cli_value(int argc, char **argv, int *i);
 
+/* True for "--version", after printing "TOOL VERSION" on stdout (every tool answers it). */
+bool dm_cli_version(const char *arg, const char *tool);
+
 /* Monotonic clock in milliseconds. */
 double dm_now_ms(void);
 
