@@ -4,6 +4,10 @@
 set -u
 tested=0 passing=0 failing=0 crashing=0 broken=0
 jobs=${DERMIS_TEST_JOBS:-2}
+# One scratch root per run for the tests' files (packs of tens of MiB among them):
+# removed when everything passed, kept and named when something failed.
+scratch=$(mktemp -d /tmp/dermis-run-XXXXXX)
+export DERMIS_TEST_TMP=$scratch
 for t in "$@"; do
   name=${t#"$BUILD"/tests/}
   echo "== $name" >&2
@@ -35,6 +39,11 @@ done
 if [ "${FUZZ_FAILED:-0}" -ne 0 ]; then
   echo "error: a fuzz target failed (see above)" >&2
   broken=$((broken + 1))
+fi
+if [ "$failing" -eq 0 ] && [ "$crashing" -eq 0 ] && [ "$broken" -eq 0 ]; then
+  rm -rf "$scratch"
+else
+  echo "note: the failing tests' files are in $scratch" >&2
 fi
 echo "[====] Synthesis: Tested: $tested | Passing: $passing | Failing: $failing | Crashing: $crashing"
 echo "$passing passed, $((failing + crashing + broken)) failed"

@@ -8,9 +8,12 @@
 #include <string.h>
 #include <sys/wait.h>
 
+/* A fresh folder under $DERMIS_TEST_TMP (scripts/run-tests.sh makes one per run and
+ * removes it when every test passed), else under /tmp. */
 static inline const char *test_tmpdir(char *buf, size_t size)
 {
-    snprintf(buf, size, "/tmp/dermis-test-XXXXXX");
+    const char *root = getenv("DERMIS_TEST_TMP");
+    snprintf(buf, size, "%s/dermis-test-XXXXXX", root && *root ? root : "/tmp");
     return mkdtemp(buf);
 }
 
