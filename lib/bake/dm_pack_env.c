@@ -158,11 +158,11 @@ dm_result dm_pack_env_from_file(const char *file, const char *path, bool lightin
     if (r == DM_OK && background)
         r = background_from_rgb(bake.background, bake.background_width, bake.background_height, tool, hash, path,
                                 out, err);
-    if (r == DM_OK) {
+    if (r == DM_OK && lighting) {
         dm_prov_add_string(&out->sh_prov, "baked_file", file);
         dm_prov_add_string(&out->spec_prov, "baked_file", file);
-        dm_prov_add_string(&out->background_prov, "baked_file", file);
     }
+    if (r == DM_OK && background) dm_prov_add_string(&out->background_prov, "baked_file", file);
     dm_env_bake_free(&bake);
     out->bake_ms = dm_now_ms() - t0;
     return r;
