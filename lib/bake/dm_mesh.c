@@ -34,6 +34,7 @@ void dm_mesh_free(dm_mesh *m)
     free(m->indices);
     free(m->uvs);
     free(m->normals);
+    free(m->tangents);
     memset(m, 0, sizeof *m);
 }
 

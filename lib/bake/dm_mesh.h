@@ -3,9 +3,23 @@
  * A dm_mesh is what the offline side works on: positions shared by index, and per
  * corner (three per triangle) a UV and a normal, so UV seams and hard edges survive
  * loading. Loading goes through OpenMesh (dm_mesh_openmesh.cpp, C++ behind this
- * header): OBJ, PLY, OFF, STL and OM, chosen by the file extension. Polygons are read
- * as polygons and fan-triangulated here, each new triangle keeping its corners' UVs
- * (OpenMesh's own triangulate() loses them on the new diagonals).
+ * header) for OBJ, PLY, OFF, STL and OM, and through tinygltf (dm_mesh_gltf.cpp) for
+ * glTF 2.0 (.gltf, .glb), chosen by the file extension. Polygons are read as polygons
+ * and fan-triangulated here, each new triangle keeping its corners' UVs (OpenMesh's own
+ * triangulate() loses them on the new diagonals).
+ *
+ * glTF: every triangle primitive of every mesh the default scene places (or of every
+ * mesh, when the file has no scene) is merged, node transforms applied (a negative
+ * determinant flips the winding); dm_mesh_load_options.mesh_name keeps only the meshes
+ * of that name. TEXCOORD_0 is flipped to this convention (v = 1 − v_glTF); NORMAL and
+ * TANGENT are kept when given; indices may be u8, u16 or u32; buffers may be the GLB's
+ * own, data URIs or files relative to the .gltf. Vertices glTF split at UV seams are
+ * welded back by bit-identical position, so computed normals are smooth across seams
+ * and the mesh has the same shape as the OBJ of the same head. Refused, naming the
+ * file and the place: sparse accessors, KHR_draco_mesh_compression and
+ * EXT_meshopt_compression (DM_ERR_UNSUPPORTED), triangle strips and fans
+ * (DM_ERR_UNSUPPORTED), accessors or buffer views out of their buffer, wrong types
+ * (DM_ERR_FORMAT), indices out of range (DM_ERR_RANGE), no TEXCOORD_0 (DM_ERR_FORMAT).
  *
  * Units are the file's ("mesh units"); callers scale to mm with the scene's
  * mm_per_unit. UVs follow OBJ/OpenGL: v = 0 is the bottom row of an image.
@@ -36,6 +50,9 @@ typedef struct dm_mesh {
     float *uvs;             /* triangle_count * 3 * 2: corner c of triangle t at
                              * uvs[(3 t + c) * 2] */
     float *normals;         /* triangle_count * 3 * 3, unit length, per corner */
+    float *tangents;        /* NULL, or triangle_count * 3 * 4 per corner (x, y, z, w = ±1)
+                             * when the file gave them (glTF TANGENT) with its normals;
+                             * dm_mesh_alloc leaves it NULL, dm_mesh_free frees it */
     int normals_from_file;  /* 1: the file's (vertex) normals; 0: computed (area-weighted) */
     int64_t polygon_count;  /* faces in the file before triangulation (0 when built in code) */
 } dm_mesh;
@@ -48,6 +65,9 @@ typedef struct dm_mesh_load_options {
                                 * for debugging); 0 (default): in a child process, so a
                                 * reader crash or hang on a malformed file becomes an
                                 * error (see dm_mesh_load) */
+    const char *mesh_name;     /* glTF only: NULL or "" (default) merges every mesh; else
+                                * only the meshes of this name (DM_ERR_MISMATCH, listing
+                                * the names, when none has it). Ignored by other formats. */
 } dm_mesh_load_options;
 
 /* Loads a mesh (opt may be NULL for defaults). Fails, naming the file and the problem,
@@ -61,6 +81,8 @@ typedef struct dm_mesh_load_options {
  * trip their asserts or loop forever), so by default the read runs in a forked child
  * that sends the mesh back through a pipe: a crash becomes DM_ERR_FORMAT "the reader
  * crashed on this file", a hang (30 s + 1 s per MB) the same after killing the child.
+ * tinygltf runs in the child the same way. File normals are made unit length; a
+ * zero-length one makes every normal computed (and file tangents dropped).
  * Fork from a point where no other thread holds a lock (tools load before they start
  * worker threads). Free with dm_mesh_free, also after a failure. */
 dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mesh *out, dm_error *err);
@@ -93,7 +115,8 @@ void dm_mesh_compute_normals(dm_mesh *m);
 /* 1-to-4 midpoint subdivision (flat: new positions, UVs and normals are edge midpoints,
  * normals renormalised). Midpoint vertices are shared between the two triangles of an
  * edge. The surface and its UV map are unchanged, so stretch is unchanged; used to
- * make large test meshes. triangle_count × 4 must stay ≤ DM_MESH_TRIANGLES_MAX. */
+ * make large test meshes. triangle_count × 4 must stay ≤ DM_MESH_TRIANGLES_MAX.
+ * File tangents are not carried over (out->tangents is NULL). */
 dm_result dm_mesh_subdivide(const dm_mesh *m, dm_mesh *out, dm_error *err);
 
 /* Surface area of a triangle and its signed UV area (positive: counter-clockwise in UV,
@@ -114,7 +137,10 @@ dm_result dm_mesh_uv_islands(const dm_mesh *m, int32_t *island_of, int32_t *isla
  * orthogonal to the normal; tangents[4 i + 3] = w = ±1, and the bitangent (along +v)
  * is w · cross(normal, tangent). w = −1 on mirrored UVs; because handedness is part of
  * the split key, a vertex never mixes mirrored and unmirrored triangles. Vertices whose
- * triangles have no UV area get any unit tangent orthogonal to the normal and w = +1. */
+ * triangles have no UV area get any unit tangent orthogonal to the normal and w = +1.
+ * When the mesh has file tangents (dm_mesh.tangents), each vertex takes the one of its
+ * first corner instead, made orthogonal to the normal, with its w (a degenerate one
+ * falls back to the computed frame). */
 typedef struct dm_gpu_mesh {
     int32_t vertex_count;
     float *positions;  /* vertex_count * 3 */

@@ -78,11 +78,13 @@ dm_result dm_mesh_split_for_gpu(const dm_mesh *m, dm_gpu_mesh *out, dm_error *er
     out->uvs = malloc(corners * 2 * sizeof(float));
     out->tangents = malloc(corners * 4 * sizeof(float));
     double *tan_acc = calloc(corners * 6, sizeof *tan_acc); /* Σ area·t̂, Σ area·b̂ per vertex */
-    if (!table || !keys || !out->indices || !out->positions || !out->normals || !out->uvs || !out->tangents ||
+    size_t *first = m->tangents ? malloc(corners * sizeof *first) : NULL; /* first corner of each vertex */
+    if ((m->tangents && !first) || !table || !keys || !out->indices || !out->positions || !out->normals || !out->uvs || !out->tangents ||
         !tan_acc) {
         free(table);
         free(keys);
         free(tan_acc);
+        free(first);
         dm_gpu_mesh_free(out);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "GPU split of %d triangles: out of memory", m->triangle_count);
     }
@@ -102,6 +104,7 @@ dm_result dm_mesh_split_for_gpu(const dm_mesh *m, dm_gpu_mesh *out, dm_error *er
                 memcpy(out->positions + (size_t)count * 3, m->positions + (size_t)k.position * 3, 3 * sizeof(float));
                 memcpy(out->normals + (size_t)count * 3, m->normals + corner * 3, 3 * sizeof(float));
                 memcpy(out->uvs + (size_t)count * 2, m->uvs + corner * 2, 2 * sizeof(float));
+                if (first) first[count] = corner;
                 ++count;
             }
             out->indices[corner] = (uint32_t)table[h];
@@ -152,6 +155,17 @@ dm_result dm_mesh_split_for_gpu(const dm_mesh *m, dm_gpu_mesh *out, dm_error *er
         for (int d = 0; d < 3; ++d) t[d] -= nt * n[d];
         double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
         double w = 1.0;
+        if (first) { /* the file's tangent, when it is not along the normal */
+            const float *ft = m->tangents + first[i] * 4;
+            double f[3] = {ft[0], ft[1], ft[2]}, nf = n[0] * f[0] + n[1] * f[1] + n[2] * f[2];
+            for (int d = 0; d < 3; ++d) f[d] -= nf * n[d];
+            double lf = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+            if (lf > 1e-6 && isfinite(lf)) {
+                for (int d = 0; d < 3; ++d) out->tangents[(size_t)i * 4 + d] = (float)(f[d] / lf);
+                out->tangents[(size_t)i * 4 + 3] = ft[3] < 0.0f ? -1.0f : 1.0f;
+                continue;
+            }
+        }
         if (len > 1e-12 && isfinite(len)) {
             for (int d = 0; d < 3; ++d) t[d] /= len;
             double c[3] = {n[1] * t[2] - n[2] * t[1], n[2] * t[0] - n[0] * t[2], n[0] * t[1] - n[1] * t[0]};
@@ -163,6 +177,7 @@ dm_result dm_mesh_split_for_gpu(const dm_mesh *m, dm_gpu_mesh *out, dm_error *er
         out->tangents[(size_t)i * 4 + 3] = (float)w;
     }
     free(tan_acc);
+    free(first);
     /* Shrink to the split size (the arrays were sized for the worst case). */
     float *p;
     if ((p = realloc(out->positions, (size_t)count * 3 * sizeof(float)))) out->positions = p;

@@ -4,7 +4,8 @@
 // UVs survive seams and quads (TOOLCHAIN.md).
 #include "bake/dm_mesh.h"
 
-#include "core/dm_cli.h"
+#include "bake/dm_isolate.h"
+#include "bake/dm_mesh_gltf.h"
 
 #include <cassert>
 #include <cctype>
@@ -17,12 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 // OpenMesh's VectorT leaves its storage uninitialised by design; GCC 12 then warns
 // inside OpenMesh's own property code. The warning is OpenMesh's, not ours.
@@ -43,7 +38,7 @@ typedef OpenMesh::PolyMesh_ArrayKernelT<Traits> PolyMesh;
 
 const char *known_extension(const char *path)
 {
-    static const char *const exts[] = {"obj", "ply", "off", "stl", "om"};
+    static const char *const exts[] = {"obj", "ply", "off", "stl", "om", "gltf", "glb"};
     const char *dot = std::strrchr(path, '.');
     const char *slash = std::strrchr(path, '/');
     if (!dot || (slash && dot < slash)) return nullptr;
@@ -153,123 +148,78 @@ dm_result read_openmesh(const char *path, const dm_mesh_load_options &o, dm_mesh
 }
 
 // ---- isolation: OpenMesh's binary readers trust their input (a mutated OM, PLY or OFF
-// file can crash them, trip their asserts or loop forever), so by default they run in
-// a child process that sends the finished mesh back through a pipe.
+// file can crash them, trip their asserts or loop forever), and so may tinygltf, so by
+// default the reader runs in a child process (dm_isolate.h) that sends the finished
+// mesh back through a pipe.
+
+typedef dm_result (*mesh_reader)(const char *path, const dm_mesh_load_options *o, dm_mesh *out, dm_error *err);
 
 struct wire_header {
-    int32_t result, vertex_count, triangle_count, normals_from_file;
+    int32_t vertex_count, triangle_count, normals_from_file, has_tangents;
     int64_t polygon_count;
-    char detail[sizeof(((dm_error *)nullptr)->detail)];
 };
 
-bool write_all(int fd, const void *data, size_t size)
+struct isolated_read {
+    const char *path;
+    const dm_mesh_load_options *o;
+    mesh_reader read;
+    dm_mesh *out;
+};
+
+void child_read(void *ctx, int fd)
 {
-    const char *p = static_cast<const char *>(data);
-    while (size > 0) {
-        ssize_t n = ::write(fd, p, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        p += n, size -= (size_t)n;
-    }
-    return true;
+    const isolated_read &c = *static_cast<const isolated_read *>(ctx);
+    dm_mesh m;
+    std::memset(&m, 0, sizeof m);
+    dm_error e = {};
+    dm_result r = c.read(c.path, c.o, &m, &e);
+    if (!dm_isolate_write_result(fd, r, &e) || r != DM_OK) return;
+    wire_header h = {m.vertex_count, m.triangle_count, m.normals_from_file, m.tangents != nullptr, m.polygon_count};
+    const size_t corners = (size_t)m.triangle_count * 3;
+    dm_isolate_write(fd, &h, sizeof h) &&
+        dm_isolate_write(fd, m.positions, (size_t)m.vertex_count * 3 * sizeof(float)) &&
+        dm_isolate_write(fd, m.indices, corners * sizeof(uint32_t)) &&
+        dm_isolate_write(fd, m.uvs, corners * 2 * sizeof(float)) &&
+        dm_isolate_write(fd, m.normals, corners * 3 * sizeof(float)) &&
+        (!m.tangents || dm_isolate_write(fd, m.tangents, corners * 4 * sizeof(float)));
 }
 
-// Reads exactly size bytes before deadline_ms (dm_now_ms clock); false on EOF, error
-// or time out (*timed_out set).
-bool read_all(int fd, void *data, size_t size, double deadline_ms, bool *timed_out)
+dm_result parent_read(void *ctx, dm_isolate_pipe *pp, dm_error *err)
 {
-    char *p = static_cast<char *>(data);
-    while (size > 0) {
-        double left = deadline_ms - dm_now_ms();
-        if (left <= 0) return *timed_out = true, false;
-        struct pollfd pfd = {fd, POLLIN, 0};
-        int pr = ::poll(&pfd, 1, left > 1e6 ? 1000000 : (int)left + 1);
-        if (pr < 0 && errno == EINTR) continue;
-        if (pr < 0) return false;
-        if (pr == 0) continue;
-        ssize_t n = ::read(fd, p, size);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        p += n, size -= (size_t)n;
-    }
-    return true;
-}
-
-dm_result read_isolated(const char *path, const dm_mesh_load_options &o, dm_mesh *out, dm_error *err)
-{
-    struct stat sb;
-    double size_mb = ::stat(path, &sb) == 0 ? (double)sb.st_size / 1e6 : 0.0;
-    // Generous: the head (1.8 MB) reads in ~60 ms; a hang is what this catches.
-    const double limit_ms = 30000.0 + 1000.0 * size_mb;
-    int fds[2];
-    if (::pipe(fds) != 0) return dm_fail(err, DM_ERR_INTERNAL, "%s: pipe failed (%s)", path, std::strerror(errno));
-    std::fflush(nullptr);
-    pid_t pid = ::fork();
-    if (pid < 0) {
-        ::close(fds[0]), ::close(fds[1]);
-        return dm_fail(err, DM_ERR_INTERNAL, "%s: fork failed (%s)", path, std::strerror(errno));
-    }
-    if (pid == 0) { // child: read, send, leave without running the parent's atexit work
-        ::close(fds[0]);
-        int devnull = ::open("/dev/null", O_WRONLY); // OpenMesh also writes to std::cerr directly
-        if (devnull >= 0) ::dup2(devnull, 1), ::dup2(devnull, 2);
-        dm_mesh m;
-        std::memset(&m, 0, sizeof m);
-        dm_error e = {};
-        wire_header h = {};
-        h.result = read_openmesh(path, o, &m, &e);
-        std::memcpy(h.detail, e.detail, sizeof h.detail);
-        if (h.result == DM_OK) {
-            h.vertex_count = m.vertex_count, h.triangle_count = m.triangle_count;
-            h.normals_from_file = m.normals_from_file, h.polygon_count = m.polygon_count;
-        }
-        const size_t corners = (size_t)m.triangle_count * 3;
-        bool ok = write_all(fds[1], &h, sizeof h);
-        if (ok && h.result == DM_OK)
-            ok = write_all(fds[1], m.positions, (size_t)m.vertex_count * 3 * sizeof(float)) &&
-                 write_all(fds[1], m.indices, corners * sizeof(uint32_t)) &&
-                 write_all(fds[1], m.uvs, corners * 2 * sizeof(float)) &&
-                 write_all(fds[1], m.normals, corners * 3 * sizeof(float));
-        ::_exit(ok ? 0 : 1);
-    }
-    ::close(fds[1]);
-    const double deadline = dm_now_ms() + limit_ms;
-    bool timed_out = false, lost = false; // lost: the child died or hung before sending all
-    wire_header h;
+    const isolated_read &c = *static_cast<const isolated_read *>(ctx);
+    dm_mesh *out = c.out;
     dm_result r = DM_OK;
-    if (!read_all(fds[0], &h, sizeof h, deadline, &timed_out)) {
-        lost = true;
-    } else if (h.result != DM_OK) {
-        h.detail[sizeof h.detail - 1] = '\0';
-        r = dm_fail(err, (dm_result)h.result, "%s", h.detail);
-    } else if ((r = dm_mesh_alloc(h.vertex_count, h.triangle_count, out, err)) == DM_OK) {
-        out->normals_from_file = h.normals_from_file, out->polygon_count = h.polygon_count;
-        const size_t corners = (size_t)h.triangle_count * 3;
-        if (!read_all(fds[0], out->positions, (size_t)h.vertex_count * 3 * sizeof(float), deadline, &timed_out) ||
-            !read_all(fds[0], out->indices, corners * sizeof(uint32_t), deadline, &timed_out) ||
-            !read_all(fds[0], out->uvs, corners * 2 * sizeof(float), deadline, &timed_out) ||
-            !read_all(fds[0], out->normals, corners * 3 * sizeof(float), deadline, &timed_out)) {
-            dm_mesh_free(out);
-            lost = true;
-        }
+    if (!dm_isolate_read_result(pp, &r, err) || r != DM_OK) return r;
+    wire_header h;
+    if (!dm_isolate_read(pp, &h, sizeof h)) return DM_ERR_FORMAT;
+    if ((r = dm_mesh_alloc(h.vertex_count, h.triangle_count, out, err)) != DM_OK) return r;
+    out->normals_from_file = h.normals_from_file, out->polygon_count = h.polygon_count;
+    const size_t corners = (size_t)h.triangle_count * 3;
+    if (h.has_tangents && !(out->tangents = static_cast<float *>(std::malloc(corners * 4 * sizeof(float))))) {
+        dm_mesh_free(out);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", c.path);
     }
-    ::close(fds[0]);
-    if (timed_out) ::kill(pid, SIGKILL);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    if (!dm_isolate_read(pp, out->positions, (size_t)h.vertex_count * 3 * sizeof(float)) ||
+        !dm_isolate_read(pp, out->indices, corners * sizeof(uint32_t)) ||
+        !dm_isolate_read(pp, out->uvs, corners * 2 * sizeof(float)) ||
+        !dm_isolate_read(pp, out->normals, corners * 3 * sizeof(float)) ||
+        (h.has_tangents && !dm_isolate_read(pp, out->tangents, corners * 4 * sizeof(float)))) {
+        dm_mesh_free(out);
+        return DM_ERR_FORMAT;
     }
-    if (lost) {
-        if (timed_out)
-            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader did not finish in %.0f s (a malformed file), expected a mesh",
-                    path, limit_ms / 1000.0);
-        else if (WIFSIGNALED(status))
-            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader crashed on this file (signal %d): malformed, expected a mesh",
-                    path, WTERMSIG(status));
-        else
-            r = dm_fail(err, DM_ERR_FORMAT, "%s: the reader stopped early (exit status %d): malformed, expected a mesh", path,
-                    WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-    }
-    return r;
+    return DM_OK;
+}
+
+dm_result read_isolated(const char *path, const dm_mesh_load_options *o, mesh_reader read, dm_mesh *out,
+                        dm_error *err)
+{
+    isolated_read c = {path, o, read, out};
+    return dm_isolate_run(path, dm_isolate_limit_ms(path), child_read, parent_read, &c, err);
+}
+
+dm_result read_openmesh_c(const char *path, const dm_mesh_load_options *o, dm_mesh *out, dm_error *err)
+{
+    return read_openmesh(path, *o, out, err);
 }
 
 } // namespace
@@ -282,8 +232,8 @@ extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *
     if (opt) o = *opt;
 
     if (!known_extension(path))
-        return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: unknown mesh format, expected .obj, .ply, .off, .stl or .om",
-                       path);
+        return dm_fail(err, DM_ERR_UNSUPPORTED,
+                       "%s: unknown mesh format, expected .obj, .ply, .off, .stl, .om, .gltf or .glb", path);
     FILE *fp = std::fopen(path, "rb");
     if (!fp) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, std::strerror(errno));
     int first = std::fgetc(fp);
@@ -292,7 +242,8 @@ extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *
 
     dm_result r = DM_OK;
     if ((r = dm_mesh_check_file(path, err)) != DM_OK) return r;
-    r = o.in_process ? read_openmesh(path, o, out, err) : read_isolated(path, o, out, err);
+    const mesh_reader read = dm_mesh_is_gltf(path) ? dm_mesh_read_gltf : read_openmesh_c;
+    r = o.in_process ? read(path, &o, out, err) : read_isolated(path, &o, read, out, err);
     if (r == DM_OK) {
         // Positions and UVs first: normals are only checked after they are final.
         for (int64_t i = 0; i < (int64_t)out->vertex_count * 3 && r == DM_OK; ++i)
@@ -319,6 +270,8 @@ extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *
         }
         if (r == DM_OK && zero) {
             out->normals_from_file = 0;
+            std::free(out->tangents); // they went with the file's normals
+            out->tangents = nullptr;
             dm_mesh_compute_normals(out);
         } else if (r == DM_OK) {
             for (int64_t i = 0; i < (int64_t)out->triangle_count * 3; ++i) {
