@@ -16,7 +16,7 @@
 #define TOOL "dermis-bake-stretch"
 
 typedef struct args {
-    const char *mesh, *output, *profile;
+    const char *mesh, *output, *profile, *mesh_name;
     int64_t size, levels, threads;
     double mm_per_unit;
     bool report, verbose, quiet;
@@ -26,9 +26,9 @@ static void usage(FILE *f)
 {
     fprintf(f,
             "Usage: " TOOL " MESH -o OUT.exr [--size N] [--mm-per-unit MM] [--levels N] [--profile FILE]\n"
-            "                           [--report] [--threads N] [-v | --quiet]\n"
-            "Bakes the UV stretch map of MESH (OBJ, PLY, OFF, STL, OM with UVs): s_u = 1/|dP/du| and\n"
-            "s_v = 1/|dP/dv| in UV units per mm from the exact per-triangle Jacobian, gutters filled\n"
+            "                           [--mesh NAME] [--report] [--threads N] [-v | --quiet]\n"
+            "Bakes the UV stretch map of MESH (OBJ, PLY, OFF, STL, OM, glTF 2.0 .gltf/.glb; with UVs):\n"
+            "s_u = 1/|dP/du| and s_v = 1/|dP/dv| in UV units per mm from the exact per-triangle Jacobian, gutters filled\n"
             "from the nearest chart texel, then blurred through the profile's Gaussian chain (level k\n"
             "from level k-1 by v_k - v_(k-1) mm^2, taps scaled by the stretch), as one float EXR with\n"
             "channels stretch<k>.u, stretch<k>.v (k = 0 .. levels-1) and mask (1 chart, 0 gutter).\n"
@@ -42,6 +42,8 @@ static void usage(FILE *f)
             "                       Gaussian of the profile, 6 for gems3-skin; range 1..profile's count)\n"
             "  --profile FILE       Gaussian chain from a dermis profile JSON (default: built-in\n"
             "                       gems3-skin, variances 0.0064 0.0484 0.187 0.567 1.99 7.41 mm^2)\n"
+            "  --mesh NAME          glTF: bake only the meshes of this name (default: every mesh of\n"
+            "                       the default scene, merged, node transforms applied)\n"
             "  --report             print coverage, stretch percentiles, degenerate triangles, UV\n"
             "                       islands and timings on stdout\n"
             "  --threads N          worker threads (default 0 = all cores, range 0..64)\n"
@@ -76,6 +78,8 @@ static int parse(int argc, char **argv, args *a)
         } else if (!strcmp(s, "--levels")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 1, DM_PROFILE_MAX_GAUSSIANS, &a->levels))
                 return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--mesh")) {
+            if (!(a->mesh_name = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--profile")) {
             if (!(a->profile = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--threads")) {
@@ -166,7 +170,8 @@ int main(int argc, char **argv)
     }
     char mesh_hash[DM_HASH_HEX_SIZE];
     dm_mesh mesh;
-    if (dm_mesh_load(a.mesh, NULL, &mesh, &err) != DM_OK || dm_hash_file_hex(a.mesh, mesh_hash, &err) != DM_OK) {
+    dm_mesh_load_options load_opt = {.mesh_name = a.mesh_name};
+    if (dm_mesh_load(a.mesh, &load_opt, &mesh, &err) != DM_OK || dm_hash_file_hex(a.mesh, mesh_hash, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         dm_mesh_free(&mesh);
         return DM_EXIT_LOAD;
@@ -209,6 +214,7 @@ int main(int argc, char **argv)
     dm_provenance prov;
     dm_prov_init(&prov, TOOL);
     snprintf(prov.input_hash, sizeof prov.input_hash, "%s", mesh_hash);
+    if (a.mesh_name) dm_prov_add_string(&prov, "mesh_name", a.mesh_name);
     dm_prov_add_int(&prov, "width", map.width);
     dm_prov_add_int(&prov, "height", map.height);
     dm_prov_add_double(&prov, "mm_per_unit", a.mm_per_unit);

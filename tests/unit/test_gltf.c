@@ -471,3 +471,41 @@ Test(gltf, head_obj_and_glb_bake_identical_stretch, .timeout = 120)
     dm_mesh_free(&a);
     dm_mesh_free(&b);
 }
+
+/* dermis-bake-stretch takes the GLB like the OBJ, and --mesh NAME selects (exit 2 when
+ * no mesh has that name). */
+Test(gltf, bake_stretch_tool_reads_glb, .timeout = 120)
+{
+    const char *obj = DERMIS_ASSETS "/lps/LeePerrySmith.obj";
+    if (access(obj, R_OK) != 0) cr_skip_test("no head at %s", obj);
+    dm_mesh a;
+    load_ok(obj, NULL, &a);
+    const char *glb = in_dir("head.glb");
+    cr_assert_eq(test_glb_from_mesh(&a, glb), 0);
+    dm_mesh_free(&a);
+    char cmd[4096];
+    const char *out_obj = in_dir("obj.exr"), *out_glb = in_dir("glb.exr"), *log = in_dir("log.txt");
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s -o %s --size 256 --quiet", obj, out_obj);
+    cr_assert_eq(test_run(cmd, log), 0, "%s", cmd);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s --mesh head -o %s --size 256 --quiet", glb, out_glb);
+    cr_assert_eq(test_run(cmd, log), 0, "%s", cmd);
+    dm_stretch_map sa, sb;
+    dm_provenance pa, pb;
+    dm_error err = {0};
+    cr_assert_eq(dm_stretch_read(out_obj, &sa, &pa, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_stretch_read(out_glb, &sb, &pb, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(sa.level_count, sb.level_count);
+    size_t n = (size_t)sa.width * sa.height;
+    cr_assert_eq(memcmp(sa.mask, sb.mask, n * sizeof(float)), 0);
+    for (int l = 0; l < sa.level_count; ++l) {
+        cr_assert_eq(memcmp(sa.s_u[l], sb.s_u[l], n * sizeof(float)), 0, "level %d u", l);
+        cr_assert_eq(memcmp(sa.s_v[l], sb.s_v[l], n * sizeof(float)), 0, "level %d v", l);
+    }
+    dm_stretch_map_free(&sa);
+    dm_stretch_map_free(&sb);
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s --mesh nose -o %s --size 256", glb, out_glb);
+    cr_assert_eq(test_run(cmd, log), 2, "%s", cmd);
+    char *text = test_slurp(log);
+    cr_assert_not_null(strstr(text, "no mesh named \"nose\""), "%s", text);
+    free(text);
+}
