@@ -40,8 +40,8 @@ LDFLAGS  := $(OPT) -pthread -Wl,--as-needed
 # Dependencies, by side. lib/core needs libc, cJSON, xxHash and zlib only.
 CORE_CFLAGS   := $(shell $(PKG) --cflags libcjson libxxhash 2>/dev/null)
 CORE_LIBS     := $(shell $(PKG) --libs libcjson libxxhash zlib 2>/dev/null) -lm
-BAKE_CFLAGS   := $(shell $(PKG) --cflags OpenEXR OpenImageIO openmesh 2>/dev/null)
-BAKE_LIBS     := $(shell $(PKG) --libs OpenImageIO openmesh 2>/dev/null) -lOpenEXRCore-3_1 -lz
+BAKE_CFLAGS   := $(shell $(PKG) --cflags OpenEXR OpenImageIO openmesh tinygltf 2>/dev/null)
+BAKE_LIBS     := $(shell $(PKG) --libs OpenImageIO openmesh tinygltf 2>/dev/null) -lOpenEXRCore-3_1 -lembree3 -lz
 OSMESA_LIBS   := $(shell $(PKG) --libs osmesa 2>/dev/null)
 GLFW_LIBS     := $(shell $(PKG) --libs glfw3 2>/dev/null) -lGL
 TEST_CFLAGS   := $(shell $(PKG) --cflags criterion 2>/dev/null)
@@ -65,10 +65,14 @@ HOST_LIB   := $(BUILD)/lib/libdermis_host_osmesa.a
 
 # Runtime tools never link the offline side (DESIGN.md): they are listed by name.
 RUNTIME_TOOLS := dermis-render dermis-view
+# Offline tools that also drive the renderer headless (the ground truth reads the
+# renderer's own irradiance): both sides, like the render tests.
+BOTH_TOOLS    := dermis-reference
 ALL_TOOLS     := $(basename $(notdir $(wildcard tools/*.c)))
-BAKE_TOOLS    := $(filter-out $(RUNTIME_TOOLS),$(ALL_TOOLS))
+BAKE_TOOLS    := $(filter-out $(RUNTIME_TOOLS) $(BOTH_TOOLS),$(ALL_TOOLS))
 BAKE_BINS     := $(addprefix $(BUILD)/bin/,$(BAKE_TOOLS))
 RENDER_BINS   := $(addprefix $(BUILD)/bin/,$(filter dermis-render,$(ALL_TOOLS)))
+BOTH_BINS     := $(addprefix $(BUILD)/bin/,$(filter $(BOTH_TOOLS),$(ALL_TOOLS)))
 
 # The viewer (dermis-view): C objects, the ImGui adapter (C++), and Debian's ImGui GLFW and
 # OpenGL3 backends compiled from the sources libimgui-dev ships (never copied into the repo).
@@ -88,7 +92,7 @@ VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%
 
 .PHONY: all test run-tests bench demo deps clean fuzz tools
 all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
-tools: $(BAKE_BINS) $(RENDER_BINS) $(VIEW_BIN)
+tools: $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
 
 # --- objects -----------------------------------------------------------------------
 $(BUILD)/obj/lib/core/%.c.o: lib/core/%.c
@@ -151,10 +155,13 @@ $(BAKE_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(BAKE_LIB) $(CORE_LIB)
 $(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -lz -o $@
+$(BOTH_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
 $(VIEW_BIN): $(VIEW_OBJ) $(RENDER_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(IMGUI_LIBS) $(GLFW_LIBS) $(CORE_LIBS) -lz -o $@
-$(VIEW_TESTS): $(BUILD)/tests/view/%: $(BUILD)/obj/tests/view/%.c.o $(CORE_LIB) | $(VIEW_BIN) $(RENDER_BINS) $(BAKE_BINS)
+$(VIEW_TESTS): $(BUILD)/tests/view/%: $(BUILD)/obj/tests/view/%.c.o $(CORE_LIB) | $(VIEW_BIN) $(RENDER_BINS) $(BAKE_BINS) $(BOTH_BINS)
 	@mkdir -p $(@D)
 	$(CC) $(LDFLAGS) $^ $(CORE_LIBS) $(TEST_LIBS) -lz -o $@
 $(UNIT_TESTS): $(BUILD)/tests/unit/%: $(BUILD)/obj/tests/unit/%.c.o $(BAKE_LIB) $(CORE_LIB)

@@ -9,6 +9,7 @@ required=(
   libopenmesh-dev libopenimageio-dev openimageio-tools libopenexr-dev openexr
   libglfw3-dev libosmesa6-dev xvfb xauth libglx-mesa0 libgl1-mesa-dri
   libcriterion-dev libcjson-dev libxxhash-dev zlib1g-dev
+  libembree-dev libtinygltf-dev parallel
 )
 optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev libclang-rt-14-dev)
 

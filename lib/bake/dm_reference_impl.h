@@ -1,0 +1,66 @@
+/* dm_reference_impl.h — internals shared by the ground truth's files (dm_reference*.c):
+ * the uniform grids, the irradiance lookup and the reference object. Not a public API. */
+#ifndef DM_REFERENCE_IMPL_H
+#define DM_REFERENCE_IMPL_H
+
+#include <stdint.h>
+
+#include "bake/dm_reference.h"
+
+/* A uniform 3-D grid of items in CSR form: the items of cell c are
+ * item[start[c] .. start[c + 1]). Cells are cubes of edge cell_mm from origin. */
+typedef struct dm_ref_grid {
+    double origin[3], cell_mm;
+    int dim[3];
+    int64_t *start; /* dim[0]*dim[1]*dim[2] + 1 */
+    int32_t *item;
+} dm_ref_grid;
+
+/* Sets origin, cell size and dims for the box [lo, hi] and cells of about cell_mm (grown
+ * until there are at most 2^21 cells); allocates nothing. */
+void dm_ref_grid_init(dm_ref_grid *g, const double lo[3], const double hi[3], double cell_mm);
+/* The range of cells a sphere (centre p, radius r) overlaps, clamped to the grid. */
+void dm_ref_grid_range(const dm_ref_grid *g, const double p[3], double r, int lo[3], int hi[3]);
+void dm_ref_grid_free(dm_ref_grid *g);
+
+/* Wide-Gaussian sources: pieces of triangles clipped to texel cells. */
+typedef struct dm_ref_element {
+    float pos[3];  /* centroid, mm */
+    float flux[3]; /* I at the centroid × area (mm²) */
+} dm_ref_element;
+
+/* A group of Gaussians evaluated on one point set. */
+typedef struct dm_ref_group {
+    int first, count;  /* kernel indices */
+    double spacing_mm; /* narrow: sub-triangle edge; wide: 0 (texel elements) */
+    double radius_mm;  /* cut · σ of the widest in the group */
+} dm_ref_group;
+
+struct dm_reference {
+    const dm_mesh *mesh;
+    dm_reference_atlas atlas;
+    dm_reference_kernel kernel;
+    dm_reference_options opt;
+    double cut_sigma, spacing_sigma, wide_texels, tail_fraction; /* resolved options */
+    double *pos_mm;     /* vertex_count * 3 */
+    double *tri_area;   /* triangle_count, mm² */
+    double *tri_edge;   /* triangle_count: longest edge, mm */
+    dm_ref_grid tri_grid;
+    int group_count;
+    dm_ref_group group[DM_REFERENCE_GAUSSIANS_MAX];
+    int wide_group; /* index into group[] or −1 */
+    dm_ref_element *element;
+    int64_t element_count;
+    dm_ref_grid element_grid;
+    dm_reference_stats stats;
+};
+
+/* I at (u, v): bilinear over covered texels, renormalised; nearest covered texel within
+ * 2 texels when none of the 2×2 is covered. Returns 0 (and zero rgb) when none is near,
+ * 1 otherwise. */
+int dm_ref_sample(const dm_reference_atlas *a, double u, double v, double rgb[3]);
+
+/* Texel elements and their grid (dm_reference_elements.c). */
+dm_result dm_ref_build_elements(dm_reference *ref, dm_error *err);
+
+#endif

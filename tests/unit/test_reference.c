@@ -1,0 +1,276 @@
+/* The ground truth's own error bars (dm_reference.h): closed forms on a plane (constant,
+ * cosine), a sphere (linear irradiance, chord distances), a delta (mass, centroid, second
+ * moment), convergence against a finer quadrature, thread and split invariance, and the
+ * hard cases (degenerate triangles, one triangle, no surface, extreme mm_per_unit). */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../common/grid_mesh.h"
+#include "bake/dm_reference.h"
+#include "core/dm_math.h"
+
+/* ---- fixtures ---------------------------------------------------------------------- */
+
+#define PLANE_MM 64.0
+static void plane_pos(double s, double t, double o[3]) { o[0] = PLANE_MM * s, o[1] = PLANE_MM * t, o[2] = 0; }
+static void uv_id(double s, double t, double o[3]) { o[0] = s, o[1] = t, o[2] = 0; }
+
+#define SPHERE_MM 20.0
+static void sphere_pos(double s, double t, double o[3])
+{
+    double phi = DM_2PI * s, theta = DM_PI * t; /* theta from the south pole */
+    o[0] = SPHERE_MM * sin(theta) * cos(phi), o[1] = SPHERE_MM * sin(theta) * sin(phi);
+    o[2] = -SPHERE_MM * cos(theta);
+}
+
+typedef double (*field_fn)(double u, double v);
+
+/* An N×N atlas, every texel covered, I(u, v) at texel centres, grey. */
+static float *atlas_from(int n, field_fn f)
+{
+    float *a = malloc(sizeof *a * 4 * (size_t)n * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            float v = (float)f((i + 0.5) / n, (j + 0.5) / n);
+            float *t = a + 4 * ((size_t)j * n + i);
+            t[0] = t[1] = t[2] = v;
+            t[3] = 1.0f;
+        }
+    return a;
+}
+
+static void gems3_kernel(dm_reference_kernel *k)
+{
+    dm_profile p;
+    dm_profile_gems3_skin(&p);
+    dm_error err = {0};
+    cr_assert_eq(dm_reference_kernel_from_profile(&p, k, &err), DM_OK, "%s", err.detail);
+}
+
+/* The target at plane point (x, y) mm of the grid mesh (nu cells a side). */
+static dm_reference_target plane_target(int nu, double x, double y)
+{
+    double s = x / PLANE_MM * nu, t = y / PLANE_MM * nu;
+    int i = (int)floor(s), j = (int)floor(t);
+    double fs = s - i, ft = t - j;
+    dm_reference_target tg;
+    /* cell (i, j): triangle 0 = (0,0) (1,0) (1,1); triangle 1 = (0,0) (1,1) (0,1) */
+    if (fs >= ft) tg = (dm_reference_target){2 * (j * nu + i), (float)(fs - ft), (float)ft};
+    else tg = (dm_reference_target){2 * (j * nu + i) + 1, (float)fs, (float)(ft - fs)};
+    return tg;
+}
+
+static dm_reference *make_ref(const dm_mesh *m, double mm_per_unit, int n, const float *rgba,
+                              const dm_reference_kernel *k, const dm_reference_options *o)
+{
+    dm_reference *ref = NULL;
+    dm_error err = {0};
+    dm_reference_atlas atlas = {n, n, rgba};
+    cr_assert_eq(dm_reference_create(m, mm_per_unit, &atlas, k, o, &ref, &err), DM_OK, "%s", err.detail);
+    return ref;
+}
+
+static void eval(const dm_reference *ref, const dm_reference_target *t, size_t n, float *rgb, float *levels)
+{
+    dm_error err = {0};
+    cr_assert_eq(dm_reference_eval(ref, t, n, rgb, levels, &err), DM_OK, "%s", err.detail);
+}
+
+/* ---- plane ------------------------------------------------------------------------- */
+
+static double one(double u, double v) { (void)u, (void)v; return 1.0; }
+#define COS_PERIOD_MM 16.0
+static double cosine(double u, double v) { (void)v; return 1.0 + 0.5 * cos(DM_2PI * u * PLANE_MM / COS_PERIOD_MM); }
+
+/* Interior points (≥ 4σ of the widest Gaussian, 10.9 mm, from every edge) of a 64 mm plane,
+ * each Gaussian on its own: constant irradiance gives 1 (the cut's dropped mass restored),
+ * to 1e-4 (the quadrature's residue, O((h/σ)⁴) at h = σ/4, is ~1e-5). */
+Test(reference, plane_constant)
+{
+    dm_mesh m;
+    grid_mesh(16, 16, plane_pos, uv_id, &m);
+    float *a = atlas_from(256, one);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference *ref = make_ref(&m, 1.0, 256, a, &k, NULL);
+    dm_reference_stats st;
+    dm_reference_get_stats(ref, &st);
+    cr_expect(st.narrow_gaussians > 0 && st.wide_gaussians > 0, "both paths: %d narrow, %d wide", st.narrow_gaussians,
+              st.wide_gaussians);
+    cr_expect(fabs(st.surface_area_mm2 - PLANE_MM * PLANE_MM) < 1e-6);
+    enum { N = 9 };
+    dm_reference_target t[N];
+    for (int i = 0; i < N; ++i) t[i] = plane_target(16, 12.3 + 4.9 * i, 31.7 - 1.3 * i);
+    float rgb[N * 3], lv[N * 6 * 3];
+    eval(ref, t, N, rgb, lv);
+    for (int i = 0; i < N; ++i) {
+        for (int kk = 0; kk < 6; ++kk) cr_expect(fabs(lv[(i * 6 + kk) * 3] - 1.0) < 1e-4, "S%d = %.7f", kk, lv[(i * 6 + kk) * 3]);
+        cr_expect(fabs(rgb[3 * i] - 1.0) < 1e-4, "D = %.7f", rgb[3 * i]);
+    }
+    dm_reference_destroy(ref);
+    free(a);
+    dm_mesh_free(&m);
+}
+
+/* I = 1 + ½cos(2πx/λ), λ = 16 mm: S_k = 1 + ½cos(2πx/λ)·exp(−2π²v_k/λ²). The atlas holds I
+ * at texel centres (0.25 mm) and is read bilinearly: that interpolant differs from I by at
+ * most h²/8·|I''| = 0.25²/8·½(2π/16)² = 6.0e-4; the tolerance is that plus 1e-4. */
+Test(reference, plane_cosine)
+{
+    dm_mesh m;
+    grid_mesh(16, 16, plane_pos, uv_id, &m);
+    float *a = atlas_from(256, cosine);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference *ref = make_ref(&m, 1.0, 256, a, &k, NULL);
+    enum { N = 16 };
+    dm_reference_target t[N];
+    double x[N];
+    for (int i = 0; i < N; ++i) {
+        x[i] = 12.0 + 2.5 * i + 0.37;
+        t[i] = plane_target(16, x[i], 30.2);
+    }
+    float rgb[N * 3], lv[N * 6 * 3];
+    eval(ref, t, N, rgb, lv);
+    double worst = 0.0;
+    for (int i = 0; i < N; ++i)
+        for (int kk = 0; kk < 6; ++kk) {
+            double want = 1.0 + 0.5 * cos(DM_2PI * x[i] / COS_PERIOD_MM) *
+                                    exp(-2.0 * DM_PI * DM_PI * k.variance_mm2[kk] / (COS_PERIOD_MM * COS_PERIOD_MM));
+            double e = fabs(lv[(i * 6 + kk) * 3] - want);
+            worst = fmax(worst, e);
+            cr_expect(e < 7e-4, "x %.2f S%d %.6f want %.6f", x[i], kk, lv[(i * 6 + kk) * 3], want);
+        }
+    cr_log_info("plane cosine: worst |S - closed form| = %.2e", worst);
+    dm_reference_destroy(ref);
+    free(a);
+    dm_mesh_free(&m);
+}
+
+/* A delta: one texel lit, the sharpest input an atlas can hold. Its bilinear interpolant is a
+ * tent of mass h² (h the texel), centroid the texel centre and second moment h²/3; convolved
+ * with G(v) the result has mass h², the same centroid and second moment 2v + h²/3. Measured
+ * by summing S over a grid of targets finer than both σ and h. Tolerances, per path:
+ * - narrow (sub-triangles, here of edge σ/16): the midpoint rule across the tent's kinks,
+ *   O((s/h)²): mass 2e-3, centroid 1e-3 h, second moment 1 %;
+ * - wide (one point per piece of the cells between texel centres): exact for the mass of a
+ *   bilinear function; a piece split by a triangle edge moves the tent's first moment by
+ *   h/16 at most (midpoint rule on the two halves of one linear ramp: 1/12 − 2/48), so the
+ *   centroid within h/16 + 1e-3 h, mass 1e-3, second moment 1 %. */
+Test(reference, delta_moments)
+{
+    dm_mesh m;
+    grid_mesh(8, 8, plane_pos, uv_id, &m);
+    enum { NA = 256 };
+    float *a = atlas_from(NA, one);
+    for (size_t i = 0; i < (size_t)NA * NA; ++i) a[4 * i] = a[4 * i + 1] = a[4 * i + 2] = 0.0f;
+    int ci = 128, cj = 131;
+    float *d = a + 4 * ((size_t)cj * NA + ci);
+    d[0] = d[1] = d[2] = 1.0f;
+    double h = PLANE_MM / NA, cx = (ci + 0.5) * h, cy = (cj + 0.5) * h;
+    dm_profile p;
+    dm_profile_gems3_skin(&p);
+    for (int kk = 0; kk < 6; ++kk) {
+        dm_reference_kernel k = {.count = 1};
+        k.variance_mm2[0] = p.variance_mm2[kk];
+        k.weight[0][0] = k.weight[0][1] = k.weight[0][2] = 1.0;
+        dm_reference_options o = {.spacing_sigma = 1.0 / 16.0};
+        dm_reference *ref = make_ref(&m, 1.0, NA, a, &k, &o);
+        double sigma = sqrt(k.variance_mm2[0]);
+        double step = fmin(sigma, h) / 2.0, half = 5.0 * sigma + 2.0 * h;
+        int n = (int)ceil(2.0 * half / step);
+        dm_reference_target *t = malloc(sizeof *t * (size_t)n * n);
+        double *px = malloc(sizeof *px * (size_t)n * n * 2);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                double x = cx - half + (i + 0.5) * step, y = cy - half + (j + 0.5) * step;
+                t[j * n + i] = plane_target(8, x, y);
+                px[2 * (j * n + i)] = x, px[2 * (j * n + i) + 1] = y;
+            }
+        float *rgb = malloc(sizeof *rgb * 3 * (size_t)n * n);
+        eval(ref, t, (size_t)n * n, rgb, NULL);
+        double mass = 0, mx = 0, my = 0, m2 = 0;
+        for (int i = 0; i < n * n; ++i) {
+            double w = rgb[3 * i] * step * step;
+            mass += w;
+            mx += w * px[2 * i];
+            my += w * px[2 * i + 1];
+        }
+        mx /= mass, my /= mass;
+        for (int i = 0; i < n * n; ++i) {
+            double dx = px[2 * i] - mx, dy = px[2 * i + 1] - my;
+            m2 += rgb[3 * i] * step * step * (dx * dx + dy * dy);
+        }
+        m2 /= mass;
+        double want_m2 = 2.0 * k.variance_mm2[0] + h * h / 3.0;
+        cr_log_info("delta v %g: mass %.2e, centroid (%.2e, %.2e) h, second moment %.2e", k.variance_mm2[0],
+                    mass / (h * h) - 1.0, (mx - cx) / h, (my - cy) / h, m2 / want_m2 - 1.0);
+        dm_reference_stats st;
+        dm_reference_get_stats(ref, &st);
+        bool wide = st.wide_gaussians == 1;
+        double tol_c = (wide ? 1.0 / 16.0 + 1e-3 : 1e-3) * h;
+        cr_expect(fabs(mass / (h * h) - 1.0) < (wide ? 1e-3 : 2e-3), "v %g: mass %.6f h^2", k.variance_mm2[0], mass / (h * h));
+        cr_expect(fabs(mx - cx) < tol_c && fabs(my - cy) < tol_c, "centroid (%.5f, %.5f) want (%.5f, %.5f)", mx, my,
+                  cx, cy);
+        cr_expect(fabs(m2 / want_m2 - 1.0) < 0.01, "v %g: second moment %.6f want %.6f", k.variance_mm2[0], m2, want_m2);
+        free(rgb);
+        free(px);
+        free(t);
+        dm_reference_destroy(ref);
+    }
+    free(a);
+    dm_mesh_free(&m);
+}
+
+/* ---- sphere ------------------------------------------------------------------------ */
+
+static double linear_z(double u, double v)
+{
+    (void)u;
+    return 1.0 + 0.01 * (-SPHERE_MM * cos(DM_PI * v)); /* 1 + 0.01·z, z in mm */
+}
+
+/* On a sphere of radius R with I = a + b·z, chord distances give (Archimedes: the cap
+ * within chord d has area πd²), with c = R²/v and E = 1 − e^{−2c}:
+ *   S(x) = a·E + b·z_x·(E − (1 − (1 + 2c)e^{−2c})/c).
+ * The mesh is a 256×128 lat-long polyhedron: its area falls short of the sphere's by
+ * about (e/R)²/12 ≈ 5e-5 relative (e = 0.49 mm edges), the poles are degenerate
+ * triangles and u = 0/1 is a seam the convolution crosses. Tolerance 2e-4 relative. */
+Test(reference, sphere_linear)
+{
+    dm_mesh m;
+    grid_mesh(256, 128, sphere_pos, uv_id, &m);
+    enum { NA = 512 };
+    float *a = atlas_from(NA, linear_z);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference *ref = make_ref(&m, 1.0, NA, a, &k, NULL);
+    enum { N = 6 };
+    /* cell centres near the seam (u ≈ 0), the equator, and high latitudes */
+    const double su[N] = {0.0005, 0.9995, 0.25, 0.5, 0.71, 0.1}, sv[N] = {0.5, 0.31, 0.85, 0.12, 0.5, 0.93};
+    dm_reference_target t[N];
+    for (int i = 0; i < N; ++i) {
+        double s = su[i] * 256, tt = sv[i] * 128;
+        int ii = (int)s, jj = (int)tt;
+        double fs = s - ii, ft = tt - jj;
+        if (fs >= ft) t[i] = (dm_reference_target){2 * (jj * 256 + ii), (float)(fs - ft), (float)ft};
+        else t[i] = (dm_reference_target){2 * (jj * 256 + ii) + 1, (float)fs, (float)(ft - fs)};
+    }
+    float rgb[N * 3], lv[N * 6 * 3];
+    eval(ref, t, N, rgb, lv);
+    for (int i = 0; i < N; ++i) {
+        double z = -SPHERE_MM * cos(DM_PI * sv[i]);
+        for (int kk = 0; kk < 6; ++kk) {
+            double v = k.variance_mm2[kk], c = SPHERE_MM * SPHERE_MM / v, E = -expm1(-2.0 * c);
+            double want = E + 0.01 * z * (E - (1.0 - (1.0 + 2.0 * c) * exp(-2.0 * c)) / c);
+            double got = lv[(i * 6 + kk) * 3];
+            cr_expect(fabs(got / want - 1.0) < 2e-4, "(%.4f, %.2f) S%d %.7f want %.7f", su[i], sv[i], kk, got, want);
+        }
+    }
+    dm_reference_destroy(ref);
+    free(a);
+    dm_mesh_free(&m);
+}
