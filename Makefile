@@ -206,6 +206,19 @@ build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $< $(CORE_SRC) $(CORE_LIBS) -o $@
+# Targets that read meshes (fuzz_gltf): also the bake library's mesh loaders (C and C++,
+# compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
+FUZZ_CXX       ?= clang++
+FUZZ_MESH      := build/fuzz/fuzz_gltf
+FUZZ_MESH_SRC  := $(addprefix lib/bake/,dm_isolate.c dm_mesh.c dm_mesh_check.c dm_mesh_gpu.c dm_mesh_gltf.cpp dm_mesh_openmesh.cpp)
+FUZZ_SAN       := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -pthread -D_POSIX_C_SOURCE=200809L
+$(FUZZ_MESH): build/fuzz/%: fuzz/%.c $(CORE_SRC) $(FUZZ_MESH_SRC) $(wildcard lib/core/*.h lib/bake/dm_mesh*.h lib/bake/dm_isolate.h)
+	@rm -rf $@.obj && mkdir -p $@.obj
+	cd $@.obj && $(FUZZ_CC) -std=c11 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -I$(CURDIR)/lib $(CORE_CFLAGS) -c \
+	  $(abspath $< $(CORE_SRC) $(filter %.c,$(FUZZ_MESH_SRC)))
+	cd $@.obj && $(FUZZ_CXX) -std=c++17 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -w -I$(CURDIR)/lib $(BAKE_CFLAGS) -c \
+	  $(abspath $(filter %.cpp,$(FUZZ_MESH_SRC)))
+	$(FUZZ_CXX) $(FUZZ_SAN) -fsanitize=fuzzer $@.obj/*.o $(shell $(PKG) --libs openmesh tinygltf 2>/dev/null) $(CORE_LIBS) -o $@
 
 clean:
 	rm -rf build
