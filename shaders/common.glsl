@@ -15,6 +15,38 @@ vec4 dm_fullscreen(out vec2 uv)
 }
 #endif
 
+#ifdef DM_FRAGMENT
+// Texture-space diffusion levels (irradiance = level 0, blur k = level k), premultiplied by
+// chart coverage in alpha. One copy for the final pass and the diffusion view, so the view
+// is exactly the sum the final pass samples.
+uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
+uniform sampler2D u_level[8];
+
+// Level k at uv, coverage-normalised (rgb / alpha; 0 where nothing covers).
+vec3 dm_level(int k, vec2 uv)
+{
+    vec4 t = vec4(0.0);
+    // GLSL 3.30 indexes sampler arrays by constants only.
+    if (k == 0) t = texture(u_level[0], uv);
+    else if (k == 1) t = texture(u_level[1], uv);
+    else if (k == 2) t = texture(u_level[2], uv);
+    else if (k == 3) t = texture(u_level[3], uv);
+    else if (k == 4) t = texture(u_level[4], uv);
+    else if (k == 5) t = texture(u_level[5], uv);
+    else if (k == 6) t = texture(u_level[6], uv);
+    else t = texture(u_level[7], uv);
+    return t.a > 1e-4 ? t.rgb / t.a : vec3(0.0);
+}
+
+// The diffused radiance sum_k w_k L_k over the DM_LEVELS levels.
+vec3 dm_diffusion(vec2 uv)
+{
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < DM_LEVELS; ++k) sum += u_level_weight[k] * dm_level(k, uv);
+    return sum;
+}
+#endif
+
 vec3 dm_srgb_encode(vec3 c)
 {
     c = clamp(c, 0.0, 1.0);

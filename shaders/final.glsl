@@ -1,5 +1,5 @@
 // final.glsl - the head on screen. Diffuse: with DM_SUBSURFACE the blur levels weighted per
-// channel and renormalised (coverage-normalised: rgb / alpha), times post-scatter
+// channel and renormalised (coverage-normalised: rgb / alpha; dm_diffusion in common.glsl), times post-scatter
 // albedo^(1 - mix); without it Lambert from the lights (and SH) times albedo. DM_SPECULAR: KS
 // specular per light. DM_ENERGY: diffuse x (1 - rho_s rho_dt(N.V)). DM_ENV: SH diffuse (when no
 // subsurface) and, with DM_SPECULAR, split-sum environment specular.
@@ -49,24 +49,6 @@ uniform float u_env_level_m[6];
 uniform sampler2D u_env_level[6];
 uniform sampler2DArray u_env_array; // the same levels as layers (DM_ENV_ARRAY: all one size)
 uniform float u_mix;
-uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
-uniform sampler2D u_level[8];
-
-vec3 level(int k, vec2 uv)
-{
-    vec4 t = vec4(0.0);
-    // GLSL 3.30 indexes sampler arrays by constants only.
-    if (k == 0) t = texture(u_level[0], uv);
-    else if (k == 1) t = texture(u_level[1], uv);
-    else if (k == 2) t = texture(u_level[2], uv);
-    else if (k == 3) t = texture(u_level[3], uv);
-    else if (k == 4) t = texture(u_level[4], uv);
-    else if (k == 5) t = texture(u_level[5], uv);
-    else if (k == 6) t = texture(u_level[6], uv);
-    else t = texture(u_level[7], uv);
-    return t.a > 1e-4 ? t.rgb / t.a : vec3(0.0);
-}
-
 vec3 env_level(int k, vec2 uv)
 {
     if (k == 0) return texture(u_env_level[0], uv).rgb;
@@ -131,9 +113,7 @@ void main()
 
     vec3 diffuse = vec3(0.0), specular = vec3(0.0);
 #ifdef DM_SUBSURFACE
-    vec3 sum = vec3(0.0);
-    for (int k = 0; k < DM_LEVELS; ++k) sum += u_level_weight[k] * level(k, v_uv);
-    diffuse = sum * pow(albedo, vec3(1.0 - u_mix));
+    diffuse = dm_diffusion(v_uv) * pow(albedo, vec3(1.0 - u_mix)); // common.glsl
 #else
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {

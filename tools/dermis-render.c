@@ -14,6 +14,7 @@
 #include "render/dm_render_compare.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_prov.h"
+#include "render/dm_render_refcmp.h"
 #include "render/dm_render_image.h"
 #include "render/dm_render_synth.h"
 
@@ -25,21 +26,33 @@ static void usage(FILE *f)
             "Renders a scene headless (OSMesa, llvmpipe) through the texture-space skin pipeline.\n"
             "\n"
             "  -o FILE              output: .png (8-bit sRGB, tonemapped when the scene's tonemap\n"
-            "                       effect is on) or .exr (linear float RGBA before tonemapping);\n"
-            "                       both carry the scene and parameters as provenance\n"
+            "                       effect is on) or .exr (linear float32 RGBA before tonemapping,\n"
+            "                       alpha = coverage: 1 on the head, 0 elsewhere; texture views at\n"
+            "                       their texture's own size, one pixel per texel, alpha = chart\n"
+            "                       coverage); both carry the scene and parameters as provenance\n"
             "  --synthetic SHAPE    render the built-in synthetic scene (sphere: 18,240 triangles;\n"
             "                       quad: a 64 mm flat patch) instead of a pack\n"
             "  --size WxH           output size, default the scene's (1280x720); 1..16384 per side\n"
             "  --irradiance N       texture-space irradiance size, default the scene's (1024); 8..8192\n"
             "  --frames N           frames to render, default 1; 1..100000 (timings: median)\n"
             "  --view NAME          final (default), irradiance, blurK (1..5), stretchK (0..5),\n"
-            "                       shadowK, specular, diffuse, uv, wireframe\n"
+            "                       shadowK, specular, diffuse, uv, wireframe, diffusion (the\n"
+            "                       texture-space sum of every level as the final pass weights it)\n"
             "  --view-scale X       multiplies debug texture views, default 1; (0, 1e6]\n"
             "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
             "  --timings            print the median ms per pass over the frames and per frame\n"
             "  --explain            print the pass list and why each pass is there (renders only\n"
             "                       when -o is given)\n"
             "  --shader-dir DIR     load shaders from DIR/*.glsl instead of the embedded copies\n"
+            "  --reference REF.exr  compare with a ground truth (dermis-reference): texture-space\n"
+            "                       references against the diffusion view at their size N (the\n"
+            "                       irradiance size), frame references against the final linear\n"
+            "                       image at their size; -o takes a PNG: [reference | render |\n"
+            "                       relative error] with the colour scale; prints per channel mean,\n"
+            "                       p95 and max of |render - ref| / max(ref, 1 %% of mean ref) over\n"
+            "                       the texels/pixels where both alphas are 1\n"
+            "  --error-scale X      relative error at the top of the colour scale, default 0.1;\n"
+            "                       (0, 100]\n"
             "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
             "  --pcf-taps N         shadow filter: 4 (default, the 3x3 PCF exactly), 9 (reference),\n"
             "                       1 (one bilinear compare: harder edges)\n"
@@ -59,7 +72,9 @@ static void usage(FILE *f)
 }
 
 typedef struct options {
-    const char *pack, *out, *synthetic, *shader_dir, *view_text;
+    const char *pack, *out, *synthetic, *shader_dir, *view_text, *reference;
+    double error_scale;
+    bool view_given;
     int width, height, irradiance, frames, view_index;
     dm_view view;
     double view_scale, light_azimuth;
@@ -134,12 +149,18 @@ static int parse(int argc, char **argv, options *o)
                 return 0;
             }
             o->view_text = v;
+            o->view_given = true;
         } else if (!strcmp(a, "--view-scale")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, 1e-12, 1e6, &d)) return 0;
             o->view_scale = d;
         } else if (!strcmp(a, "--light-azimuth")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, -360, 360, &d)) return 0;
             o->light_azimuth = d;
+        } else if (!strcmp(a, "--reference")) {
+            if (!(o->reference = dm_cli_value(argc, argv, &i))) return 0;
+        } else if (!strcmp(a, "--error-scale")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, 1e-9, 100, &d)) return 0;
+            o->error_scale = d;
         } else if (!strcmp(a, "--shader-dir")) {
             if (!(o->shader_dir = dm_cli_value(argc, argv, &i))) return 0;
         } else if (!strcmp(a, "--timings")) {
@@ -172,8 +193,21 @@ static int parse(int argc, char **argv, options *o)
         fprintf(stderr, "error: -v and --quiet conflict\n");
         return 0;
     }
-    if (!o->out && !o->explain && !o->timings && !o->compare_exact) {
-        fprintf(stderr, "error: nothing to do: give -o FILE, --timings, --compare-exact or --explain\n");
+    if (!o->out && !o->explain && !o->timings && !o->compare_exact && !o->reference) {
+        fprintf(stderr, "error: nothing to do: give -o FILE, --reference, --timings, --compare-exact or --explain\n");
+        return 0;
+    }
+    if (o->error_scale > 0 && !o->reference) {
+        fprintf(stderr, "error: --error-scale needs --reference\n");
+        return 0;
+    }
+    if (o->reference && (o->view_given || o->compare_exact || o->frames > 1)) {
+        fprintf(stderr, "error: --reference chooses the view itself; it conflicts with --view, --frames and "
+                        "--compare-exact\n");
+        return 0;
+    }
+    if (o->reference && o->out && !ends_with(o->out, ".png")) {
+        fprintf(stderr, "error: -o: '%s': the comparison is a PNG\n", o->out);
         return 0;
     }
     if (o->out && !ends_with(o->out, ".png") && !ends_with(o->out, ".exr")) {
@@ -241,6 +275,71 @@ static void unload(source *src)
     dm_synth_free(src->synth);
 }
 
+/* --reference: the view's full-precision read-back against the reference, stats on
+ * stdout, the side-by-side comparison as a PNG. Returns an exit code. */
+static int compare_reference(const options *o, const dm_refcmp_ref *ref, dm_renderer *r, const dm_provenance *base)
+{
+    dm_error err = {0};
+    int w, h;
+    dm_renderer_view_size(r, &w, &h);
+    if (w != ref->width || h != ref->height) {
+        fprintf(stderr, "error: the render is %dx%d, the reference %dx%d\n", w, h, ref->width, ref->height);
+        return DM_EXIT_PROCESS;
+    }
+    size_t n = (size_t)w * h;
+    float *px = malloc(n * 4 * sizeof *px), *rel = malloc(n * sizeof *rel);
+    dm_refcmp_stats st;
+    int rc = DM_EXIT_OK;
+    if (!px || !rel) {
+        fprintf(stderr, "error: cannot allocate %dx%d\n", w, h);
+        rc = DM_EXIT_PROCESS;
+    } else if (dm_renderer_read_view(r, px, &err) != DM_OK ||
+               dm_refcmp_stats_compute(ref->rgba, px, w, h, &st, rel, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        rc = DM_EXIT_PROCESS;
+    }
+    if (rc == DM_OK) {
+        char text[2048];
+        dm_refcmp_stats_text(&st, ref->mode, text, sizeof text);
+        if (!o->quiet) printf("reference %s (%s, %dx%d) against %s:\n", o->reference, dm_refcmp_mode_name(ref->mode),
+                              w, h, ref->mode == DM_REFCMP_FRAME ? "the final linear image" : "the diffusion view");
+        fputs(text, stdout);
+    }
+    if (rc == DM_OK && o->out) {
+        dm_refcmp_view view = {.layout = DM_REFCMP_SIDE_BY_SIDE, .error_scale = o->error_scale};
+        int ow = 3 * w, oh = h + dm_refcmp_legend_height(3 * w);
+        uint8_t *img = malloc((size_t)ow * oh * 4);
+        dm_provenance prov = *base;
+        dm_prov_add_string(&prov, "reference", o->reference);
+        dm_prov_add_string(&prov, "reference_mode", dm_refcmp_mode_name(ref->mode));
+        dm_prov_add_double(&prov, "error_scale", o->error_scale > 0 ? o->error_scale : DM_REFCMP_DEFAULT_ERROR_SCALE);
+        dm_prov_add_double(&prov, "error_floor_fraction", DM_REFCMP_FLOOR_FRACTION);
+        static const char *names[3][3] = {{"mean_r", "mean_g", "mean_b"}, {"p95_r", "p95_g", "p95_b"},
+                                          {"max_r", "max_g", "max_b"}};
+        for (int c = 0; c < 3; ++c) {
+            dm_prov_add_double(&prov, names[0][c], st.mean[c]);
+            dm_prov_add_double(&prov, names[1][c], st.p95[c]);
+            dm_prov_add_double(&prov, names[2][c], st.max[c]);
+        }
+        if (!img) {
+            fprintf(stderr, "error: cannot allocate the comparison image\n");
+            rc = DM_EXIT_PROCESS;
+        } else {
+            dm_refcmp_compose(ref->rgba, px, rel, w, h, &st, &view, img, ow, oh);
+            if (dm_render_write_png(o->out, ow, oh, img, &prov, &err) != DM_OK) {
+                fprintf(stderr, "error: %s\n", err.detail);
+                rc = DM_EXIT_SAVE;
+            } else if (!o->quiet) {
+                printf("wrote %s (%dx%d: reference | render | relative error)\n", o->out, ow, oh);
+            }
+        }
+        free(img);
+    }
+    free(px);
+    free(rel);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -257,6 +356,30 @@ int main(int argc, char **argv)
         fprintf(stderr, "error: %s\n", err.detail);
         unload(&src);
         return rc;
+    }
+
+    /* --reference: the reference decides the view and its size */
+    dm_refcmp_ref ref = {0};
+    if (o.reference) {
+        if (dm_refcmp_load(o.reference, &ref, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            unload(&src);
+            return DM_EXIT_LOAD;
+        }
+        bool ts = ref.mode == DM_REFCMP_TEXTURE_SPACE;
+        if ((ts && o.irradiance && o.irradiance != ref.width) ||
+            (!ts && o.width && (o.width != ref.width || o.height != ref.height))) {
+            fprintf(stderr, "error: --reference %s is %dx%d (%s): %s disagrees\n", o.reference, ref.width, ref.height,
+                    dm_refcmp_mode_name(ref.mode), ts ? "--irradiance" : "--size");
+            dm_refcmp_ref_free(&ref);
+            unload(&src);
+            return DM_EXIT_USAGE;
+        }
+        if (ts) o.irradiance = ref.width;
+        else o.width = ref.width, o.height = ref.height;
+        o.view = ts ? DM_VIEW_DIFFUSION : DM_VIEW_FINAL;
+        o.view_index = 0;
+        o.view_text = ts ? "diffusion" : "final";
     }
 
     /* context + renderer */
@@ -366,17 +489,27 @@ int main(int argc, char **argv)
     }
     free(ms);
 
-    /* write */
-    if (o.out) {
-        int w, h;
-        dm_renderer_size(r, &w, &h, NULL);
+    if (o.reference) {
         dm_provenance prov;
         provenance(&o, src.s, src.hash, r, &prov);
+        rc = compare_reference(&o, &ref, r, &prov);
+        goto done;
+    }
+
+    /* write */
+    if (o.out) {
+        /* EXR: the view at full precision (texture views at their texture's size); PNG: the
+         * display at the output size */
+        int w, h;
         bool exr = ends_with(o.out, ".exr");
+        if (exr) dm_renderer_view_size(r, &w, &h);
+        else dm_renderer_size(r, &w, &h, NULL);
+        dm_provenance prov;
+        provenance(&o, src.s, src.hash, r, &prov);
         void *px = malloc((size_t)w * h * 4 * (exr ? sizeof(float) : 1));
         dm_result res = px ? DM_OK : dm_fail(&err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the image", o.out);
         if (res == DM_OK)
-            res = exr ? dm_renderer_read_linear(r, px, &err) : dm_renderer_read_display(r, px, &err);
+            res = exr ? dm_renderer_read_view(r, px, &err) : dm_renderer_read_display(r, px, &err);
         if (res != DM_OK) {
             rc = DM_EXIT_PROCESS;
         } else {
@@ -389,6 +522,7 @@ int main(int argc, char **argv)
         free(px);
     }
 done:
+    dm_refcmp_ref_free(&ref);
     dm_renderer_destroy(exact);
     free(exact_ms);
     dm_renderer_destroy(r);

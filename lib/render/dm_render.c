@@ -201,6 +201,9 @@ struct dm_renderer {
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS], tmp_tex, tmp_fbo;
     GLuint tmp_small_tex, tmp_small_fbo; /* the U pass target of the reduced levels */
     GLuint screen_tex, screen_depth, screen_fbo;
+    GLuint view_tex, view_fbo; /* texture views at their own size, RGBA32F (resized on demand) */
+    int view_target;           /* its index in targets */
+    bool view_in_target;       /* the last frame was a texture view: read_view reads "view" */
     GLuint glow_tex[2], glow_fbo[2];
     GLuint display_tex, display_fbo;
     GLuint prog[DM_PASS_KIND_COUNT];
@@ -477,8 +480,12 @@ static dm_result make_targets(dm_renderer *r, dm_error *err)
                               &r->tmp_small_tex, &r->tmp_small_fbo, err);
     }
     if (rc != DM_OK) return rc;
-    rc = color_target(r, "screen", r->width, r->height, GL_RGBA16F, GL_CLAMP_TO_EDGE, &r->screen_tex, &r->screen_fbo,
+    /* float32: read_linear and read_view return it at full precision (alpha = coverage) */
+    rc = color_target(r, "screen", r->width, r->height, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->screen_tex, &r->screen_fbo,
                       err);
+    if (rc != DM_OK) return rc;
+    r->view_target = r->target_count;
+    rc = color_target(r, "view", 1, 1, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->view_tex, &r->view_fbo, err);
     if (rc != DM_OK) return rc;
     glGenRenderbuffers(1, &r->screen_depth);
     glBindRenderbuffer(GL_RENDERBUFFER, r->screen_depth);
@@ -783,7 +790,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->prog[k] && k != DM_PASS_BLUR_V && k != DM_PASS_GLOW_BLUR_V) glDeleteProgram(r->prog[k]);
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex,
+                    r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex, r->view_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
@@ -798,7 +805,8 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_fbo[k]) glDeleteFramebuffers(1, &r->shadow_fbo[k]);
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
-    GLuint fbo[] = {r->tmp_fbo, r->tmp_small_fbo, r->screen_fbo, r->glow_fbo[0], r->glow_fbo[1], r->display_fbo};
+    GLuint fbo[] = {r->tmp_fbo,     r->tmp_small_fbo, r->screen_fbo, r->glow_fbo[0],
+                    r->glow_fbo[1], r->display_fbo,   r->view_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);
@@ -992,11 +1000,20 @@ static void pass_blur(dm_renderer *r, int k, bool along_v)
     draw_fullscreen(r);
 }
 
+/* The levels and their weights for dm_diffusion (common.glsl), in the final pass and the
+ * diffusion view alike; absent levels read black. */
+static void bind_levels(const dm_renderer *r, GLuint p)
+{
+    int levels = r->plan.effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0;
+    if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
+    for (int k = 0; k < 8; ++k) bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
+}
+
 static void pass_final(dm_renderer *r, int mode)
 {
     GLuint p = r->prog[DM_PASS_FINAL];
     target_begin(r->screen_fbo, r->width, r->height);
-    glClearColor(0, 0, 0, 1);
+    glClearColor(0, 0, 0, 0); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
     glDepthMask(GL_TRUE);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
@@ -1015,9 +1032,7 @@ static void pass_final(dm_renderer *r, int mode)
     set_surface_uniforms(r, p);
     bind_surface(r);
     glUniform1fv(loc(p, "u_env_level_m"), DM_RENDER_ENV_LEVELS_MAX, r->env_level_m);
-    int levels = r->plan.effects[DM_EFFECT_SUBSURFACE] ? r->profile.count : 0;
-    if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
-    for (int k = 0; k < 8; ++k) bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
+    bind_levels(r, p);
     draw_mesh(r);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
@@ -1031,6 +1046,7 @@ static void pass_background(dm_renderer *r)
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE); /* the background is not skin: alpha stays 0 */
     glUseProgram(p);
     glUniform3fv(loc(p, "u_cam_forward"), 1, r->cam_fwd);
     glUniform3fv(loc(p, "u_cam_right"), 1, r->cam_right);
@@ -1039,6 +1055,7 @@ static void pass_background(dm_renderer *r)
     u1f(p, "u_env_intensity", r->scene.env_intensity);
     bind(UNIT_BACKGROUND, GL_TEXTURE_2D, r->tex_background);
     draw_fullscreen(r);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
 }
@@ -1083,35 +1100,75 @@ static void pass_tonemap(dm_renderer *r)
     draw_fullscreen(r);
 }
 
+/* The texture a texture view shows and its size in texels. */
+static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
+{
+    const dm_render_plan *pl = &r->plan;
+    int k = pl->view_index;
+    GLuint tex;
+    *cov_shift = 0;
+    if (pl->view == DM_VIEW_SHADOW) {
+        *w = *h = r->shadow_size;
+        return r->shadow_tex[k];
+    }
+    if (pl->view == DM_VIEW_STRETCH) {
+        tex = r->tex_stretch[k < r->stretch_count ? k : r->stretch_count - 1];
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, w);
+        glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, h);
+        return tex;
+    }
+    int level = pl->view == DM_VIEW_BLUR ? k : 0; /* irradiance, diffusion: level 0's size */
+    *w = *h = r->level_size[level];
+    while ((r->level_size[level] << *cov_shift) < r->irr_size) ++*cov_shift;
+    return r->irr_tex[level];
+}
+
+/* Texture views: the texels at their own size into "view" (RGBA32F, full precision, alpha =
+ * coverage), then that target stretched over the screen for display. */
 static void pass_view(dm_renderer *r, const dm_frame_options *opt)
 {
     GLuint p = r->prog[DM_PASS_VIEW];
-    target_begin(r->screen_fbo, r->width, r->height);
+    const dm_render_plan *pl = &r->plan;
+    int w = 1, h = 1, shift = 0;
+    GLuint src = view_source(r, &w, &h, &shift);
+    target *vt = &r->targets[r->view_target];
+    if (vt->width != w || vt->height != h) {
+        glBindTexture(GL_TEXTURE_2D, r->view_tex);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, NULL);
+        vt->width = w, vt->height = h;
+    }
+    target_begin(r->view_fbo, w, h);
     glDisable(GL_DEPTH_TEST);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT);
     glUseProgram(p);
     u1f(p, "u_scale", opt->view_scale > 0 ? opt->view_scale : 1.0f);
-    const dm_render_plan *pl = &r->plan;
-    int k = pl->view_index;
+    u2f(p, "u_size", (float)w, (float)h);
+    u1i(p, "u_cov_shift", shift);
+    bind_levels(r, p);
     if (pl->view == DM_VIEW_SHADOW) {
         u1i(p, "u_mode", 2);
-        bind(UNIT_DEPTH, GL_TEXTURE_2D, r->shadow_tex[k]);
+        bind(UNIT_DEPTH, GL_TEXTURE_2D, src);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
         draw_fullscreen(r);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-        return;
-    }
-    if (pl->view == DM_VIEW_STRETCH) {
-        u1i(p, "u_mode", 1);
-        bind(UNIT_SRC, GL_TEXTURE_2D, r->tex_stretch[k < r->stretch_count ? k : r->stretch_count - 1]);
-        bind(UNIT_MASK, GL_TEXTURE_2D, r->tex_mask ? r->tex_mask : r->tex_black);
-        u1i(p, "u_has_mask", r->tex_mask != 0);
     } else {
-        u1i(p, "u_mode", 0);
-        bind(UNIT_SRC, GL_TEXTURE_2D, r->irr_tex[pl->view == DM_VIEW_IRRADIANCE ? 0 : k]);
+        bool stretch = pl->view == DM_VIEW_STRETCH;
+        u1i(p, "u_mode", stretch ? 1 : pl->view == DM_VIEW_DIFFUSION ? 3 : 0);
+        bind(UNIT_SRC, GL_TEXTURE_2D, src);
+        if (stretch) {
+            bind(UNIT_MASK, GL_TEXTURE_2D, r->tex_mask ? r->tex_mask : r->tex_black);
+            u1i(p, "u_has_mask", r->tex_mask != 0);
+        }
+        draw_fullscreen(r);
     }
+    /* display copy */
+    target_begin(r->screen_fbo, r->width, r->height);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    u1i(p, "u_mode", 4);
+    bind(UNIT_SRC, GL_TEXTURE_2D, r->view_tex);
     draw_fullscreen(r);
+    r->view_in_target = true;
 }
 
 static void run_pass(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
@@ -1156,6 +1213,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         t_frame = dm_now_ms();
     }
     r->tonemapped = false;
+    r->view_in_target = false;
     /* reuse_texture_space: the shadow maps, irradiance and blur levels depend on the scene
      * (dm_renderer_set_scene invalidates them), the light rotation and the blur and
      * roughness scales; the camera and the view do not enter texture space. */
@@ -1312,6 +1370,19 @@ dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_erro
 dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err)
 {
     return dm_renderer_read_target(r, dm_renderer_find_target(r, "screen"), rgba, err);
+}
+
+void dm_renderer_view_size(const dm_renderer *r, int *width, int *height)
+{
+    const target *t = &r->targets[r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen")];
+    *width = t->width;
+    *height = t->height;
+}
+
+dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err)
+{
+    return dm_renderer_read_target(r, r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen"), rgba,
+                                   err);
 }
 
 static uint8_t srgb8(float c)

@@ -189,14 +189,28 @@ void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradi
 
 /* The output of the last frame, bottom-up. Display: 8-bit sRGB RGBA (tonemapped when the
  * tonemap effect is on and the view is a shaded one; otherwise the linear values clamped
- * to [0, 1] and sRGB-encoded on the CPU). Linear: the float radiance before tonemapping
- * (or the debug view's values). Buffers hold width*height*4 values. */
+ * to [0, 1] and sRGB-encoded on the CPU; alpha 255). Linear: the float32 radiance before
+ * tonemapping (or the debug view's values stretched over the screen), alpha = coverage:
+ * 1 where the head is drawn, 0 on the background. Buffers hold width*height*4 values. */
 dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err);
 dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err);
 
+/* The last frame's view at full precision (float32, bottom-up, RGBA). Texture views
+ * (dm_view_is_texture) are read from the "view" target at the source texture's own size,
+ * one value per texel, nothing resampled: irradiance, blurK and diffusion are
+ * coverage-normalised (rgb / alpha of the level) times view_scale with alpha = chart
+ * coverage (the irradiance alpha, 0 or 1; reduced levels take the fine texel under their
+ * centre); irradiance at view_scale 1 equals the "irradiance" target bit for bit wherever
+ * it is covered. diffusion is dm_diffusion of shaders/common.glsl, the very sum the final
+ * pass samples, at the texel centres. stretchK: u, v, mask with alpha = mask (1 without
+ * one); shadowK: depth, alpha 1. Other views: the screen, as dm_renderer_read_linear.
+ * dm_renderer_view_size gives the size the buffer needs (width*height*4 floats). */
+void dm_renderer_view_size(const dm_renderer *r, int *width, int *height);
+dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err);
+
 /* Every intermediate render target, for inspection (tests scan them for NaN/Inf). */
 typedef struct dm_target_info {
-    const char *name; /* "irradiance", "blur3", "blur_tmp", "shadow0", "screen", ... */
+    const char *name; /* "irradiance", "blur3", "blur_tmp", "shadow0", "screen", "view", ... */
     int width, height;
     int channels; /* values per texel read back: 4, or 1 for depth */
 } dm_target_info;

@@ -6,11 +6,17 @@
 #include <string.h>
 
 static const char *view_names[DM_VIEW_COUNT] = {"final",    "irradiance", "blur", "stretch",  "shadow",
-                                                "specular", "diffuse",    "uv",   "wireframe"};
+                                                "specular", "diffuse",    "uv",   "wireframe", "diffusion"};
 
 const char *dm_view_name(dm_view v)
 {
     return (unsigned)v < DM_VIEW_COUNT ? view_names[v] : NULL;
+}
+
+bool dm_view_is_texture(dm_view v)
+{
+    return v == DM_VIEW_IRRADIANCE || v == DM_VIEW_BLUR || v == DM_VIEW_STRETCH || v == DM_VIEW_SHADOW ||
+           v == DM_VIEW_DIFFUSION;
 }
 
 bool dm_view_parse(const char *text, dm_view *view, int *index)
@@ -75,7 +81,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     /* the view's requirements */
     const char *vname = dm_view_name(view);
     if (!vname) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %d: unknown view", (int)view);
-    if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH) && !sss)
+    if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH || view == DM_VIEW_DIFFUSION) &&
+        !sss)
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect, which this scene turns off",
                        vname);
     if (view == DM_VIEW_BLUR && (view_index < 1 || view_index >= p->blur_levels))
@@ -89,8 +96,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
                        "view shadow%d: this scene has %d shadow map(s) (shadows %s, casting lights)", view_index,
                        p->shadow_count, fx[DM_EFFECT_SHADOWS] ? "on" : "off");
 
-    const bool texture_view = view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH ||
-                              view == DM_VIEW_SHADOW;
+    const bool texture_view = dm_view_is_texture(view);
     char name[DM_PLAN_NAME_SIZE];
 
     /* shadows feed the irradiance pass and the final pass's lights */
@@ -113,7 +119,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     }
 
     const bool shaded_view = !texture_view && view != DM_VIEW_UV_TEST && view != DM_VIEW_WIREFRAME;
-    if (sss && (shaded_view || view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR) && view != DM_VIEW_SPECULAR) {
+    if (sss && (shaded_view || view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_DIFFUSION) &&
+        view != DM_VIEW_SPECULAR) {
         add(p, DM_PASS_IRRADIANCE, 0, "irradiance",
             "subsurface: lights x N.L (normal map)%s%s%s, pre-scatter albedo^%.2g",
             p->shadow_count ? " x shadow" : "",
@@ -133,6 +140,12 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     if (view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR) {
         add(p, DM_PASS_VIEW, view_index, "view", "debug view: %s level %d (coverage-normalised)",
             view == DM_VIEW_IRRADIANCE ? "irradiance" : "blur", view == DM_VIEW_IRRADIANCE ? 0 : view_index);
+        return DM_OK;
+    }
+    if (view == DM_VIEW_DIFFUSION) {
+        add(p, DM_PASS_VIEW, 0, "view",
+            "debug view: texture-space diffusion, the %d levels weighted per channel as the final pass sums them",
+            p->blur_levels);
         return DM_OK;
     }
 

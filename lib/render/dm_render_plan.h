@@ -41,11 +41,14 @@ typedef enum dm_view {
     DM_VIEW_DIFFUSE,    /* shaded, diffuse terms only */
     DM_VIEW_UV_TEST,    /* a UV checker on the head (texture-space layout check) */
     DM_VIEW_WIREFRAME,  /* triangle edges */
+    DM_VIEW_DIFFUSION,  /* texture-space diffusion result: sum_k w_k L_k over every level,
+                         * each level coverage-normalised and the weights normalised per
+                         * channel, exactly as the final pass samples it */
     DM_VIEW_COUNT
 } dm_view;
 
 /* "final", "irradiance", "blur", "stretch", "shadow", "specular", "diffuse", "uv",
- * "wireframe"; NULL when out of range. */
+ * "wireframe", "diffusion"; NULL when out of range. */
 const char *dm_view_name(dm_view v);
 /* Parses "final", "irradiance", "blur3", "stretch0", "shadow1", ... (index defaults 0,
  * blur defaults to the last level). Returns false for an unknown name. */
@@ -90,6 +93,10 @@ typedef struct dm_render_plan {
     dm_view view;
     int view_index;
 } dm_render_plan;
+
+/* Whether the view shows a texture (irradiance, blur, stretch, shadow, diffusion) rather
+ * than the head on screen: its full-precision output has the texture's size. */
+bool dm_view_is_texture(dm_view v);
 
 /* Builds the plan for `scene` showing `view` (index: level or light). Fails with
  * DM_ERR_INVALID_ARGUMENT, naming the view and the effect it needs, when the view cannot
