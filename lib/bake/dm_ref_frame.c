@@ -260,6 +260,17 @@ dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const 
                               float *rgba_out, dm_error *err)
 {
     assert(pack && scene && rgba_out);
+    dm_profile profile;
+    dm_ref_surface_desc desc;
+    dm_result r = dm_ref_surface_desc_from_pack(pack, scene, &profile, &desc, err);
+    return r == DM_OK ? dm_ref_frame_render_desc(&desc, opt, rgba_out, err) : r;
+}
+
+dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref_frame_options *opt,
+                                   float *rgba_out, dm_error *err)
+{
+    assert(desc && desc->scene && rgba_out);
+    const dm_scene *scene = desc->scene;
     const dm_ref_frame_options defaults = {0};
     const dm_ref_frame_options *o = opt ? opt : &defaults;
     double t_start = now_ms();
@@ -273,11 +284,8 @@ dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const 
                        ATLAS_MAX);
     dm_ref_frame_stats stats = {0};
     frame_state st = {0};
-    dm_profile profile;
-    dm_ref_surface_desc desc;
-    dm_result r = dm_ref_surface_desc_from_pack(pack, scene, &profile, &desc, err);
     if (o->progress) o->progress(o->progress_user, "setup", 0.0);
-    if (r == DM_OK) r = dm_ref_surface_create(&desc, o->thread_count, &st.s, err);
+    dm_result r = dm_ref_surface_create(desc, o->thread_count, &st.s, err);
     if (o->progress) o->progress(o->progress_user, "setup", 1.0);
     stats.setup_ms = now_ms() - t_start;
     size_t npx = (size_t)width * (size_t)height;

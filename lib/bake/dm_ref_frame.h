@@ -39,6 +39,7 @@
 
 #include <stdint.h>
 
+#include "bake/dm_ref_surface.h"
 #include "bake/dm_reference.h"
 #include "core/dm_pack.h"
 #include "core/dm_result.h"
@@ -84,6 +85,11 @@ typedef struct dm_ref_frame_options {
  * normalised (DM_ERR_RANGE), or memory. Always finite output. */
 dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const dm_ref_frame_options *opt,
                               float *rgba_out, dm_error *err);
+
+/* The same from a surface description (dm_ref_surface.h; desc->scene gives the camera,
+ * lights, effects and the default size): synthetic scenes and tests, no pack needed. */
+dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref_frame_options *opt,
+                                   float *rgba_out, dm_error *err);
 
 /* The 8-bit display image of a linear frame, as the renderer makes it: with the tonemap
  * effect, c = max(rgb · 2^exposure, 0), Hable's filmic curve of 2c over that of the white
