@@ -123,51 +123,70 @@ static dm_result build_triangle_grid(dm_reference *ref, const double lo[3], cons
 
 /* ---- the irradiance lookup -------------------------------------------------------- */
 
-static const float *texel(const dm_reference_atlas *a, int i, int j)
+dm_result dm_ref_premultiply(const dm_reference_atlas *a, dm_ref_lookup *out, dm_error *err)
 {
-    return a->rgba + 4 * ((size_t)j * a->width + i);
+    size_t n = (size_t)a->width * a->height;
+    out->width = a->width;
+    out->height = a->height;
+    out->texel = malloc(sizeof *out->texel * 4 * n);
+    if (!out->texel) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference: %dx%d lookup", a->width, a->height);
+    for (size_t i = 0; i < n; ++i) {
+        float al = a->rgba[4 * i + 3];
+        al = al > 0.0f && isfinite(al) ? (al < 1.0f ? al : 1.0f) : 0.0f;
+        for (int c = 0; c < 3; ++c) {
+            float v = a->rgba[4 * i + (size_t)c];
+            out->texel[4 * i + (size_t)c] = isfinite(v) ? v * al : 0.0f;
+        }
+        out->texel[4 * i + 3] = al;
+    }
+    return DM_OK;
 }
 
-int dm_ref_sample(const dm_reference_atlas *a, double u, double v, double rgb[3])
+/* The nearest covered texel within 2 texels of texel position (x, y). */
+static int nearest_covered(const dm_ref_lookup *a, double x, double y, double rgb[3])
 {
-    rgb[0] = rgb[1] = rgb[2] = 0.0;
-    double x = u * a->width - 0.5, y = v * a->height - 0.5;
-    if (!isfinite(x) || !isfinite(y)) return 0;
-    x = dm_clamp(x, -1.0, a->width);
-    y = dm_clamp(y, -1.0, a->height);
-    int i0 = (int)floor(x), j0 = (int)floor(y);
-    double fx = x - i0, fy = y - j0, wsum = 0.0;
-    for (int dj = 0; dj < 2; ++dj)
-        for (int di = 0; di < 2; ++di) {
-            /* clamp to edge, as the renderer's textures */
-            int i = i0 + di < 0 ? 0 : i0 + di >= a->width ? a->width - 1 : i0 + di;
-            int j = j0 + dj < 0 ? 0 : j0 + dj >= a->height ? a->height - 1 : j0 + dj;
-            const float *t = texel(a, i, j);
-            double w = (di ? fx : 1.0 - fx) * (dj ? fy : 1.0 - fy) * (double)t[3];
-            if (!(w > 0.0)) continue;
-            wsum += w;
-            for (int c = 0; c < 3; ++c) rgb[c] += w * t[c];
-        }
-    if (wsum > 1e-12) {
-        for (int c = 0; c < 3; ++c) rgb[c] /= wsum;
-        return 1;
-    }
-    rgb[0] = rgb[1] = rgb[2] = 0.0;
-    /* nearest covered texel within 2 texels of the sample position */
     int ic = (int)floor(x + 0.5), jc = (int)floor(y + 0.5);
     double best = INFINITY;
     for (int j = jc - 2; j <= jc + 2; ++j)
         for (int i = ic - 2; i <= ic + 2; ++i) {
             if (i < 0 || j < 0 || i >= a->width || j >= a->height) continue;
-            const float *t = texel(a, i, j);
+            const float *t = a->texel + 4 * ((size_t)j * a->width + i);
             if (!(t[3] > 0.0f)) continue;
             double d = (i - x) * (i - x) + (j - y) * (j - y);
             if (d < best) {
                 best = d;
-                for (int c = 0; c < 3; ++c) rgb[c] = t[c];
+                for (int c = 0; c < 3; ++c) rgb[c] = t[c] / t[3];
             }
         }
     return best < INFINITY;
+}
+
+int dm_ref_sample(const dm_ref_lookup *a, double u, double v, double rgb[3])
+{
+    double x = u * a->width - 0.5, y = v * a->height - 0.5;
+    if (!(x > -1.0)) x = -1.0; /* also NaN */
+    if (!(y > -1.0)) y = -1.0;
+    if (x > a->width) x = a->width;
+    if (y > a->height) y = a->height;
+    int i0 = (int)(x + 1.0) - 1, j0 = (int)(y + 1.0) - 1; /* floor for x ≥ −1 */
+    double fx = x - i0, fy = y - j0;
+    int i1 = i0 + 1, j1 = j0 + 1;
+    /* clamp to edge, as the renderer's textures */
+    if (i0 < 0) i0 = 0;
+    if (j0 < 0) j0 = 0;
+    if (i1 >= a->width) i1 = a->width - 1;
+    if (j1 >= a->height) j1 = a->height - 1;
+    const float *t00 = a->texel + 4 * ((size_t)j0 * a->width + i0), *t10 = a->texel + 4 * ((size_t)j0 * a->width + i1);
+    const float *t01 = a->texel + 4 * ((size_t)j1 * a->width + i0), *t11 = a->texel + 4 * ((size_t)j1 * a->width + i1);
+    double w00 = (1.0 - fx) * (1.0 - fy), w10 = fx * (1.0 - fy), w01 = (1.0 - fx) * fy, w11 = fx * fy;
+    double al = w00 * t00[3] + w10 * t10[3] + w01 * t01[3] + w11 * t11[3];
+    if (al > 1e-12) {
+        double inv = 1.0 / al;
+        for (int c = 0; c < 3; ++c) rgb[c] = (w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c]) * inv;
+        return 1;
+    }
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    return nearest_covered(a, x, y, rgb);
 }
 
 /* ---- create ------------------------------------------------------------------------ */
@@ -288,6 +307,11 @@ dm_result dm_reference_create(const dm_mesh *mesh, double mm_per_unit, const dm_
     ref->spacing_sigma = o.spacing_sigma != 0.0 ? o.spacing_sigma : 0.25;
     ref->wide_texels = o.wide_texels != 0.0 ? o.wide_texels : 4.0;
     ref->tail_fraction = exp(-0.5 * ref->cut_sigma * ref->cut_sigma);
+    r = dm_ref_premultiply(atlas, &ref->lookup, err);
+    if (r != DM_OK) {
+        dm_reference_destroy(ref);
+        return r;
+    }
     size_t nv = (size_t)mesh->vertex_count, nt = (size_t)mesh->triangle_count;
     ref->pos_mm = malloc(sizeof *ref->pos_mm * nv * 3);
     ref->tri_area = malloc(sizeof *ref->tri_area * nt);
@@ -348,6 +372,7 @@ void dm_reference_destroy(dm_reference *ref)
     free(ref->tri_area);
     free(ref->tri_edge);
     free(ref->element);
+    free(ref->lookup.texel);
     dm_ref_grid_free(&ref->tri_grid);
     dm_ref_grid_free(&ref->element_grid);
     free(ref);

@@ -72,7 +72,7 @@ static void emit(const dm_reference *ref, dm_ref_element *e, const double p[3], 
                  double *unlit)
 {
     double rgb[3];
-    if (!dm_ref_sample(&ref->atlas, u, v, rgb) && unlit) *unlit += area_mm2;
+    if (!dm_ref_sample(&ref->lookup, u, v, rgb) && unlit) *unlit += area_mm2;
     for (int a = 0; a < 3; ++a) {
         e->pos[a] = (float)p[a];
         e->flux[a] = (float)(rgb[a] * area_mm2);

@@ -128,22 +128,38 @@ static void narrow_triangle(const eval_ctx *ctx, const dm_ref_group *grp, int32_
     const float *uv = m->uvs + 6 * (size_t)t;
     double du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
     double sub_area = A / (n * n), inv_n = 1.0 / n;
+    /* p's squared distance off the plane, then per row of s the t-interval of the disk:
+     * a22 (t − t0)² + 2 a12 (s − s0)(t − t0) + a11 (s − s0)² + z² ≤ R² */
+    double z2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        double q = d[a] - s0 * e1[a] - t0 * e2[a];
+        z2 += q * q;
+    }
     for (int64_t i = i0; i <= i1; ++i)
-        for (int64_t j = j0; j <= j1 && i + j <= N - 1; ++j)
-            for (int down = 0; down < 2; ++down) {
-                if (down && i + j > N - 2) break;
-                double s = (i + (down ? 2.0 : 1.0) / 3.0) * inv_n, tt = (j + (down ? 2.0 : 1.0) / 3.0) * inv_n;
-                double d2 = 0.0;
+        for (int down = 0; down < 2; ++down) {
+            double off = down ? 2.0 / 3.0 : 1.0 / 3.0;
+            double s = (i + off) * inv_n, ds_ = s - s0;
+            double b = a12 * ds_, disc = b * b - a22 * (a11 * ds_ * ds_ + z2 - R2);
+            if (!(disc >= 0.0)) continue;
+            double root = sqrt(disc), tlo = t0 + (-b - root) / a22, thi = t0 + (-b + root) / a22;
+            /* centroids at t = (j + off)/n; one extra on each side against rounding */
+            int64_t jlo = (int64_t)fmax((double)j0, ceil(tlo * n - off) - 1.0);
+            int64_t jhi = (int64_t)fmin((double)j1, floor(thi * n - off) + 1.0);
+            int64_t jmax = N - 1 - i - down; /* up: i + j ≤ N − 1; down: i + j ≤ N − 2 */
+            if (jhi > jmax) jhi = jmax;
+            for (int64_t j = jlo; j <= jhi; ++j) {
+                double tt = (j + off) * inv_n, d2 = 0.0;
                 for (int a = 0; a < 3; ++a) {
                     double q = s * e1[a] + tt * e2[a] - d[a];
                     d2 += q * q;
                 }
                 if (!(d2 < R2)) continue;
                 double rgb[3];
-                dm_ref_sample(&ref->atlas, uv[0] + s * du1 + tt * du2, uv[1] + s * dv1 + tt * dv2, rgb);
+                dm_ref_sample(&ref->lookup, uv[0] + s * du1 + tt * du2, uv[1] + s * dv1 + tt * dv2, rgb);
                 for (int c = 0; c < 3; ++c) rgb[c] *= sub_area;
                 accumulate(ctx->g, grp->first, grp->count, d2, rgb, S);
             }
+        }
 }
 
 static void narrow_group(const eval_ctx *ctx, const dm_ref_group *grp, const double p[3], scratch *sc, double S[][3])
@@ -178,7 +194,7 @@ static void eval_range(void *vctx, size_t begin, size_t end)
         double S[DM_REFERENCE_GAUSSIANS_MAX][3] = {{0}};
         double p[3], uv[2], Ix[3];
         target_point(ref, &ctx->targets[i], p, uv);
-        dm_ref_sample(&ref->atlas, uv[0], uv[1], Ix);
+        dm_ref_sample(&ref->lookup, uv[0], uv[1], Ix);
         for (int gi = 0; gi < ref->group_count; ++gi) {
             const dm_ref_group *grp = &ref->group[gi];
             if (gi == ref->wide_group) wide_group(ctx, grp, p, S);

@@ -36,9 +36,19 @@ typedef struct dm_ref_group {
     double radius_mm;  /* cut · σ of the widest in the group */
 } dm_ref_group;
 
+/* The atlas premultiplied by its coverage (r·α, g·α, b·α, α, α clamped to [0, 1],
+ * non-finite values 0), so a lookup is one weighted sum and one division. */
+typedef struct dm_ref_lookup {
+    int width, height;
+    float *texel; /* width*height*4 */
+} dm_ref_lookup;
+
+dm_result dm_ref_premultiply(const dm_reference_atlas *a, dm_ref_lookup *out, dm_error *err);
+
 struct dm_reference {
     const dm_mesh *mesh;
     dm_reference_atlas atlas;
+    dm_ref_lookup lookup;
     dm_reference_kernel kernel;
     dm_reference_options opt;
     double cut_sigma, spacing_sigma, wide_texels, tail_fraction; /* resolved options */
@@ -58,7 +68,7 @@ struct dm_reference {
 /* I at (u, v): bilinear over covered texels, renormalised; nearest covered texel within
  * 2 texels when none of the 2×2 is covered. Returns 0 (and zero rgb) when none is near,
  * 1 otherwise. */
-int dm_ref_sample(const dm_reference_atlas *a, double u, double v, double rgb[3]);
+int dm_ref_sample(const dm_ref_lookup *a, double u, double v, double rgb[3]);
 
 /* Texel elements and their grid (dm_reference_elements.c). */
 dm_result dm_ref_build_elements(dm_reference *ref, dm_error *err);

@@ -1,0 +1,575 @@
+/* dermis-reference — the ground truth: the exact surface convolution of a pack's
+ * irradiance in texture space, or a ground-truth frame from the scene's camera; tiles
+ * for a farm and their merge. Straight pipeline: parse → load → irradiance → convolve →
+ * write. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_exr.h"
+#include "bake/dm_ref_frame.h"
+#include "bake/dm_ref_surface.h"
+#include "bake/dm_reference.h"
+#include "core/dm_cli.h"
+#include "core/dm_hash.h"
+#include "core/dm_pack.h"
+#include "core/dm_parallel.h"
+#include "core/dm_png.h"
+#include "core/dm_prov.h"
+#include "host/dm_osmesa.h"
+#include "render/dm_render.h"
+#include "render/dm_render_pack.h"
+
+enum { MERGE_MAX = 4096 };
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "Usage: dermis-reference PACK --texture-space N -o OUT.exr [options]\n"
+            "       dermis-reference PACK --frame [--size WxH] -o OUT.exr [options]\n"
+            "       dermis-reference --merge TILE.exr... -o OUT.exr\n"
+            "The ground truth of subsurface diffusion: D(x) = sum_k w_k Int I(x') G(v_k, |P(x) - P(x')|) dA(x')\n"
+            "over the whole mesh, 3-D distances in mm (light crosses UV seams and thin parts).\n"
+            "\n"
+            "  --texture-space N    the NxN atlas of D, I = the renderer's own level-0 irradiance at N\n"
+            "                       (float RGBA EXR, A = 1 on covered texels; the layout of\n"
+            "                       dermis-render --view irradiance --size NxN --irradiance N); 16..8192\n"
+            "  --irradiance FILE    take I from that EXR (R, G, B, A = coverage; NxN) instead of rendering it\n"
+            "  --levels             also write each S_k as channels Sk.R, Sk.G, Sk.B\n"
+            "  --frame              a ground-truth frame from the scene's camera: irradiance on the CPU\n"
+            "                       (shadows by ray casting), diffused exactly, composed with the\n"
+            "                       renderer's specular and environment; OUT.exr linear (A = 1 on skin),\n"
+            "                       and OUT.png through the scene's tonemap\n"
+            "  --size WxH           frame size, default the scene's; 1..16384 per side\n"
+            "  --atlas N            frame: CPU irradiance atlas size, default 1024; 16..8192\n"
+            "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
+            "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
+            "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"
+            "  --spacing S          narrow Gaussians' sub-triangle edge in sigma, default 0.25; 1/32..1\n"
+            "  --wide-texels T      Gaussians of sigma >= T texels use texel elements, default 4; >= 1\n"
+            "  --threads T          worker threads, default all cores; 0..256 (results identical for any)\n"
+            "  -o FILE              output (.exr)\n"
+            "  -v                   more detail on stderr\n"
+            "  --quiet              nothing on stdout\n"
+            "  -h, --help           this text\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load an input, 3 processing failed,\n"
+            "            4 cannot save the output.\n");
+}
+
+typedef struct args {
+    const char *pack, *out, *irradiance;
+    const char *merge[MERGE_MAX];
+    int merge_count;
+    int size, width, height, atlas, tile_index, tile_count, threads;
+    bool frame, levels, verbose, quiet;
+    dm_reference_options ropt;
+} args;
+
+static int parse(int argc, char **argv, args *a)
+{
+    memset(a, 0, sizeof *a);
+    a->tile_index = a->tile_count = 1;
+    for (int i = 1; i < argc; ++i) {
+        const char *s = argv[i], *v;
+        int64_t n;
+        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
+            usage(stdout);
+            return DM_EXIT_OK;
+        } else if (dm_cli_version(s, "dermis-reference")) {
+            return DM_EXIT_OK;
+        } else if (!strcmp(s, "-o")) {
+            if (!(a->out = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--texture-space")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 16, 8192, &n)) return DM_EXIT_USAGE;
+            a->size = (int)n;
+        } else if (!strcmp(s, "--atlas")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 16, 8192, &n)) return DM_EXIT_USAGE;
+            a->atlas = (int)n;
+        } else if (!strcmp(s, "--irradiance")) {
+            if (!(a->irradiance = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--frame")) {
+            a->frame = true;
+        } else if (!strcmp(s, "--size")) {
+            char tail;
+            if (!(v = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            if (sscanf(v, "%dx%d%c", &a->width, &a->height, &tail) != 2 || a->width < 1 || a->height < 1 ||
+                a->width > 16384 || a->height > 16384) {
+                fprintf(stderr, "error: --size: '%s' is not WxH with sides in [1, 16384]\n", v);
+                return DM_EXIT_USAGE;
+            }
+        } else if (!strcmp(s, "--tile")) {
+            char tail;
+            if (!(v = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            if (sscanf(v, "%d/%d%c", &a->tile_index, &a->tile_count, &tail) != 2 || a->tile_count < 1 ||
+                a->tile_count > MERGE_MAX || a->tile_index < 1 || a->tile_index > a->tile_count) {
+                fprintf(stderr, "error: --tile: '%s' is not I/N with 1 <= I <= N <= %d\n", v, MERGE_MAX);
+                return DM_EXIT_USAGE;
+            }
+        } else if (!strcmp(s, "--merge")) {
+            while (i + 1 < argc && argv[i + 1][0] != '-') {
+                if (a->merge_count == MERGE_MAX) {
+                    fprintf(stderr, "error: --merge: more than %d files\n", MERGE_MAX);
+                    return DM_EXIT_USAGE;
+                }
+                a->merge[a->merge_count++] = argv[++i];
+            }
+            if (!a->merge_count) {
+                fprintf(stderr, "error: --merge needs the tile files\n");
+                return DM_EXIT_USAGE;
+            }
+        } else if (!strcmp(s, "--levels")) {
+            a->levels = true;
+        } else if (!strcmp(s, "--cut")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 2, 8, &a->ropt.cut_sigma)) return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--spacing")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1.0 / 32, 1, &a->ropt.spacing_sigma))
+                return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--wide-texels")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1, INFINITY, &a->ropt.wide_texels))
+                return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--threads")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 0, 256, &n)) return DM_EXIT_USAGE;
+            a->threads = (int)n;
+        } else if (!strcmp(s, "-v") || !strcmp(s, "--verbose")) {
+            a->verbose = true;
+        } else if (!strcmp(s, "--quiet")) {
+            a->quiet = true;
+        } else if (s[0] == '-' && s[1]) {
+            fprintf(stderr, "error: unknown option '%s' (see --help)\n", s);
+            return DM_EXIT_USAGE;
+        } else if (!a->pack) {
+            a->pack = s;
+        } else {
+            fprintf(stderr, "error: one PACK expected, got '%s' and '%s'\n", a->pack, s);
+            return DM_EXIT_USAGE;
+        }
+    }
+    const char *bad = !a->out                                     ? "no output given (-o OUT.exr)"
+                      : a->merge_count && (a->pack || a->size || a->frame) ? "--merge takes tile files only"
+                      : a->merge_count                            ? NULL
+                      : !a->pack                                  ? "no PACK given"
+                      : !a->frame == !a->size                     ? "give one of --texture-space N or --frame"
+                      : a->frame && (a->irradiance || a->levels || a->tile_count > 1)
+                          ? "--irradiance, --levels and --tile are texture-space options"
+                      : !a->frame && (a->width || a->atlas) ? "--size and --atlas are --frame options"
+                      : a->quiet && a->verbose             ? "--quiet conflicts with -v"
+                                                           : NULL;
+    size_t n = strlen(a->out);
+    if (!bad && (n < 4 || strcmp(a->out + n - 4, ".exr"))) bad = "the output must be an .exr file";
+    if (bad) {
+        fprintf(stderr, "error: %s\n", bad);
+        return DM_EXIT_USAGE;
+    }
+    a->ropt.thread_count = a->threads;
+    return -1;
+}
+
+static void on_progress(void *p, double f) { dm_progress_update(p, f); }
+
+/* ---- texture space ----------------------------------------------------------------- */
+
+/* I: the renderer's level-0 irradiance at N (headless), or an EXR of it. */
+static int irradiance_atlas(const args *a, const dm_pack *pack, float *rgba, char *source, size_t source_size)
+{
+    dm_error err = {0};
+    const int N = a->size;
+    if (a->irradiance) {
+        dm_exr_image img;
+        if (dm_exr_read(a->irradiance, &img, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            dm_exr_free(&img);
+            return DM_EXIT_LOAD;
+        }
+        const char *ch[4] = {"R", "G", "B", "A"};
+        for (int c = 0; c < 4; ++c) {
+            const float *p = dm_exr_find(&img, ch[c]);
+            if (!p || img.width != N || img.height != N) {
+                fprintf(stderr, "error: %s: expected an %dx%d RGBA EXR, found %dx%d%s\n", a->irradiance, N, N,
+                        img.width, img.height, p ? "" : " without all of R, G, B, A");
+                dm_exr_free(&img);
+                return DM_EXIT_LOAD;
+            }
+            for (size_t i = 0; i < (size_t)N * N; ++i) rgba[4 * i + (size_t)c] = isfinite(p[i]) ? p[i] : 0.0f;
+        }
+        dm_exr_free(&img);
+        char hex[DM_HASH_HEX_SIZE];
+        if (dm_hash_file_hex(a->irradiance, hex, &err) != DM_OK) hex[0] = 0;
+        snprintf(source, source_size, "file %s", hex);
+        return -1;
+    }
+    dm_osmesa *gl = NULL;
+    dm_renderer *r = NULL;
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets assets;
+    int code = DM_EXIT_PROCESS;
+    dm_render_desc desc = {.width = 64, .height = 64, .irradiance_size = N};
+    if (dm_render_assets_from_pack(pack, &scene, &profile, &assets, &err) != DM_OK) code = DM_EXIT_LOAD;
+    else if (!scene.effects[DM_EFFECT_SUBSURFACE])
+        dm_fail(&err, DM_ERR_MISMATCH, "%.900s: the scene's subsurface effect is off: no irradiance to diffuse", pack->what);
+    else if (dm_osmesa_create(&gl, &err) == DM_OK && dm_renderer_create(&assets, &desc, &r, &err) == DM_OK &&
+             dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_IRRADIANCE}, &err) == DM_OK) {
+        int t = dm_renderer_find_target(r, "irradiance");
+        dm_target_info info;
+        if (t >= 0) dm_renderer_target_info(r, t, &info);
+        if (t < 0 || info.width != N || info.height != N || info.channels != 4)
+            snprintf(err.detail, sizeof err.detail, "the renderer has no %dx%d RGBA irradiance target", N, N);
+        else if (dm_renderer_read_target(r, t, rgba, &err) == DM_OK)
+            code = -1;
+    }
+    if (code != -1) fprintf(stderr, "error: %s\n", err.detail);
+    snprintf(source, source_size, "dermis-render irradiance %d (%s)", N, gl && r ? dm_renderer_gl_name(r) : "");
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(gl);
+    return code;
+}
+
+/* The pack's mesh (mesh units, per-corner UVs) and profile, through the frame's surface. */
+static int load_surface(const args *a, const dm_pack *pack, dm_scene *scene, dm_profile *profile,
+                        dm_ref_surface **surface)
+{
+    dm_error err = {0};
+    dm_ref_surface_desc desc;
+    if (dm_pack_scene(pack, scene, &err) != DM_OK ||
+        dm_ref_surface_desc_from_pack(pack, scene, profile, &desc, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_LOAD;
+    }
+    if (dm_ref_surface_create(&desc, a->threads, surface, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_PROCESS;
+    }
+    return -1;
+}
+
+static void base_provenance(const args *a, const char *mode, dm_provenance *prov)
+{
+    dm_prov_init(prov, "dermis-reference");
+    char hex[DM_HASH_HEX_SIZE];
+    dm_error err = {0};
+    if (a->pack && dm_hash_file_hex(a->pack, hex, &err) == DM_OK) snprintf(prov->input_hash, sizeof prov->input_hash, "%s", hex);
+    dm_prov_add_string(prov, "mode", mode);
+    dm_prov_add_double(prov, "cut_sigma", a->ropt.cut_sigma != 0.0 ? a->ropt.cut_sigma : 4.0);
+    dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.25);
+    dm_prov_add_double(prov, "wide_texels", a->ropt.wide_texels != 0.0 ? a->ropt.wide_texels : 4.0);
+}
+
+static int texture_space(const args *a, const dm_pack *pack)
+{
+    const int N = a->size;
+    dm_error err = {0};
+    dm_scene scene;
+    dm_profile profile;
+    dm_ref_surface *surface = NULL;
+    int code = load_surface(a, pack, &scene, &profile, &surface);
+    if (code != -1) return code;
+    float *atlas = malloc(sizeof *atlas * 4 * (size_t)N * N);
+    char source[256] = "";
+    double t0 = dm_now_ms();
+    if (!atlas) code = DM_EXIT_PROCESS;
+    else code = irradiance_atlas(a, pack, atlas, source, sizeof source);
+    double irr_ms = dm_now_ms() - t0;
+    dm_reference_kernel kernel;
+    dm_reference *ref = NULL;
+    dm_reference_target *targets = NULL;
+    int64_t *texel_of = NULL;
+    size_t count = 0;
+    dm_reference_atlas ra = {N, N, atlas};
+    dm_progress bar;
+    dm_progress_begin(&bar, "convolution", a->quiet);
+    dm_reference_options ropt = a->ropt;
+    ropt.progress = on_progress;
+    ropt.progress_user = &bar;
+    if (code == -1 && (dm_reference_kernel_from_profile(&profile, &kernel, &err) != DM_OK ||
+                       dm_reference_atlas_targets(&surface->mesh, &ra, a->threads, &targets, &texel_of, &count, &err) != DM_OK ||
+                       dm_reference_create(&surface->mesh, scene.mm_per_unit, &ra, &kernel, &ropt, &ref, &err) != DM_OK)) {
+        fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
+        code = DM_EXIT_PROCESS;
+    }
+    /* this tile's slice of the targets */
+    size_t begin = (size_t)((double)count * (a->tile_index - 1) / a->tile_count);
+    size_t end = (size_t)((double)count * a->tile_index / a->tile_count);
+    int K = kernel.count;
+    float *rgb = NULL, *levels = NULL, *planes = NULL;
+    double eval_ms = 0.0;
+    if (code == -1) {
+        rgb = malloc(sizeof *rgb * 3 * (end - begin + 1));
+        levels = a->levels ? malloc(sizeof *levels * 3 * (size_t)K * (end - begin + 1)) : NULL;
+        planes = calloc((size_t)N * N * (4 + (a->levels ? 3 * (size_t)K : 0)), sizeof *planes);
+        if (!rgb || !planes || (a->levels && !levels)) {
+            fprintf(stderr, "error: cannot allocate the %dx%d result\n", N, N);
+            code = DM_EXIT_PROCESS;
+        }
+    }
+    if (code == -1) {
+        t0 = dm_now_ms();
+        dm_result r = dm_reference_eval(ref, targets + begin, end - begin, rgb, levels, &err);
+        eval_ms = dm_now_ms() - t0;
+        if (r != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            code = DM_EXIT_PROCESS;
+        }
+    }
+    if (code == -1) {
+        size_t plane = (size_t)N * N;
+        for (size_t i = begin; i < end; ++i) {
+            size_t x = (size_t)texel_of[i];
+            for (int c = 0; c < 3; ++c) planes[(size_t)c * plane + x] = rgb[3 * (i - begin) + (size_t)c];
+            planes[3 * plane + x] = 1.0f;
+            for (int k = 0; a->levels && k < K; ++k)
+                for (int c = 0; c < 3; ++c)
+                    planes[(4 + 3 * (size_t)k + (size_t)c) * plane + x] = levels[(3 * (i - begin) * (size_t)K) + 3 * (size_t)k + (size_t)c];
+        }
+        enum { CH_MAX = 4 + 3 * DM_REFERENCE_GAUSSIANS_MAX };
+        static char names[CH_MAX][16];
+        dm_exr_channel ch[CH_MAX];
+        const char *rgba_names[4] = {"R", "G", "B", "A"};
+        int nch = 4 + (a->levels ? 3 * K : 0);
+        for (int c = 0; c < nch; ++c) {
+            if (c < 4) snprintf(names[c], sizeof names[c], "%s", rgba_names[c]);
+            else snprintf(names[c], sizeof names[c], "S%d.%s", (c - 4) / 3, rgba_names[(c - 4) % 3]);
+            ch[c] = (dm_exr_channel){names[c], planes + (size_t)c * plane, DM_EXR_FLOAT};
+        }
+        dm_provenance prov;
+        base_provenance(a, "texture-space", &prov);
+        dm_reference_stats st;
+        dm_reference_get_stats(ref, &st);
+        dm_prov_add_int(&prov, "size", N);
+        dm_prov_add_string(&prov, "irradiance", source);
+        dm_prov_add_string(&prov, "profile", profile.name);
+        dm_prov_add_int(&prov, "gaussians", K);
+        dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
+        dm_prov_add_int(&prov, "covered_texels", (int64_t)count);
+        dm_prov_add_int(&prov, "tile_index", a->tile_index);
+        dm_prov_add_int(&prov, "tile_count", a->tile_count);
+        dm_prov_add_int(&prov, "levels", a->levels);
+        if (dm_exr_write(a->out, N, N, ch, nch, &prov, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            code = DM_EXIT_SAVE;
+        } else {
+            if (!a->quiet) {
+                printf("%s: %dx%d texture-space reference, %zu of %zu covered texels (tile %d/%d)\n", a->out, N, N,
+                       end - begin, count, a->tile_index, a->tile_count);
+                printf("  irradiance %.0f ms (%s), elements %.0f ms (%lld), convolution %.1f s on %d threads\n", irr_ms,
+                       source, st.build_ms, (long long)st.element_count, eval_ms / 1e3,
+                       a->threads ? a->threads : dm_cpu_count());
+                printf("  %d narrow + %d wide Gaussians, texel %.3f mm, surface %.0f mm^2, unlit %.3g mm^2\n",
+                       st.narrow_gaussians, st.wide_gaussians, st.texel_mm, st.surface_area_mm2, st.unlit_area_mm2);
+            }
+            code = DM_EXIT_OK;
+        }
+    }
+    dm_progress_end(&bar);
+    free(planes);
+    free(levels);
+    free(rgb);
+    free(targets);
+    free(texel_of);
+    dm_reference_destroy(ref);
+    free(atlas);
+    dm_ref_surface_destroy(surface);
+    return code;
+}
+
+/* ---- frame ------------------------------------------------------------------------- */
+
+static void on_stage(void *p, const char *stage, double f)
+{
+    dm_progress *bar = p;
+    bar->label = stage;
+    dm_progress_update(bar, f);
+}
+
+static int frame(const args *a, const dm_pack *pack)
+{
+    dm_error err = {0};
+    dm_scene scene;
+    if (dm_pack_scene(pack, &scene, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_LOAD;
+    }
+    int W = a->width ? a->width : scene.width, H = a->height ? a->height : scene.height;
+    float *rgba = malloc(sizeof *rgba * 4 * (size_t)W * H);
+    uint8_t *display = malloc(4 * (size_t)W * H);
+    if (!rgba || !display) {
+        free(rgba);
+        free(display);
+        fprintf(stderr, "error: cannot allocate a %dx%d frame\n", W, H);
+        return DM_EXIT_PROCESS;
+    }
+    dm_progress bar;
+    dm_progress_begin(&bar, "frame", a->quiet);
+    dm_ref_frame_stats st = {0};
+    dm_ref_frame_options fo = {.width = W, .height = H, .atlas_size = a->atlas, .thread_count = a->threads,
+                               .reference = &a->ropt, .progress = on_stage, .progress_user = &bar, .stats = &st};
+    dm_result r = dm_ref_frame_render(pack, &scene, &fo, rgba, &err);
+    dm_progress_end(&bar);
+    int code = DM_EXIT_OK;
+    if (r != DM_OK) {
+        fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
+        code = DM_EXIT_PROCESS;
+    }
+    if (code == DM_EXIT_OK) {
+        size_t n = (size_t)W * H;
+        float *planes = malloc(sizeof *planes * 4 * n);
+        if (!planes) code = DM_EXIT_PROCESS;
+        for (size_t i = 0; planes && i < n; ++i)
+            for (int c = 0; c < 4; ++c) planes[(size_t)c * n + i] = rgba[4 * i + (size_t)c];
+        dm_provenance prov;
+        base_provenance(a, "frame", &prov);
+        dm_prov_add_int(&prov, "width", W);
+        dm_prov_add_int(&prov, "height", H);
+        dm_prov_add_int(&prov, "atlas", a->atlas ? a->atlas : 1024);
+        dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
+        dm_exr_channel ch[4] = {{"R", planes, DM_EXR_FLOAT}, {"G", planes + n, DM_EXR_FLOAT},
+                                {"B", planes + 2 * n, DM_EXR_FLOAT}, {"A", planes + 3 * n, DM_EXR_FLOAT}};
+        char png[4096];
+        snprintf(png, sizeof png, "%.*s.png", (int)(strlen(a->out) - 4), a->out);
+        dm_ref_frame_display(&scene, rgba, W, H, display);
+        if (planes && (dm_exr_write(a->out, W, H, ch, 4, &prov, &err) != DM_OK ||
+                       dm_png_write_pixels(png, W, H, 4, 8, display, &prov, NULL, 0, &err) != DM_OK)) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            code = DM_EXIT_SAVE;
+        } else if (planes && !a->quiet) {
+            printf("%s, %s: %dx%d ground-truth frame, %lld skin pixels, atlas %d, %lld covered texels\n", a->out, png, W,
+                   H, (long long)st.skin_pixels, a->atlas ? a->atlas : 1024, (long long)st.covered_texels);
+            printf("  setup %.0f ms, irradiance %.0f ms, elements %.0f ms, rays %.0f ms, convolution %.1f s, shading %.0f ms;"
+                   " total %.1f s\n",
+                   st.setup_ms, st.atlas_ms, st.reference_ms, st.rays_ms, st.convolution_ms / 1e3, st.compose_ms,
+                   st.total_ms / 1e3);
+        }
+        free(planes);
+    }
+    free(rgba);
+    free(display);
+    return code;
+}
+
+/* ---- merge ------------------------------------------------------------------------- */
+
+/* Everything but the tile must match; returns the differing parameter's name or NULL. */
+static const char *prov_differs(const dm_provenance *a, const dm_provenance *b)
+{
+    if (strcmp(a->tool, b->tool) || strcmp(a->version, b->version)) return "tool or version";
+    if (strcmp(a->input_hash, b->input_hash)) return "input_hash";
+    if (a->param_count != b->param_count) return "parameter count";
+    for (int i = 0; i < a->param_count; ++i) {
+        const dm_param *p = &a->params[i], *q = &b->params[i];
+        if (!strcmp(p->name, "tile_index")) continue;
+        if (strcmp(p->name, q->name) || p->type != q->type || p->i != q->i || memcmp(&p->d, &q->d, sizeof p->d) ||
+            strcmp(p->s, q->s))
+            return p->name;
+    }
+    return NULL;
+}
+
+static int merge(const args *a)
+{
+    dm_error err = {0};
+    dm_exr_image *img = calloc((size_t)a->merge_count, sizeof *img);
+    unsigned char *seen = NULL;
+    int code = img ? -1 : DM_EXIT_PROCESS;
+    int64_t tiles = 0, covered = 0;
+    for (int f = 0; code == -1 && f < a->merge_count; ++f) {
+        const char *path = a->merge[f];
+        if (dm_exr_read(path, &img[f], &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            code = DM_EXIT_LOAD;
+            break;
+        }
+        const dm_param *ti = dm_prov_find(&img[f].prov, "tile_index"), *tc = dm_prov_find(&img[f].prov, "tile_count");
+        const dm_param *cv = dm_prov_find(&img[f].prov, "covered_texels");
+        if (!img[f].has_provenance || strcmp(img[f].prov.tool, "dermis-reference") || !ti || !tc || !cv ||
+            !dm_exr_find(&img[f], "A")) {
+            fprintf(stderr, "error: %s: not a texture-space tile of dermis-reference\n", path);
+            code = DM_EXIT_LOAD;
+            break;
+        }
+        if (f == 0) {
+            tiles = tc->i, covered = cv->i;
+            seen = calloc((size_t)tiles + 1, 1);
+            if (!seen) code = DM_EXIT_PROCESS;
+        } else {
+            const char *d = prov_differs(&img[0].prov, &img[f].prov);
+            if (d || img[f].width != img[0].width || img[f].height != img[0].height ||
+                img[f].channel_count != img[0].channel_count) {
+                fprintf(stderr, "error: %s: not a tile of the same run as %s (%s differs)\n", path, a->merge[0],
+                        d ? d : "the image size or channels");
+                code = DM_EXIT_LOAD;
+                break;
+            }
+        }
+        if (code == -1 && (ti->i < 1 || ti->i > tiles || seen[ti->i]++)) {
+            fprintf(stderr, "error: %s: tile %lld of %lld %s\n", path, (long long)ti->i, (long long)tiles,
+                    ti->i < 1 || ti->i > tiles ? "is out of range" : "is given twice");
+            code = DM_EXIT_LOAD;
+        }
+    }
+    if (code == -1 && a->merge_count != tiles) {
+        fprintf(stderr, "error: %d tiles given, the run has %lld\n", a->merge_count, (long long)tiles);
+        code = DM_EXIT_LOAD;
+    }
+    float *planes = NULL;
+    size_t n = code == -1 ? (size_t)img[0].width * img[0].height : 0;
+    int nch = code == -1 ? img[0].channel_count : 0;
+    if (code == -1 && !(planes = calloc(n * (size_t)nch, sizeof *planes))) code = DM_EXIT_PROCESS;
+    int64_t merged = 0;
+    for (int f = 0; code == -1 && f < a->merge_count; ++f) {
+        const float *alpha = dm_exr_find(&img[f], "A");
+        for (size_t i = 0; i < n; ++i) {
+            if (!(alpha[i] > 0.0f)) continue;
+            ++merged;
+            for (int c = 0; c < nch; ++c) planes[(size_t)c * n + i] = img[f].planes[c][i];
+        }
+    }
+    if (code == -1 && merged != covered) {
+        fprintf(stderr, "error: the tiles hold %lld texels, the run covers %lld (overlapping tiles?)\n",
+                (long long)merged, (long long)covered);
+        code = DM_EXIT_PROCESS;
+    }
+    if (code == -1) {
+        dm_exr_channel ch[4 + 3 * DM_REFERENCE_GAUSSIANS_MAX];
+        for (int c = 0; c < nch; ++c) ch[c] = (dm_exr_channel){img[0].names[c], planes + (size_t)c * n, DM_EXR_FLOAT};
+        dm_provenance prov = img[0].prov;
+        for (int i = 0; i < prov.param_count; ++i) {
+            if (!strcmp(prov.params[i].name, "tile_index")) prov.params[i].i = 1;
+            if (!strcmp(prov.params[i].name, "tile_count")) prov.params[i].i = 1;
+        }
+        /* the one-shot run writes R, G, B, A first, then the levels */
+        dm_exr_channel ordered[4 + 3 * DM_REFERENCE_GAUSSIANS_MAX];
+        int k = 0;
+        const char *first[4] = {"R", "G", "B", "A"};
+        for (int q = 0; q < 4; ++q)
+            for (int c = 0; c < nch; ++c)
+                if (!strcmp(ch[c].name, first[q])) ordered[k++] = ch[c];
+        for (int c = 0; c < nch; ++c)
+            if (strlen(ch[c].name) > 1) ordered[k++] = ch[c];
+        code = dm_exr_write(a->out, img[0].width, img[0].height, ordered, k, &prov, &err) == DM_OK ? DM_EXIT_OK : DM_EXIT_SAVE;
+        if (code != DM_EXIT_OK) fprintf(stderr, "error: %s\n", err.detail);
+        else if (!a->quiet) printf("%s: %d tiles merged, %lld texels\n", a->out, a->merge_count, (long long)merged);
+    }
+    for (int f = 0; img && f < a->merge_count; ++f) dm_exr_free(&img[f]);
+    free(img);
+    free(seen);
+    free(planes);
+    return code;
+}
+
+int main(int argc, char **argv)
+{
+    args a;
+    int code = parse(argc, argv, &a);
+    if (code != -1) return code;
+    if (a.merge_count) return merge(&a);
+    dm_pack pack;
+    dm_error err = {0};
+    if (dm_pack_open(a.pack, &pack, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_pack_close(&pack);
+        return DM_EXIT_LOAD;
+    }
+    code = a.frame ? frame(&a, &pack) : texture_space(&a, &pack);
+    dm_pack_close(&pack);
+    return code;
+}
