@@ -35,6 +35,10 @@ static void usage(FILE *f)
             "                       shadowK, specular, diffuse, uv, wireframe\n"
             "  --view-scale X       multiplies debug texture views, default 1; (0, 1e6]\n"
             "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
+            "  --reference REF.exr  compare with a ground truth (dermis-reference): texture-space\n"
+            "                       references against the diffusion view at irradiance size N, frame\n"
+            "                       references against the final linear image at their size (the\n"
+            "                       window takes it); side by side, split or error map (key C, panel)\n"
             "  --watch              reload the pack when its file changes, keeping the camera\n"
             "  --script FILE        replay timed input events and screenshots, then exit (format in\n"
             "                       docs/dermis-view.md); exit code 3 if any event or GL call failed\n"
@@ -51,7 +55,7 @@ static void usage(FILE *f)
 
 typedef struct options {
     dm_viewer_options v;
-    const char *script;
+    const char *script, *reference;
 } options;
 
 static int parse(int argc, char **argv, options *o)
@@ -97,6 +101,8 @@ static int parse(int argc, char **argv, options *o)
             o->v.light_azimuth_deg = (float)d;
         } else if (!strcmp(a, "--watch")) {
             o->v.watch = true;
+        } else if (!strcmp(a, "--reference")) {
+            if (!(o->reference = dm_cli_value(argc, argv, &i))) return 0;
         } else if (!strcmp(a, "--script")) {
             if (!(o->script = dm_cli_value(argc, argv, &i))) return 0;
         } else if (!strcmp(a, "--shader-dir")) {
@@ -157,9 +163,13 @@ static void handle_key(app *a, int key, int mods)
     switch (key) {
     case GLFW_KEY_F1:
     case GLFW_KEY_H: v->show_help = !v->show_help; break;
-    case GLFW_KEY_TAB: v->show_panel = !v->show_panel; break;
+    case GLFW_KEY_TAB:
+        v->show_panel = !v->show_panel;
+        v->dirty |= v->cmp.on; /* the comparison legend keeps clear of the panel */
+        break;
     case GLFW_KEY_R: v->light_rotating = !v->light_rotating; break;
     case GLFW_KEY_B: dm_viewer_set_background(v, !v->scene.env_background); break;
+    case GLFW_KEY_C: dm_viewer_cycle_compare(v); break;
     case GLFW_KEY_V: dm_viewer_cycle_view(v, shift ? -1 : 1); break;
     case GLFW_KEY_SPACE: dm_viewer_reset_camera(v); break;
     case GLFW_KEY_EQUAL:
@@ -240,7 +250,7 @@ static int key_from_name(const char *name, int *mods)
         int key;
     } keys[] = {{"F1", GLFW_KEY_F1},       {"F12", GLFW_KEY_F12},     {"H", GLFW_KEY_H},
                 {"S", GLFW_KEY_S},         {"R", GLFW_KEY_R},         {"B", GLFW_KEY_B},
-                {"V", GLFW_KEY_V},         {"Q", GLFW_KEY_Q},         {"TAB", GLFW_KEY_TAB},
+                {"V", GLFW_KEY_V},         {"Q", GLFW_KEY_Q},         {"C", GLFW_KEY_C},         {"TAB", GLFW_KEY_TAB},
                 {"SPACE", GLFW_KEY_SPACE}, {"ESCAPE", GLFW_KEY_ESCAPE}, {"PLUS", GLFW_KEY_EQUAL},
                 {"MINUS", GLFW_KEY_MINUS}};
     *mods = 0;
@@ -308,6 +318,8 @@ static bool run_event(app *a, const dm_script_event *e)
             return false;
         }
         dm_viewer_set_env(v, (int)k);
+    } else if (!strcmp(c, "compare")) {
+        dm_viewer_set_compare(v, e->args[0]);
     } else if (!strcmp(c, "screenshot")) {
         if (!dm_viewer_screenshot(v, e->args[0])) a->save_failures++;
     } else if (!strcmp(c, "window-shot")) {
@@ -395,9 +407,18 @@ int main(int argc, char **argv)
         return corrupt ? DM_EXIT_USAGE : DM_EXIT_LOAD;
     }
 
+    if (o.reference && dm_viewer_compare_load(&a->v, o.reference, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_script_free(&a->script);
+        dm_viewer_free(&a->v);
+        free(a);
+        return DM_EXIT_LOAD;
+    }
+
     /* window + renderer */
     int rc = DM_EXIT_OK;
-    int w = o.v.width > 0 ? o.v.width : a->v.scene.width, h = o.v.height > 0 ? o.v.height : a->v.scene.height;
+    int w = a->v.opt.width > 0 ? a->v.opt.width : a->v.scene.width,
+        h = a->v.opt.height > 0 ? a->v.opt.height : a->v.scene.height;
     a->v.opt.width = w, a->v.opt.height = h;
     char title[1200];
     snprintf(title, sizeof title, "dermis-view — %s", o.v.pack ? o.v.pack : "synthetic");

@@ -248,8 +248,7 @@ static void draw_panel(uint8_t *out, int ow, int oh, int x0, int y0, int pw, int
 
 static void pct(char *out, size_t size, double v)
 {
-    double p = 100 * v;
-    snprintf(out, size, p >= 10 ? "%.0f%%" : p >= 1 ? "%.1f%%" : p >= 0.1 ? "%.2f%%" : "%.3g%%", p);
+    snprintf(out, size, "%.3g%%", 100 * v);
 }
 
 void dm_refcmp_compose(const float *ref, const float *render, const float *rel, int width, int height,
@@ -257,7 +256,9 @@ void dm_refcmp_compose(const float *ref, const float *render, const float *rel, 
                        int out_height)
 {
     const double scale = view->error_scale > 0 ? view->error_scale : DM_REFCMP_DEFAULT_ERROR_SCALE;
-    const int s = font_scale(out_width), legend = dm_refcmp_legend_height(out_width);
+    /* the legend's width: clear of the right margin unless that leaves it too narrow */
+    const int lw = out_width - view->margin_right_px >= 400 ? out_width - view->margin_right_px : out_width;
+    const int s = font_scale(lw), legend = dm_refcmp_legend_height(lw) + view->margin_bottom_px;
     dm_font_fill(rgba, out_width, out_height, 0, 0, out_width, out_height, c_bg);
     const int ph = out_height - legend > 1 ? out_height - legend : 1;
     const double white = display_white(ref, width, height);
@@ -282,7 +283,7 @@ void dm_refcmp_compose(const float *ref, const float *render, const float *rel, 
 
     /* legend: colour bar with its numbers, then the definition and the statistics */
     int x = 8 * s, y = ph + 6 * s;
-    int bar_w = out_width / 2 - 16 * s > 64 ? out_width / 2 - 16 * s : 64, bar_h = 12 * s;
+    int bar_w = lw / 2 - 16 * s > 64 ? lw / 2 - 16 * s : 64, bar_h = 12 * s;
     for (int i = 0; i < bar_w; ++i) {
         uint8_t c[3];
         turbo((i + 0.5) / bar_w, c);
@@ -294,14 +295,15 @@ void dm_refcmp_compose(const float *ref, const float *render, const float *rel, 
     dm_font_fill(rgba, out_width, out_height, tx, y, 5 * s, bar_h, c_none);
     dm_font_draw(rgba, out_width, out_height, tx + 8 * s, y + 2 * s, s, c_dim, "NOT COMPARED");
     y += bar_h + 2 * s;
-    for (int t = 0; t <= 4; ++t) {
+    const int ticks = bar_w >= 240 * s ? 4 : bar_w >= 120 * s ? 2 : 1; /* labels never overlap */
+    for (int t = 0; t <= ticks; ++t) {
         char num[32];
-        pct(num, sizeof num, scale * t / 4.0);
-        if (t == 4) snprintf(num + strlen(num), sizeof num - strlen(num), "+");
-        int px = x + (int)lrint((double)bar_w * t / 4.0);
+        pct(num, sizeof num, scale * t / ticks);
+        if (t == ticks) snprintf(num + strlen(num), sizeof num - strlen(num), "+");
+        int px = x + (int)lrint((double)bar_w * t / ticks);
         dm_font_fill(rgba, out_width, out_height, px, y - 2 * s, s, 3 * s, c_text);
         int tw = dm_font_width(num, s);
-        int lx = t == 0 ? px : t == 4 ? px - tw : px - tw / 2;
+        int lx = t == 0 ? px : t == ticks ? px - tw : px - tw / 2;
         dm_font_draw(rgba, out_width, out_height, lx, y + 2 * s, s, c_text, num);
     }
     y += (DM_FONT_H + 6) * s;

@@ -77,6 +77,8 @@ typedef struct dm_refcmp_view {
     dm_refcmp_layout layout;
     float split;        /* divider position in [0, 1] of the panel width (SPLIT) */
     double error_scale; /* relative error shown at the top of the colour scale; 0 = default */
+    int margin_right_px;  /* the legend keeps out of this strip (a viewer's panel); 0 = none */
+    int margin_bottom_px; /* nothing is drawn in this strip (a viewer's attribution line) */
 } dm_refcmp_view;
 
 const char *dm_refcmp_layout_name(dm_refcmp_layout l); /* "side", "split", "error" */

@@ -431,3 +431,54 @@ Test(view, watch_reloads_a_replaced_pack, .timeout = 180)
     cr_expect_eq(memcmp(c1, c2, 40), 0, "camera changed on reload: %.40s vs %.40s", c1, c2);
     free(t1), free(t2);
 }
+
+/* --reference: the renderer's own diffusion view as a texture-space reference; the script
+ * shows it side by side, split (divider moved), as the error map and off, each screenshot
+ * a different picture of the window's size, and the window with the panel hidden. */
+Test(view, reference_comparison_side_split_error_and_off, .timeout = 120)
+{
+    need_display();
+    char dir[64], line[2048], log[160], script[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(line, sizeof line, DERMIS_BIN "/dermis-render --synthetic sphere --view diffusion --irradiance 64 -o %s/ref.exr",
+             dir);
+    cr_assert_eq(test_run(line, log), 0, "dermis-render: %s", test_slurp(log));
+    snprintf(script, sizeof script, "%s/s.txt", dir);
+    snprintf(line, sizeof line,
+             "0 screenshot %s/side.png\n0.1 compare split\n0.1 set split 0.25\n0.1 screenshot %s/split.png\n"
+             "0.2 compare error\n0.2 set error_scale 0.01\n0.2 screenshot %s/error.png\n0.3 key TAB\n"
+             "0.3 compare side\n0.3 window-shot %s/window.png\n0.4 compare off\n0.4 screenshot %s/off.png\n",
+             dir, dir, dir, dir, dir);
+    write_text(script, line);
+    snprintf(line, sizeof line, VIEW " --synthetic sphere --size 480x270 --reference %s/ref.exr --script %s", dir,
+             script);
+    int rc = test_run(line, log);
+    char *out = test_slurp(log);
+    cr_assert_eq(rc, 0, "dermis-view exited %d:\n%s", rc, out);
+    cr_expect(strstr(out, "0 failed, 0 GL errors") != NULL, "no clean summary:\n%s", out);
+    free(out);
+    static const char *shots[] = {"side", "split", "error", "window", "off"};
+    size_t size[5];
+    char *bytes[5];
+    for (int k = 0; k < 5; ++k) {
+        char shot[160];
+        snprintf(shot, sizeof shot, "%s/%s.png", dir, shots[k]);
+        expect_picture(shot, 480, 270);
+        bytes[k] = png_bytes(shot, &size[k]);
+        cr_assert(bytes[k]);
+    }
+    for (int a = 0; a < 5; ++a)
+        for (int b = a + 1; b < 5; ++b)
+            if (a != 0 || b != 3) /* side and window: the same layout, panel hidden */
+                cr_expect(size[a] != size[b] || memcmp(bytes[a], bytes[b], size[a]), "%s and %s are the same picture",
+                          shots[a], shots[b]);
+    for (int k = 0; k < 5; ++k) free(bytes[k]);
+    /* without a reference, compare is a failed event (exit 3), said clearly */
+    write_text(script, "0 compare side\n");
+    snprintf(line, sizeof line, VIEW " --synthetic sphere " SIZE " --script %s", script);
+    cr_expect_eq(test_run(line, log), 3);
+    out = test_slurp(log);
+    cr_expect(out && strstr(out, "no reference"), "%s", out ? out : "");
+    free(out);
+}

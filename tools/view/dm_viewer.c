@@ -30,6 +30,8 @@ const char dm_viewer_help[] =
     "1 .. 7         toggle specular, subsurface, energy conservation,\n"
     "               shadows, environment lighting, glow, tonemap\n"
     "B              environment background on/off\n"
+    "C              reference comparison: side by side, split, error map, off\n"
+    "               (--reference; split position and colour scale in the panel)\n"
     "V / shift+V    next / previous debug view\n"
     "+ / -          exposure +/- 0.5 stop\n"
     "S or F12       screenshot of the picture (PNG with provenance)\n"
@@ -179,6 +181,7 @@ dm_result dm_viewer_start(dm_viewer *v, dm_error *err)
 
 void dm_viewer_free(dm_viewer *v)
 {
+    dm_viewer_compare_free(v);
     dm_renderer_destroy(v->r);
     if (v->tex) {
         GLuint t = v->tex;
@@ -247,6 +250,10 @@ void dm_viewer_update(dm_viewer *v, double dt_s)
     dm_frame_options fo = {.view = v->view, .view_index = v->view_index, .view_scale = v->view_scale,
                            .light_rotation_deg = v->light_rotation_deg, .blur_scale = v->blur_scale,
                            .roughness_scale = v->roughness_scale};
+    if (v->cmp.on) { /* the view the reference matches, unscaled */
+        fo.view = v->cmp.ref.mode == DM_REFCMP_TEXTURE_SPACE ? DM_VIEW_DIFFUSION : DM_VIEW_FINAL;
+        fo.view_index = 0, fo.view_scale = 1;
+    }
     if (dm_render_frame(v->r, &fo, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "frame: %s", err.detail);
         if (v->view != DM_VIEW_FINAL) {
@@ -256,7 +263,9 @@ void dm_viewer_update(dm_viewer *v, double dt_s)
         return;
     }
     dm_renderer_last_timings(v->r, v->pass_ms, &v->frame_ms);
-    if (dm_renderer_read_display(v->r, v->rgba, &err) != DM_OK) {
+    if (v->cmp.on) {
+        if (!dm_viewer_compare_frame(v)) return;
+    } else if (dm_renderer_read_display(v->r, v->rgba, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "read back: %s", err.detail);
         return;
     }
@@ -506,6 +515,12 @@ bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *x, int cou
         v->light_rotation_deg = a;
     } else if (!strcmp(name, "rotate")) {
         v->light_rotating = a != 0;
+    } else if (!strcmp(name, "split")) {
+        if (!in_range(v, name, a, 0, 1)) return false;
+        v->cmp.split = a;
+    } else if (!strcmp(name, "error_scale")) {
+        if (!in_range(v, name, a, 1e-6f, 100)) return false;
+        v->cmp.error_scale = a;
     } else if (!strcmp(name, "light")) {
         if (!in_range(v, name, a, 0, (float)(v->scene.light_count - 1)) || a != floorf(a)) return false;
         v->light = (int)a;

@@ -19,6 +19,7 @@
 #include "core/dm_prov.h"
 #include "core/dm_scene.h"
 #include "render/dm_render.h"
+#include "render/dm_render_refcmp.h"
 #include "render/dm_render_synth.h"
 
 #ifdef __cplusplus
@@ -26,6 +27,21 @@ extern "C" {
 #endif
 
 enum { DM_VIEWER_MAX_VIEWS = 32, DM_VIEWER_STATUS_SIZE = 1024 };
+
+/* --reference: the comparison with a ground truth (dm_viewer_compare.c). While `on`, every
+ * frame renders the view the reference matches (diffusion or final) and the picture is
+ * dm_refcmp_compose's: side by side, split at `split`, or the error map, with the legend. */
+typedef struct dm_viewer_compare {
+    bool loaded, on;
+    char path[1024];
+    dm_refcmp_ref ref;
+    dm_refcmp_layout layout;
+    float split;       /* divider, [0, 1] of the picture width */
+    float error_scale; /* relative error at the top of the colour scale */
+    dm_refcmp_stats stats;
+    bool has_stats;
+    char text[1024]; /* dm_refcmp_stats_text of the last frame */
+} dm_viewer_compare;
 
 typedef struct dm_viewer_options {
     const char *pack;       /* PACK path, or NULL with synthetic */
@@ -78,6 +94,7 @@ typedef struct dm_viewer {
     int failures;      /* actions that failed (scripts exit non-zero) */
     char status[DM_VIEWER_STATUS_SIZE]; /* the last message, shown in the panel */
     int shot_count;
+    dm_viewer_compare cmp;
     /* --watch */
     long long watch_mtime_ns, watch_size;
     double watch_next_ms;
@@ -112,9 +129,22 @@ void dm_viewer_env_name(const dm_viewer *v, int k, char *out, int size);
 bool dm_viewer_set_view(dm_viewer *v, const char *name);
 bool dm_viewer_cycle_view(dm_viewer *v, int step);
 /* "exposure", "mix", "blur_scale", "roughness_scale", "view_scale", "env_intensity",
- * "env_rotation", "light_intensity", "light_rotation", "rotate", "light": one value;
+ * "env_rotation", "light_intensity", "light_rotation", "rotate", "light", "split" [0, 1],
+ * "error_scale" (0, 100]: one value;
  * "light_color": three. Ranges as in the panel; out of range is refused. */
 bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *values, int count);
+/* --reference (dm_viewer_compare.c). Load after dm_viewer_load and before
+ * dm_viewer_start: a texture-space reference sets the irradiance size to its N, a frame
+ * reference the picture size to its own; the comparison starts side by side. */
+dm_result dm_viewer_compare_load(dm_viewer *v, const char *path, dm_error *err);
+/* "off", "side", "split" or "error" (refused without a reference). */
+bool dm_viewer_set_compare(dm_viewer *v, const char *mode);
+/* Key C: off → side → split → error → off. */
+void dm_viewer_cycle_compare(dm_viewer *v);
+/* The frame's comparison picture into v->rgba (called by dm_viewer_update). */
+bool dm_viewer_compare_frame(dm_viewer *v);
+void dm_viewer_compare_free(dm_viewer *v);
+
 /* Screenshot of the rendered image with provenance (view, scene, every parameter). */
 bool dm_viewer_screenshot(dm_viewer *v, const char *path);
 /* A free name "dermis-view-NNN.png" in the current folder. */

@@ -4,7 +4,7 @@
  *
  * Format: one event per line, `TIME COMMAND ARGS...`; TIME in seconds from the first
  * frame (non-decreasing); '#' starts a comment; blank lines are skipped.
- *   key NAME                       a key press as typed: F1 F12 H S R B V Q TAB SPACE
+ *   key NAME                       a key press as typed: F1 F12 H S R B V C Q TAB SPACE
  *                                  ESCAPE PLUS MINUS 1..7, "shift+" before any of them
  *   drag X0 Y0 X1 Y1 [BUTTON]      a mouse drag in window pixels (y down); BUTTON is
  *                                  left (orbit, default), right or middle (pan), or
@@ -17,6 +17,8 @@
  *                                  roughness_scale, view_scale, env_intensity,
  *                                  env_rotation, light, light_intensity, light_color R G B,
  *                                  light_rotation, rotate (0/1), irradiance
+ *   compare MODE                   the reference comparison (--reference): off, side,
+ *                                  split or error (set split X, set error_scale X)
  *   screenshot FILE                the picture as PNG with provenance (after the frame
  *                                  showing every earlier event)
  *   window-shot FILE               the whole window, panel included (PNG)

@@ -121,6 +121,23 @@ static void section_environment(dm_viewer *v)
     if (ImGui::Checkbox("background (B)", &bg)) dm_viewer_set_background(v, bg);
 }
 
+static void section_reference(dm_viewer *v)
+{
+    dm_viewer_compare *c = &v->cmp;
+    ImGui::TextWrapped("%s (%s, %dx%d)", c->path, dm_refcmp_mode_name(c->ref.mode), c->ref.width, c->ref.height);
+    static const char *modes[] = {"side", "split", "error", "off"};
+    int cur = c->on ? (int)c->layout : 3;
+    if (ImGui::BeginCombo("compare (C)", modes[cur])) {
+        for (int i = 0; i < 4; ++i)
+            if (ImGui::Selectable(modes[i], i == cur)) dm_viewer_set_compare(v, modes[i]);
+        ImGui::EndCombo();
+    }
+    if (c->layout == DM_REFCMP_SPLIT && ImGui::SliderFloat("divider", &c->split, 0.0f, 1.0f, "%.2f")) v->dirty = true;
+    if (ImGui::SliderFloat("error scale", &c->error_scale, 0.001f, 1.0f, "%.3f", ImGuiSliderFlags_Logarithmic))
+        v->dirty = true;
+    if (c->on && c->has_stats) ImGui::TextWrapped("%s", c->text);
+}
+
 static void section_timings(dm_viewer *v)
 {
     const dm_render_plan *plan = v->r ? dm_renderer_plan(v->r) : NULL;
@@ -166,6 +183,7 @@ static void panel(dm_viewer *v, float w, float h)
     }
     if (ImGui::CollapsingHeader("Light", ImGuiTreeNodeFlags_DefaultOpen)) section_light(v);
     if (ImGui::CollapsingHeader("Effects", ImGuiTreeNodeFlags_DefaultOpen)) section_effects(v);
+    if (v->cmp.loaded && ImGui::CollapsingHeader("Reference", ImGuiTreeNodeFlags_DefaultOpen)) section_reference(v);
     if (ImGui::CollapsingHeader("Debug view", ImGuiTreeNodeFlags_DefaultOpen)) section_view(v);
     if (ImGui::CollapsingHeader("Environment", ImGuiTreeNodeFlags_DefaultOpen)) section_environment(v);
     if (ImGui::CollapsingHeader("Timings", ImGuiTreeNodeFlags_DefaultOpen)) section_timings(v);
