@@ -17,9 +17,10 @@
  * integral — comes from dm_ks_directional (lib/core/dm_brdf.h, 48 Gauss–Legendre nodes,
  * < 1e-6) tabulated at creation on a grid uniform in √c (1024 intervals, so the steep
  * grazing end is resolved) and, with a roughness map, in m (64 intervals); linear between.
- * Measured against direct evaluation: ≤ 1.3e-5 at m = 0.3, ≤ 3.1e-4 at m = 0.01 (first,
- * most grazing interval only), tested in tests/unit/test_ref_frame.c. Without a roughness
- * map the table is one column at the scene's m. Specular D is dm_beckmann in double.
+ * Measured against direct evaluation (tests/unit/test_ref_shade.c): ≤ 1.3e-5 at m = 0.3;
+ * at m = 0.01, 3.1e-4 in the first, most grazing interval (c < 1e-6) and 2.7e-5 from
+ * c = 1e-3; with a roughness map (linear in m too) 1.9e-4. Without a roughness map the
+ * table is one column at the scene's m. Specular D is dm_beckmann in double.
  *
  * Ownership: a surface borrows desc's arrays and textures (the pack's mapping) for its
  * whole life; it owns its mesh copy, tables and ray caster. Read-only after creation:
