@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "bake/dm_exr.h"
+#include "bake/dm_gltf_map.h"
 #include "bake/dm_image.h"
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
@@ -158,7 +159,12 @@ static dm_result step_scene(job *j, dm_error *err)
 static dm_result pack_map(job *j, const char *entry, const char *path, dm_tex_format f, dm_error *err)
 {
     dm_image img;
-    dm_result r = dm_image_read(path, DM_PIXEL_U8, &img, err);
+    char gltf_src[300] = "";
+    const bool gltf = dm_gltf_is_file(path) && (!strcmp(entry, "albedo") || !strcmp(entry, "normal"));
+    dm_result r = gltf ? dm_gltf_map_read(path, j->scene.mesh_name, !strcmp(entry, "albedo") ? DM_GLTF_MAP_BASE_COLOR
+                                                                                              : DM_GLTF_MAP_NORMAL,
+                                          DM_PIXEL_U8, &img, gltf_src, sizeof gltf_src, err)
+                       : dm_image_read(path, DM_PIXEL_U8, &img, err);
     if (r != DM_OK) {
         dm_image_free(&img);
         return r;
@@ -189,6 +195,7 @@ static dm_result pack_map(job *j, const char *entry, const char *path, dm_tex_fo
     dm_prov_init(&p, TOOL);
     r = dm_hash_file_hex(path, p.input_hash, err);
     dm_prov_add_string(&p, "source", path);
+    if (gltf) dm_prov_add_string(&p, "gltf_image", gltf_src);
     dm_prov_add_string(&p, "conversion", out_c == 1 ? "u8 mean of colour channels" : "u8 rgb + alpha (255 if none)");
     dm_pack_entry d = texture_desc(entry, f, img.width, img.height);
     if (f == DM_TEX_RGBA8) {
@@ -199,7 +206,7 @@ static dm_result pack_map(job *j, const char *entry, const char *path, dm_tex_fo
         snprintf(d.channels[3], sizeof d.channels[3], "unused");
     }
     char src[160];
-    snprintf(src, sizeof src, "from %s", base_name(path));
+    snprintf(src, sizeof src, "from %.60s%s%.90s", base_name(path), gltf ? " " : "", gltf ? gltf_src : "");
     if (r == DM_OK) r = add(j, &d, px, n * (size_t)out_c, &p, src, err);
     free(px);
     dm_image_free(&img);
@@ -376,7 +383,8 @@ static dm_result ensure_mesh(job *j, dm_error *err)
 {
     if (j->mesh_loaded) return DM_OK;
     dm_result r = dm_hash_file_hex(j->scene.mesh, j->mesh_hash, err);
-    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, NULL, &j->mesh, err);
+    dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
+    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
     j->mesh_loaded = r == DM_OK;
     return r;
 }
@@ -458,12 +466,16 @@ static dm_result read_stretch(job *j, const char *file, dm_stretch_map *map, dm_
     dm_provenance p;
     dm_result r = dm_stretch_read(file, map, &p, err);
     if (r != DM_OK) return r;
-    const dm_param *mm = dm_prov_find(&p, "mm_per_unit");
+    const dm_param *mm = dm_prov_find(&p, "mm_per_unit"), *name = dm_prov_find(&p, "mesh_name");
+    const char *baked_name = name && name->type == DM_PARAM_STRING ? name->s : "";
     const int n = j->scene.irradiance_size;
     const dm_profile *pr = &j->scene.profile;
     if (strcmp(p.input_hash, j->mesh_hash) != 0)
         r = dm_fail(err, DM_ERR_MISMATCH, "%s: baked from a mesh with hash %s, %s has %s", file,
                     p.input_hash[0] ? p.input_hash : "(none)", j->scene.mesh, j->mesh_hash);
+    else if (strcmp(baked_name, j->scene.mesh_name) != 0)
+        r = dm_fail(err, DM_ERR_MISMATCH, "%s: baked from mesh name \"%s\", the scene's mesh.name is \"%s\"", file,
+                    baked_name, j->scene.mesh_name);
     else if (!mm || mm->type == DM_PARAM_STRING || mm->d != j->scene.mm_per_unit)
         r = dm_fail(err, DM_ERR_MISMATCH, "%s: mm_per_unit is %g, the scene says %g", file, mm ? mm->d : 0.0,
                     j->scene.mm_per_unit);
@@ -764,6 +776,29 @@ static void print_size(char *out, size_t n, size_t bytes)
         snprintf(out, n, "%zu B", bytes);
 }
 
+/* A glTF mesh brings its material: where the scene names no albedo or normal map, the
+ * material's baseColor / normal texture stands in (the map's path becomes the glTF file,
+ * which pack_map reads through dm_gltf_map_read). */
+static dm_result gltf_material_maps(job *j, dm_error *err)
+{
+    if (!dm_gltf_is_file(j->scene.mesh)) return DM_OK;
+    struct { char *field; dm_gltf_map which; const char *what; } maps[2] = {
+        {j->scene.albedo, DM_GLTF_MAP_BASE_COLOR, "albedo"}, {j->scene.normal_map, DM_GLTF_MAP_NORMAL, "normal_map"}};
+    for (int k = 0; k < 2; ++k) {
+        if (maps[k].field[0]) continue;
+        int found = 0;
+        char src[300];
+        dm_result r = dm_gltf_map_find(j->scene.mesh, j->scene.mesh_name, maps[k].which, &found, src, sizeof src, err);
+        if (r != DM_OK) return r;
+        if (!found) continue;
+        snprintf(maps[k].field, DM_SCENE_PATH_SIZE, "%s", j->scene.mesh);
+        if (!j->opt->quiet)
+            fprintf(stderr, "note: material.%s: the glTF material's %s, %s\n", maps[k].what,
+                    maps[k].which == DM_GLTF_MAP_BASE_COLOR ? "baseColorTexture" : "normalTexture", src);
+    }
+    return DM_OK;
+}
+
 int main(int argc, char **argv)
 {
     options opt;
@@ -777,6 +812,11 @@ int main(int argc, char **argv)
     double t0 = dm_now_ms();
     if (dm_scene_read(opt.scene, &j->scene, &err) != DM_OK ||
         dm_hash_file_hex(opt.scene, j->scene_hash, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        free(j);
+        return DM_EXIT_LOAD;
+    }
+    if (gltf_material_maps(j, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         free(j);
         return DM_EXIT_LOAD;

@@ -255,7 +255,7 @@ static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *ke
 
 static bool parse_mesh(ctx *c, const cJSON *root, dm_scene *s)
 {
-    static const char *const keys[] = {"path", "mm_per_unit", NULL};
+    static const char *const keys[] = {"path", "mm_per_unit", "name", NULL};
     bool ok;
     const cJSON *m = get_object(c, root, "$", "mesh", true, &ok);
     if (!ok || !check_keys(c, m, "$.mesh", keys)) return false;
@@ -263,6 +263,11 @@ static bool parse_mesh(ctx *c, const cJSON *root, dm_scene *s)
         c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: $.mesh.path: missing, expected the mesh file's path", c->file);
         return false;
     }
+    const cJSON *name = get(m, "name");
+    if (name && (!cJSON_IsString(name) || strlen(name->valuestring) >= DM_SCENE_NAME_SIZE))
+        return fail_value(c, cJSON_IsString(name) ? DM_ERR_RANGE : DM_ERR_FORMAT, "$.mesh.name", name,
+                          "a glTF mesh name string under 128 bytes");
+    if (name) snprintf(s->mesh_name, sizeof s->mesh_name, "%s", name->valuestring);
     return get_path(c, m, "$.mesh", "path", false, s->mesh) &&
            get_double(c, m, "$.mesh", "mm_per_unit", 1e-6, 1e6, &s->mm_per_unit);
 }
@@ -661,6 +666,7 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
     cJSON *m = cJSON_AddObjectToObject(r, "mesh");
     cJSON_AddStringToObject(m, "path", s->mesh);
     cJSON_AddNumberToObject(m, "mm_per_unit", s->mm_per_unit);
+    if (s->mesh_name[0]) cJSON_AddStringToObject(m, "name", s->mesh_name);
     cJSON *mat = cJSON_AddObjectToObject(r, "material");
     cJSON_AddStringToObject(mat, "albedo", s->albedo);
     cJSON_AddStringToObject(mat, "normal_map", s->normal_map);

@@ -23,6 +23,7 @@ extern "C" {
 #endif
 
 enum { DM_SCENE_PATH_SIZE = 1024, DM_SCENE_MAX_LIGHTS = 8, DM_SCENE_MAX_ENV_ALTERNATIVES = 7 };
+enum { DM_SCENE_NAME_SIZE = 128 };
 
 typedef enum dm_effect {
     DM_EFFECT_SPECULAR = 0,         /* KS specular (Beckmann LUT, Fresnel, spec map) */
@@ -59,6 +60,7 @@ typedef struct dm_scene {
     char path[DM_SCENE_PATH_SIZE]; /* the scene file itself */
     /* mesh and maps */
     char mesh[DM_SCENE_PATH_SIZE];
+    char mesh_name[DM_SCENE_NAME_SIZE];     /* glTF meshes: only those of this name; "" = all */
     char albedo[DM_SCENE_PATH_SIZE];        /* sRGB colour map, or "" for constant white */
     char normal_map[DM_SCENE_PATH_SIZE];    /* tangent-space, green up, or "" */
     char specular_map[DM_SCENE_PATH_SIZE];  /* grey intensity (scales rho_s), or "" */
@@ -101,7 +103,7 @@ typedef struct dm_scene {
 
 /* Scene file (JSON), every key optional unless marked; see docs/scene-and-pack.md:
  *   { "format": "dermis-scene", "version": 1,
- *     "mesh": { "path": REQUIRED, "mm_per_unit": (0, 1e6] },
+ *     "mesh": { "path": REQUIRED, "mm_per_unit": (0, 1e6], "name": glTF mesh name or "" },
  *     "material": { "albedo", "normal_map", "specular_map", "roughness_map": paths or "",
  *                   "roughness": [0, 1], "rho_s": [0, 1] },
  *     "lights": [ { "type": "directional"|"point" REQUIRED, "direction"|"position" REQUIRED,

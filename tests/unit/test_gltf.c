@@ -8,8 +8,13 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "bake/dm_image.h"
 #include "bake/dm_mesh.h"
 #include "bake/dm_stretch.h"
+#include "core/dm_file.h"
+#include "core/dm_pack.h"
+#include "core/dm_png.h"
+#include "core/dm_scene.h"
 #include "../common/gltf_write.h"
 #include "../common/tmpdir.h"
 
@@ -24,9 +29,9 @@ TestSuite(gltf, .init = setup, .timeout = 60);
 
 static const char *in_dir(const char *name)
 {
-    static char path[4][768];
+    static char path[16][768]; /* a ring: up to 16 paths in use at once */
     static int k;
-    k = (k + 1) % 4;
+    k = (k + 1) % 16;
     snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
     return path[k];
 }
@@ -42,12 +47,16 @@ typedef struct quad_opts {
     const char *buffer;     /* NULL: the GLB chunk; "data": a data URI (.gltf); "file": quad.bin beside */
     uint32_t index_value[6];
     int set_indices;
+    const void *png;        /* embedded baseColor image (bufferView 5), with an external
+                             * normal map "normal.png" beside the file: material 0 */
+    size_t png_size;
 } quad_opts;
 
 static const char *write_quad(const char *name, const quad_opts *o)
 {
-    unsigned char bin[216];
+    unsigned char bin[216 + 4096];
     memset(bin, 0, sizeof bin);
+    cr_assert_leq(o->png_size, 4096);
     const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
     const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
     const float nrm[12] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
@@ -61,7 +70,17 @@ static const char *write_quad(const char *name, const quad_opts *o)
         for (int b = 0; b < isize; ++b) bin[128 + i * isize + b] = (unsigned char)(idx[i] >> (8 * b));
     const float tan[16] = {1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1, 1, 0, 0, -1}; /* accessor 4 */
     memcpy(bin + 152, tan, 64);
-    size_t bin_size = sizeof bin;
+    size_t bin_size = 220; /* bufferView 5: 4 zero bytes unless an image is embedded */
+    char material[1024] = "", prim_material[32] = "";
+    if (o->png) {
+        memcpy(bin + 216, o->png, o->png_size);
+        bin_size = 216 + ((o->png_size + 3) & ~(size_t)3);
+        snprintf(material, sizeof material,
+                 ",\"images\":[{\"bufferView\":5,\"mimeType\":\"image/png\"},{\"uri\":\"normal.png\"}],"
+                 "\"textures\":[{\"source\":0},{\"source\":1}],\"materials\":[{\"pbrMetallicRoughness\":"
+                 "{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}}]");
+        snprintf(prim_material, sizeof prim_material, ",\"material\":0");
+    }
     char uri[1024] = "";
     char *b64 = NULL;
     const char *path = in_dir(name);
@@ -76,11 +95,12 @@ static const char *write_quad(const char *name, const quad_opts *o)
     snprintf(json, sizeof json,
              "{\"asset\":{\"version\":\"2.0\"}%s,\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
              "\"nodes\":[{\"mesh\":0%s}],"
-             "\"meshes\":[{\"name\":\"quad\",\"primitives\":[{\"attributes\":{%s},\"indices\":3%s}]}],"
+             "\"meshes\":[{\"name\":\"quad\",\"primitives\":[{\"attributes\":{%s},\"indices\":3%s%s}]}]%s,"
              "\"buffers\":[{\"byteLength\":%zu%s}],"
              "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},"
              "{\"buffer\":0,\"byteOffset\":48,\"byteLength\":32},{\"buffer\":0,\"byteOffset\":80,\"byteLength\":48},"
-             "{\"buffer\":0,\"byteOffset\":128,\"byteLength\":%d},{\"buffer\":0,\"byteOffset\":152,\"byteLength\":64}],"
+             "{\"buffer\":0,\"byteOffset\":128,\"byteLength\":%d},{\"buffer\":0,\"byteOffset\":152,\"byteLength\":64},"
+             "{\"buffer\":0,\"byteOffset\":216,\"byteLength\":%zu}],"
              "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%d,\"type\":\"VEC3\"%s},"
              "{\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},"
              "{\"bufferView\":2,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},"
@@ -88,7 +108,8 @@ static const char *write_quad(const char *name, const quad_opts *o)
              "{\"bufferView\":4,\"componentType\":5126,\"count\":4,\"type\":\"VEC4\"}]}",
              o->top_extra ? o->top_extra : "", o->node_extra ? o->node_extra : "",
              o->attributes ? o->attributes : "\"POSITION\":0,\"TEXCOORD_0\":1,\"NORMAL\":2",
-             o->prim_extra ? o->prim_extra : "", bin_size, uri, 6 * isize,
+             o->prim_extra ? o->prim_extra : "", prim_material, material, bin_size, uri, 6 * isize,
+             o->png ? o->png_size : (size_t)4,
              o->position_count ? o->position_count : 4, o->accessor0_extra ? o->accessor0_extra : "", type);
     free(b64);
     if (o->buffer)
@@ -508,4 +529,83 @@ Test(gltf, bake_stretch_tool_reads_glb, .timeout = 120)
     char *text = test_slurp(log);
     cr_assert_not_null(strstr(text, "no mesh named \"nose\""), "%s", text);
     free(text);
+}
+
+/* A scene whose mesh is a GLB and that names no maps: dermis-pack packs the material's
+ * embedded baseColor PNG as albedo and its external normal.png as the normal map, texel
+ * for texel what dm_image_read gives for the same PNG files. */
+Test(gltf, pack_takes_the_gltf_material_maps, .timeout = 120)
+{
+    /* 3×2 RGB test images (different, so albedo and normal cannot be swapped) */
+    uint8_t colour[18], normal[18];
+    for (int i = 0; i < 18; ++i) colour[i] = (uint8_t)(i * 13 + 7), normal[i] = (uint8_t)(250 - i * 11);
+    const char *colour_png = in_dir("colour.png"), *normal_png = in_dir("normal.png");
+    dm_error err = {0};
+    cr_assert_eq(dm_png_write_pixels(colour_png, 3, 2, 3, 8, colour, NULL, NULL, 0, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_png_write_pixels(normal_png, 3, 2, 3, 8, normal, NULL, NULL, 0, &err), DM_OK, "%s", err.detail);
+    char *png = NULL;
+    size_t png_size = 0;
+    cr_assert_eq(dm_read_file(colour_png, &png, &png_size, &err), DM_OK);
+    write_quad("material.glb", &(quad_opts){.png = png, .png_size = png_size});
+    free(png);
+    const char *scene = in_dir("scene.json");
+    const char *json = "{\"format\":\"dermis-scene\",\"version\":1,\"mesh\":{\"path\":\"material.glb\",\"name\":\"quad\"},"
+                       "\"effects\":{\"specular\":false}}";
+    cr_assert_eq(test_write_bytes(scene, json, strlen(json)), 0);
+    char cmd[2048];
+    const char *pack = in_dir("material.dpk"), *log = in_dir("pack.log");
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack %s -o %s", scene, pack);
+    int rc = test_run(cmd, log);
+    char *text = test_slurp(log);
+    cr_assert_eq(rc, 0, "%s\n%s", cmd, text);
+    cr_assert_not_null(strstr(text, "baseColorTexture"), "%s", text);
+    free(text);
+    dm_pack pk;
+    cr_assert_eq(dm_pack_open(pack, &pk, &err), DM_OK, "%s", err.detail);
+    const char *entries[2] = {"albedo", "normal"}, *files[2] = {colour_png, normal_png};
+    for (int k = 0; k < 2; ++k) {
+        const dm_pack_entry *e = dm_pack_find(&pk, entries[k]);
+        cr_assert_not_null(e, "no %s entry", entries[k]);
+        cr_assert_eq(e->width, 3);
+        cr_assert_eq(e->height, 2);
+        dm_image ref;
+        cr_assert_eq(dm_image_read(files[k], DM_PIXEL_U8, &ref, &err), DM_OK, "%s", err.detail);
+        const uint8_t *got = e->data, *want = ref.pixels;
+        for (int i = 0; i < 6; ++i)
+            for (int c = 0; c < 3; ++c)
+                cr_assert_eq(got[i * 4 + c], want[i * ref.channels + c], "%s texel %d channel %d", entries[k], i, c);
+        dm_image_free(&ref);
+    }
+    dm_pack_close(&pk);
+    /* a scene that names its own albedo keeps it */
+    json = "{\"format\":\"dermis-scene\",\"version\":1,\"mesh\":{\"path\":\"material.glb\"},"
+           "\"material\":{\"albedo\":\"normal.png\"},\"effects\":{\"specular\":false}}";
+    cr_assert_eq(test_write_bytes(scene, json, strlen(json)), 0);
+    cr_assert_eq(test_run(cmd, log), 0);
+    cr_assert_eq(dm_pack_open(pack, &pk, &err), DM_OK, "%s", err.detail);
+    const uint8_t *got = dm_pack_find(&pk, "albedo")->data;
+    dm_image ref;
+    cr_assert_eq(dm_image_read(normal_png, DM_PIXEL_U8, &ref, &err), DM_OK);
+    cr_assert_eq(got[0], ((uint8_t *)ref.pixels)[0]);
+    dm_image_free(&ref);
+    dm_pack_close(&pk);
+}
+
+/* mesh.name in a scene: a string, kept through dm_scene_to_json; anything else refused. */
+Test(gltf, scene_mesh_name)
+{
+    dm_scene *s = malloc(sizeof *s);
+    dm_error err = {0};
+    const char *ok = "{\"format\":\"dermis-scene\",\"version\":1,\"mesh\":{\"path\":\"h.glb\",\"name\":\"head\"},"
+                     "\"effects\":{}}";
+    cr_assert_eq(dm_scene_parse(ok, "/x/scene.json", s, &err), DM_OK, "%s", err.detail);
+    cr_assert_str_eq(s->mesh_name, "head");
+    char *json = NULL;
+    cr_assert_eq(dm_scene_to_json(s, &json, &err), DM_OK);
+    cr_assert_not_null(strstr(json, "\"name\":"), "%s", json);
+    free(json);
+    const char *bad = "{\"format\":\"dermis-scene\",\"version\":1,\"mesh\":{\"path\":\"h.glb\",\"name\":3},\"effects\":{}}";
+    cr_assert_eq(dm_scene_parse(bad, "/x/scene.json", s, &err), DM_ERR_FORMAT);
+    cr_assert_not_null(strstr(err.detail, "$.mesh.name"), "%s", err.detail);
+    free(s);
 }
