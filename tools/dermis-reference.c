@@ -532,6 +532,14 @@ static int merge(const args *a)
         dm_exr_channel ch[4 + 3 * DM_REFERENCE_GAUSSIANS_MAX];
         for (int c = 0; c < nch; ++c) ch[c] = (dm_exr_channel){img[0].names[c], planes + (size_t)c * n, DM_EXR_FLOAT};
         dm_provenance prov = img[0].prov;
+        /* JSON keeps no int/double distinction for integral values: this tool's doubles */
+        static const char *const doubles[] = {"cut_sigma", "spacing_sigma", "wide_texels", "mm_per_unit"};
+        for (int i = 0; i < prov.param_count; ++i)
+            for (int d = 0; d < 4; ++d)
+                if (!strcmp(prov.params[i].name, doubles[d]) && prov.params[i].type == DM_PARAM_INT) {
+                    prov.params[i].type = DM_PARAM_DOUBLE;
+                    prov.params[i].d = (double)prov.params[i].i;
+                }
         for (int i = 0; i < prov.param_count; ++i) {
             if (!strcmp(prov.params[i].name, "tile_index")) prov.params[i].i = 1;
             if (!strcmp(prov.params[i].name, "tile_count")) prov.params[i].i = 1;

@@ -1,0 +1,134 @@
+/* dermis-reference as a user runs it on the packed head: tiles merge into the one-shot
+ * file byte for byte, the thread count changes nothing, the renderer's irradiance given as
+ * a file gives the same result, levels, the frame, and every usage and load error. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../common/tmpdir.h"
+#include "bake/dm_exr.h"
+
+#define REF DERMIS_BIN "/dermis-reference"
+
+static char dir[512], pack[600];
+
+static void setup(void)
+{
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(pack, sizeof pack, "%s/lps-sss.dpk", dir);
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --quiet", pack);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+}
+
+static int run(const char *args)
+{
+    char cmd[8192], log[700];
+    snprintf(cmd, sizeof cmd, REF " %s", args);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    return test_run(cmd, log);
+}
+
+static int same_file(const char *a, const char *b)
+{
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "cmp -s %s %s", a, b);
+    return test_run(cmd, NULL) == 0;
+}
+
+Test(reference_tool, tiles_threads_and_irradiance_file, .init = setup, .timeout = 240)
+{
+    char a[8192];
+    snprintf(a, sizeof a, "%s --texture-space 32 --levels --threads 2 -o %s/one.exr --quiet", pack, dir);
+    cr_assert_eq(run(a), 0);
+    snprintf(a, sizeof a, "%s --texture-space 32 --levels --threads 1 -o %s/one1.exr --quiet", pack, dir);
+    cr_assert_eq(run(a), 0);
+    char x[700], y[700];
+    snprintf(x, sizeof x, "%s/one.exr", dir);
+    snprintf(y, sizeof y, "%s/one1.exr", dir);
+    cr_expect(same_file(x, y), "1 and 2 threads differ");
+    for (int t = 1; t <= 3; ++t) {
+        snprintf(a, sizeof a, "%s --texture-space 32 --levels --tile %d/3 -o %s/t%d.exr --quiet", pack, t, dir, t);
+        cr_assert_eq(run(a), 0);
+    }
+    snprintf(a, sizeof a, "--merge %s/t3.exr %s/t1.exr %s/t2.exr -o %s/merged.exr --quiet", dir, dir, dir, dir);
+    cr_assert_eq(run(a), 0);
+    snprintf(y, sizeof y, "%s/merged.exr", dir);
+    cr_expect(same_file(x, y), "merged tiles differ from the one-shot file");
+    /* a tile missing, or given twice: refused */
+    snprintf(a, sizeof a, "--merge %s/t1.exr %s/t2.exr -o %s/bad.exr", dir, dir, dir);
+    cr_expect_eq(run(a), 2);
+    snprintf(a, sizeof a, "--merge %s/t1.exr %s/t1.exr %s/t2.exr -o %s/bad.exr", dir, dir, dir, dir);
+    cr_expect_eq(run(a), 2);
+    /* the renderer's irradiance as a file: the same reference */
+    snprintf(a, sizeof a, DERMIS_BIN "/dermis-render %s --view irradiance --size 32x32 --irradiance 32 -o %s/irr.exr", pack,
+             dir);
+    cr_assert_eq(test_run(a, NULL), 0);
+    snprintf(a, sizeof a, "%s --texture-space 32 --irradiance %s/irr.exr -o %s/fromfile.exr --quiet", pack, dir, dir);
+    cr_assert_eq(run(a), 0);
+    dm_exr_image p, q;
+    dm_error err = {0};
+    snprintf(y, sizeof y, "%s/fromfile.exr", dir);
+    cr_assert_eq(dm_exr_read(x, &p, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_exr_read(y, &q, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(p.width, 32);
+    cr_expect(p.channel_count == 4 + 6 * 3, "R G B A + 6 levels: %d channels", p.channel_count);
+    const char *ch[4] = {"R", "G", "B", "A"};
+    int covered = 0;
+    for (int c = 0; c < 4; ++c)
+        for (int i = 0; i < 32 * 32; ++i) {
+            float u = dm_exr_find(&p, ch[c])[i], v = dm_exr_find(&q, ch[c])[i];
+            cr_expect(u == v, "%s[%d] %g vs %g", ch[c], i, u, v);
+            if (c == 3) covered += u == 1.0f;
+            else cr_expect(u >= 0.0f && u < 1e6f, "finite, non-negative: %g", u);
+        }
+    cr_expect(covered > 500, "%d covered texels", covered);
+    cr_expect(!strcmp(p.prov.tool, "dermis-reference"));
+    dm_exr_free(&p);
+    dm_exr_free(&q);
+}
+
+Test(reference_tool, frame, .init = setup, .timeout = 240)
+{
+    char a[8192];
+    snprintf(a, sizeof a, "%s --frame --size 64x36 --atlas 64 -o %s/frame.exr --quiet", pack, dir);
+    cr_assert_eq(run(a), 0);
+    dm_exr_image img;
+    dm_error err = {0};
+    char x[700];
+    snprintf(x, sizeof x, "%s/frame.exr", dir);
+    cr_assert_eq(dm_exr_read(x, &img, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(img.width, 64);
+    cr_expect_eq(img.height, 36);
+    int skin = 0;
+    for (int i = 0; i < 64 * 36; ++i) skin += dm_exr_find(&img, "A")[i] == 1.0f;
+    cr_expect(skin > 100, "%d skin pixels", skin);
+    dm_exr_free(&img);
+    snprintf(x, sizeof x, "test -s %s/frame.png", dir);
+    cr_expect_eq(test_run(x, NULL), 0, "the PNG beside the EXR");
+}
+
+Test(reference_tool, errors, .init = setup)
+{
+    char a[8192];
+    cr_expect_eq(run("--help"), 0);
+    cr_expect_eq(run("--version"), 0);
+    snprintf(a, sizeof a, "%s -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "neither --texture-space nor --frame");
+    snprintf(a, sizeof a, "%s --texture-space 32 --frame -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "both");
+    snprintf(a, sizeof a, "%s --texture-space 7 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "size out of range");
+    snprintf(a, sizeof a, "%s --texture-space 32 --tile 4/3 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "tile out of range");
+    snprintf(a, sizeof a, "%s --texture-space 32 -o %s/x.png", pack, dir);
+    cr_expect_eq(run(a), 1, "not an EXR");
+    snprintf(a, sizeof a, "%s/missing.dpk --texture-space 32 -o %s/x.exr", dir, dir);
+    cr_expect_eq(run(a), 2, "no pack");
+    snprintf(a, sizeof a, "%s --texture-space 32 --irradiance %s/missing.exr -o %s/x.exr", pack, dir, dir);
+    cr_expect_eq(run(a), 2, "no irradiance file");
+    snprintf(a, sizeof a, "%s --texture-space 32 -o %s/no/such/dir/x.exr", pack, dir);
+    cr_expect_eq(run(a), 4, "cannot save");
+    cr_expect_eq(test_count_files(dir, ".tmp"), 0, "no temporary file left");
+}
