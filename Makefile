@@ -3,6 +3,7 @@
 #   make test     install missing packages, build, run every test binary
 #   make bench    run the accuracy-versus-time benchmarks, tables in bench/results/
 #   make demo     install, build, bake and render the bundled head
+#   make reference  the head's ground truth (dermis-reference) in tiles through GNU parallel
 #   make deps     install the Debian packages that are missing (scripts/deps.sh)
 #   make fuzz     build the libFuzzer targets (clang); make test runs each for FUZZ_SECONDS
 #   make clean
@@ -90,7 +91,7 @@ BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # tests/view/: Criterion binaries that drive dermis-view under xvfb-run (scripts/run-tests.sh)
 VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%,$(wildcard tests/view/*.c)))
 
-.PHONY: all test run-tests bench demo deps clean fuzz tools
+.PHONY: all test run-tests bench demo reference deps clean fuzz tools
 all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
 tools: $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
 
@@ -196,6 +197,11 @@ bench: deps
 demo: deps
 	@$(MAKE) --no-print-directory -j$(NPROC) tools
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/demo.sh
+
+# The head's texture-space ground truth in tiles through GNU parallel (REF_SIZE, REF_TILES).
+reference: deps
+	@$(MAKE) --no-print-directory -j$(NPROC) tools
+	@BUILD=$(BUILD) bash scripts/reference.sh
 
 # libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan.
 FUZZ_CC      ?= clang
