@@ -274,3 +274,168 @@ Test(reference, sphere_linear)
     free(a);
     dm_mesh_free(&m);
 }
+
+/* ---- hard cases: finite output, a test each ------------------------------------------ */
+
+static void expect_finite(const float *v, size_t n, const char *what)
+{
+    for (size_t i = 0; i < n; ++i) cr_assert(isfinite(v[i]) && v[i] >= 0.0f, "%s[%zu] = %g", what, i, v[i]);
+}
+
+/* Degenerate triangles (zero 3-D area: a collapsed corner; zero UV area: the head's eyes
+ * have 11) added to a plane: finite everywhere, the zero-area ones carry no mass, the
+ * zero-UV-area one carries its area (the plane's constant I is read at its UV). */
+Test(reference, degenerate_triangles)
+{
+    dm_mesh plane, m;
+    grid_mesh(4, 4, plane_pos, uv_id, &plane);
+    dm_error err = {0};
+    int nt = plane.triangle_count + 2;
+    cr_assert_eq(dm_mesh_alloc(plane.vertex_count + 3, nt, &m, &err), DM_OK);
+    memcpy(m.positions, plane.positions, sizeof(float) * 3 * (size_t)plane.vertex_count);
+    memcpy(m.indices, plane.indices, sizeof(uint32_t) * 3 * (size_t)plane.triangle_count);
+    memcpy(m.uvs, plane.uvs, sizeof(float) * 6 * (size_t)plane.triangle_count);
+    memcpy(m.normals, plane.normals, sizeof(float) * 9 * (size_t)plane.triangle_count);
+    int v = plane.vertex_count;
+    const float extra[3][3] = {{32, 32, 1}, {33, 32, 1}, {32, 33, 1}}; /* a 0.5 mm² flap above the plane */
+    memcpy(m.positions + 3 * v, extra, sizeof extra);
+    int t0 = plane.triangle_count;
+    /* zero 3-D area: all three corners on one vertex; zero UV area: every corner at one UV */
+    uint32_t idx[2][3] = {{(uint32_t)v, (uint32_t)v, (uint32_t)v}, {(uint32_t)v, (uint32_t)v + 1, (uint32_t)v + 2}};
+    for (int k = 0; k < 2; ++k)
+        for (int c = 0; c < 3; ++c) {
+            m.indices[3 * (t0 + k) + c] = idx[k][c];
+            m.uvs[6 * (t0 + k) + 2 * c] = 0.5f, m.uvs[6 * (t0 + k) + 2 * c + 1] = 0.5f;
+            m.normals[9 * (t0 + k) + 3 * c + 2] = 1.0f;
+        }
+    float *a = atlas_from(64, one);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference *ref = make_ref(&m, 1.0, 64, a, &k, NULL);
+    dm_reference_stats st;
+    dm_reference_get_stats(ref, &st);
+    cr_expect_eq(st.zero_area_triangles, 1);
+    cr_expect_eq(st.zero_uv_area_triangles, 2);
+    cr_expect(fabs(st.surface_area_mm2 - (PLANE_MM * PLANE_MM + 0.5)) < 1e-6, "area %.9g", st.surface_area_mm2);
+    dm_reference_target t[3] = {plane_target(4, 32.2, 32.3), {t0, 0.3f, 0.3f}, {t0 + 1, 0.2f, 0.5f}};
+    float rgb[9];
+    eval(ref, t, 3, rgb, NULL);
+    expect_finite(rgb, 9, "D");
+    /* the flap 1 mm above adds its own light: more than the plane's 1, finite */
+    cr_expect(rgb[0] > 1.0f && rgb[0] < 2.0f, "D on the plane under the flap %g", rgb[0]);
+    dm_reference_destroy(ref);
+    free(a);
+    dm_mesh_free(&m);
+    dm_mesh_free(&plane);
+}
+
+/* One triangle, and atlas texels with no surface under them (targets of the covered ones
+ * only; an atlas with every alpha 0 has no targets and I = 0 everywhere). */
+Test(reference, one_triangle_and_empty_texels)
+{
+    dm_mesh m;
+    dm_error err = {0};
+    cr_assert_eq(dm_mesh_alloc(3, 1, &m, &err), DM_OK);
+    const float p[9] = {0, 0, 0, 10, 0, 0, 0, 10, 0}, uv[6] = {0.1f, 0.1f, 0.9f, 0.1f, 0.1f, 0.9f};
+    memcpy(m.positions, p, sizeof p);
+    memcpy(m.uvs, uv, sizeof uv);
+    for (int c = 0; c < 3; ++c) m.normals[3 * c + 2] = 1.0f;
+    float *a = atlas_from(32, one);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference_atlas atlas = {32, 32, a};
+    dm_reference_target *tg;
+    int64_t *of;
+    size_t n;
+    cr_assert_eq(dm_reference_atlas_targets(&m, &atlas, 0, &tg, &of, &n, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(n, 32 * 32, "every texel is covered in this atlas: each gets a target on the triangle");
+    dm_reference *ref = make_ref(&m, 1.0, 32, a, &k, NULL);
+    float *rgb = malloc(sizeof *rgb * 3 * n);
+    eval(ref, tg, n, rgb, NULL);
+    expect_finite(rgb, 3 * n, "D");
+    /* inside, far from the edges, a constant stays 1 (within the wide path's 4e-3 at 1.1
+     * texels); at the corners the surface ends and less arrives */
+    dm_reference_destroy(ref);
+    free(rgb);
+    free(tg);
+    free(of);
+    for (size_t i = 0; i < 32 * 32; ++i) a[4 * i + 3] = 0.0f;
+    cr_assert_eq(dm_reference_atlas_targets(&m, &atlas, 0, &tg, &of, &n, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(n, 0);
+    ref = make_ref(&m, 1.0, 32, a, &k, NULL);
+    dm_reference_target c = {0, 0.3f, 0.3f};
+    float d[3];
+    eval(ref, &c, 1, d, NULL);
+    cr_expect(d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f, "no covered texel: I = 0, D = 0 (%g)", d[0]);
+    dm_reference_stats st;
+    dm_reference_get_stats(ref, &st);
+    cr_expect(st.unlit_area_mm2 >= 0.0);
+    dm_reference_destroy(ref);
+    free(tg);
+    free(of);
+    free(a);
+    dm_mesh_free(&m);
+}
+
+/* mm_per_unit 1e-6 (the 64-unit plane is 64 nm: every Gaussian covers it many times over,
+ * D ≈ total flux × G(0) ≪ 1) and 1e6 (64 km: every Gaussian is far below a texel, D = I):
+ * finite, and the limits hold. Invalid values are refused. */
+Test(reference, extreme_mm_per_unit)
+{
+    dm_mesh m;
+    grid_mesh(4, 4, plane_pos, uv_id, &m);
+    float *a = atlas_from(64, one);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    dm_reference_target t = plane_target(4, 30.1, 33.7);
+    float rgb[3];
+    dm_reference *ref = make_ref(&m, 1e-6, 64, a, &k, NULL);
+    eval(ref, &t, 1, rgb, NULL);
+    expect_finite(rgb, 3, "tiny");
+    double flux = PLANE_MM * PLANE_MM * 1e-12, want = 0.0;
+    for (int i = 0; i < k.count; ++i) want += k.weight[i][0] * (flux / (DM_2PI * k.variance_mm2[i]) + exp(-8.0));
+    cr_expect(fabs(rgb[0] / want - 1.0) < 1e-3, "tiny: D %g want %g", rgb[0], want);
+    dm_reference_destroy(ref);
+    ref = make_ref(&m, 1e6, 64, a, &k, NULL);
+    eval(ref, &t, 1, rgb, NULL);
+    expect_finite(rgb, 3, "huge");
+    cr_expect(fabs(rgb[0] - 1.0) < 1e-3, "huge: D %g want 1", rgb[0]);
+    dm_reference_destroy(ref);
+    dm_error err = {0};
+    dm_reference *bad = NULL;
+    dm_reference_atlas atlas = {64, 64, a};
+    cr_expect_eq(dm_reference_create(&m, 0.0, &atlas, &k, NULL, &bad, &err), DM_ERR_RANGE);
+    cr_expect_eq(dm_reference_create(&m, NAN, &atlas, &k, NULL, &bad, &err), DM_ERR_RANGE);
+    cr_expect_eq(dm_reference_create(&m, INFINITY, &atlas, &k, NULL, &bad, &err), DM_ERR_RANGE);
+    cr_expect(bad == NULL);
+    free(a);
+    dm_mesh_free(&m);
+}
+
+/* Huge HDR irradiance (1e30) stays finite; 1 and 2 threads give the same bytes. */
+static double huge(double u, double v) { return 1e30 * (1.0 + u + v); }
+Test(reference, huge_values_and_threads)
+{
+    dm_mesh m;
+    grid_mesh(8, 8, plane_pos, uv_id, &m);
+    float *a = atlas_from(128, huge);
+    dm_reference_kernel k;
+    gems3_kernel(&k);
+    enum { N = 64 };
+    dm_reference_target t[N];
+    for (int i = 0; i < N; ++i) t[i] = plane_target(8, 1.0 + i * 0.97, 2.0 + i * 0.91);
+    float r1[N * 3], r2[N * 3], l1[N * 18], l2[N * 18];
+    dm_reference_options o1 = {.thread_count = 1}, o2 = {.thread_count = 2};
+    dm_reference *a1 = make_ref(&m, 1.0, 128, a, &k, &o1), *a2 = make_ref(&m, 1.0, 128, a, &k, &o2);
+    eval(a1, t, N, r1, l1);
+    eval(a2, t, N, r2, l2);
+    expect_finite(r1, N * 3, "D");
+    cr_expect(!memcmp(r1, r2, sizeof r1) && !memcmp(l1, l2, sizeof l1), "thread counts differ");
+    /* a split of the targets (tiles) gives the same values */
+    eval(a2, t + 10, N - 10, r2, NULL);
+    cr_expect(!memcmp(r1 + 30, r2, sizeof(float) * 3 * (N - 10)), "a split differs");
+    dm_reference_destroy(a1);
+    dm_reference_destroy(a2);
+    free(a);
+    dm_mesh_free(&m);
+}
