@@ -12,23 +12,27 @@
  * weighted by coverage and renormalised (Σ w α I / Σ w α; gutters drop out, as they do in
  * the renderer's blurs). Where no texel of the 2×2 is covered (slivers, zero-UV-area
  * triangles such as the head's eyes) the nearest covered texel within 2 texels is used;
- * beyond that I = 0 and the area is counted in dm_reference_stats.unlit_area_mm2.
+ * beyond that I = 0 (such area is counted in dm_reference_stats.unlit_area_mm2).
  *
  * THE QUADRATURE (each bound is tested in tests/unit/test_reference.c).
  * - Cut: each Gaussian is integrated out to cut_sigma·σ (default 4). The mass beyond,
  *   exp(−cut²/2) (3.4e-4 at 4σ, exact on a plane), is added as that fraction of I(x), the
  *   value at the target point itself.
  * - Wide Gaussians (σ ≥ wide_texels · the atlas texel's size in mm, 95th percentile over
- *   the chart; default 2): the surface is cut into "texel elements", each triangle clipped
- *   against the texel grid in UV (exact areas, mapped to mm by the triangle's Jacobian),
- *   each element a point at its centroid with I at that centroid. Composite centroid rule:
- *   its O(h²) term integrates ∇²(I·G), which vanishes over the plane; residue O((h/σ)⁴).
+ *   the triangles; default 4): the surface is cut into "texel elements", each triangle
+ *   clipped against the cells between texel centres in UV (exact areas, mapped to mm by
+ *   the triangle's Jacobian; I is bilinear inside each), each element a point at its
+ *   centroid with I there. Composite centroid rule: its O(h²) term integrates ∇²(I·G),
+ *   which vanishes over the plane for smooth I.
  * - Narrow Gaussians (the rest): around each target the triangles within the cut are
  *   subdivided on the fly into n² congruent sub-triangles of edge ≤ spacing_sigma·σ
  *   (default 1/4), only those whose centroid lies within the cut, I read at each centroid.
  *   Gaussians of close widths (σ ratio < 1.5) share one point set.
  * - Triangles of zero 3-D area carry no mass; zero-UV-area triangles carry their 3-D area
  *   with I read at their (degenerate) UV.
+ *
+ * Units: positions in mesh units × mm_per_unit; variances in mm²; S_k and D in the units
+ * of I (G integrates to 1).
  *
  * Determinism: every target is computed independently in a fixed order; results are
  * byte-identical for any thread count and any split of the targets (tiles).
@@ -49,8 +53,8 @@ extern "C" {
 #endif
 
 enum {
-    /* Gaussians one reference evaluates: a profile's (≤ DM_PROFILE_MAX_GAUSSIANS) or the
-     * dense representation of a tabulated radial profile (dm_reference_kernel_from_radial). */
+    /* Gaussians one reference evaluates: a profile's (≤ DM_PROFILE_MAX_GAUSSIANS), or more
+     * for a dense representation of a tabulated radial profile (not yet: see the docs). */
     DM_REFERENCE_GAUSSIANS_MAX = 32
 };
 
@@ -67,16 +71,6 @@ typedef struct dm_reference_kernel {
  * does (u_level_weight). DM_ERR_RANGE when a channel sums to 0. */
 dm_result dm_reference_kernel_from_profile(const dm_profile *p, dm_reference_kernel *k, dm_error *err);
 
-/* A tabulated radial profile R(r) (per channel, mm⁻², r_mm ascending from 0, count ≥ 2,
- * linear between samples, 0 beyond the last) represented by `gaussian_count` (8..32)
- * Gaussians with log-spaced variances over the table's scales and non-negative weights
- * (least squares on ∫ r (R − ΣG)² dr), each channel normalised to sum 1. rel_error (may
- * be NULL) receives, per channel, the representation's relative L2 error
- * sqrt(∫ r (R − ΣG)² dr / ∫ r R² dr), which the tool reports. */
-dm_result dm_reference_kernel_from_radial(const double *r_mm, const double (*R)[3], int count,
-                                          int gaussian_count, dm_reference_kernel *k, double rel_error[3],
-                                          dm_error *err);
-
 /* The irradiance atlas (borrowed; the caller keeps it alive while the reference exists). */
 typedef struct dm_reference_atlas {
     int width, height;   /* texels, 1..16384 */
@@ -86,7 +80,7 @@ typedef struct dm_reference_atlas {
 typedef struct dm_reference_options {
     double cut_sigma;      /* 0 = 4; [2, 8] */
     double spacing_sigma;  /* narrow Gaussians' sub-triangle edge in σ; 0 = 0.25; [1/32, 1] */
-    double wide_texels;    /* σ (in texels) from which texel elements are used; 0 = 2; ≥ 1,
+    double wide_texels;    /* σ (in texels) from which texel elements are used; 0 = 4; ≥ 1,
                             * +inf: never (every Gaussian by subdivision) */
     int thread_count;      /* 0 = all cores */
     /* Called now and then from the calling thread with the fraction done, 0..1; may be NULL. */
@@ -99,7 +93,8 @@ typedef struct dm_reference_stats {
     int narrow_gaussians, wide_gaussians;
     double texel_mm;            /* the atlas texel's size used for the split (95th pct), mm */
     double surface_area_mm2;    /* Σ triangle areas */
-    double unlit_area_mm2;      /* area where I could not be read (no covered texel near) */
+    double unlit_area_mm2;      /* area where I could not be read (no covered texel near),
+                                 * counted over the texel elements (0 without a wide Gaussian) */
     int64_t zero_area_triangles, zero_uv_area_triangles;
     double build_ms;
 } dm_reference_stats;
