@@ -190,7 +190,9 @@ extern "C" dm_result dm_gltf_map_read(const char *path, const char *mesh_name, d
         std::string dir(path);
         size_t slash = dir.rfind('/');
         dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
-        std::string file = dir + decode_uri(q.uri);
+        std::string rel = decode_uri(q.uri);
+        if (rel.compare(0, 7, "file://") == 0) rel = rel.substr(7);
+        std::string file = rel[0] == '/' ? rel : dir + rel; // absolute paths (not portable glTF) as they are
         return dm_image_read(file.c_str(), type, out, err);
     }
     // Embedded: through a temporary file named by the image's type (OpenImageIO picks
