@@ -1,5 +1,15 @@
 /* dm_file.h — writing outputs safely: a temporary name beside the target, fsync, rename.
- * A failed run never leaves a half-written file under the final name.
+ * A failed run never leaves a half-written file under the final name, and an interrupted
+ * one leaves no temporary file:
+ *   - every temporary name is registered here from dm_atomic_begin until commit/abort;
+ *     the first registration installs handlers for SIGINT, SIGTERM and SIGHUP (not for a
+ *     signal the process ignores, as a background job ignores SIGINT) that unlink every
+ *     registered name, then restore the previous disposition and re-raise, so the shell
+ *     sees 130 (Ctrl-C), 143 (SIGTERM) or 129 and a parent handler still runs;
+ *   - a run killed with SIGKILL cannot clean up: the next dm_atomic_begin for the same
+ *     target removes "<path>.tmp.<PID>" files whose process no longer exists, with a note
+ *     on stderr naming each file.
+ * Missing folders of the target are created (mkdir -p).
  *
  *   dm_atomic_file af;
  *   if (dm_atomic_begin(&af, "out.png", &err) != DM_OK) return ...;
@@ -21,9 +31,13 @@ typedef struct dm_atomic_file {
     char path[4096];     /* the final name */
     char tmp_path[4200]; /* "<path>.tmp.<pid>" in the same folder, so rename is atomic */
     FILE *fp;            /* set by dm_atomic_open, else NULL */
+    int cleanup_slot;    /* dm_cleanup_register's slot for tmp_path, or -1 */
 } dm_atomic_file;
 
-/* Chooses the temporary name and checks that the target's folder is writable. */
+/* Chooses the temporary name, creates the target's folder when missing (with its parents,
+ * mode 0777 less the umask), checks that it is writable, removes stale temporary files
+ * of the same target left by dead processes, and registers tmp_path for cleanup on a
+ * signal. */
 dm_result dm_atomic_begin(dm_atomic_file *af, const char *path, dm_error *err);
 /* dm_atomic_begin, then opens tmp_path for binary writing into af->fp. */
 dm_result dm_atomic_open(dm_atomic_file *af, const char *path, dm_error *err);
@@ -32,6 +46,15 @@ dm_result dm_atomic_open(dm_atomic_file *af, const char *path, dm_error *err);
 dm_result dm_atomic_commit(dm_atomic_file *af, dm_error *err);
 /* Closes and removes the temporary file; safe to call twice. */
 void dm_atomic_abort(dm_atomic_file *af);
+
+/* Registers a file to unlink if a SIGINT, SIGTERM or SIGHUP ends the process (copied;
+ * at most 32 at once: beyond that, -1 and no cleanup). Installs the handlers on first use.
+ * Thread-safe. Returns the slot for dm_cleanup_unregister. */
+int dm_cleanup_register(const char *path);
+/* Forgets a slot (-1 is ignored). Does not unlink. */
+void dm_cleanup_unregister(int slot);
+/* Creates a folder and its missing parents (mkdir -p); an existing folder is fine. */
+dm_result dm_mkdir_p(const char *dir, dm_error *err);
 
 /* Reads a whole file into a malloc'd buffer (NUL-terminated; *size excludes the NUL).
  * Free with free(). */
