@@ -23,6 +23,10 @@
  *    prefiltered levels from the pack); a ray that hits nothing gets the environment
  *    background (env_intensity × the pack's env.background along the ray) when the
  *    renderer draws one, else black (its clear colour).
+ * The subsurface technique a scene names (texture-space, screen-space, ...) does not change
+ * the reference: it is the exact diffusion every technique approximates. No separate
+ * translucency term is added: the convolution over 3-D distances already carries light
+ * to the other side of thin parts (ears, lips, eyelids).
  *
  * OUTPUT. rgba (width·height·4 floats, rows bottom-up, caller-owned): linear radiance
  * before tonemapping, A = 1 on the head ("skin"), 0 on background pixels. It excludes GLOW:
