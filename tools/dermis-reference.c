@@ -46,7 +46,7 @@ static void usage(FILE *f)
             "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
             "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
             "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"
-            "  --spacing S          narrow Gaussians' sub-triangle edge in sigma, default 0.25; 1/32..1\n"
+            "  --spacing S          narrow Gaussians' sub-triangle edge in sigma, default 0.3; 1/32..1\n"
             "  --wide-texels T      Gaussians of sigma >= T texels use texel elements, default 4; >= 1\n"
             "  --threads T          worker threads, default all cores; 0..256 (results identical for any)\n"
             "  -o FILE              output (.exr)\n"
@@ -251,7 +251,7 @@ static void base_provenance(const args *a, const char *mode, dm_provenance *prov
     if (a->pack && dm_hash_file_hex(a->pack, hex, &err) == DM_OK) snprintf(prov->input_hash, sizeof prov->input_hash, "%s", hex);
     dm_prov_add_string(prov, "mode", mode);
     dm_prov_add_double(prov, "cut_sigma", a->ropt.cut_sigma != 0.0 ? a->ropt.cut_sigma : 4.0);
-    dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.25);
+    dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.3);
     dm_prov_add_double(prov, "wide_texels", a->ropt.wide_texels != 0.0 ? a->ropt.wide_texels : 4.0);
 }
 

@@ -161,30 +161,8 @@ static int nearest_covered(const dm_ref_lookup *a, double x, double y, double rg
     return best < INFINITY;
 }
 
-int dm_ref_sample(const dm_ref_lookup *a, double u, double v, double rgb[3])
+int dm_ref_sample_nearest(const dm_ref_lookup *a, double x, double y, double rgb[3])
 {
-    double x = u * a->width - 0.5, y = v * a->height - 0.5;
-    if (!(x > -1.0)) x = -1.0; /* also NaN */
-    if (!(y > -1.0)) y = -1.0;
-    if (x > a->width) x = a->width;
-    if (y > a->height) y = a->height;
-    int i0 = (int)(x + 1.0) - 1, j0 = (int)(y + 1.0) - 1; /* floor for x ≥ −1 */
-    double fx = x - i0, fy = y - j0;
-    int i1 = i0 + 1, j1 = j0 + 1;
-    /* clamp to edge, as the renderer's textures */
-    if (i0 < 0) i0 = 0;
-    if (j0 < 0) j0 = 0;
-    if (i1 >= a->width) i1 = a->width - 1;
-    if (j1 >= a->height) j1 = a->height - 1;
-    const float *t00 = a->texel + 4 * ((size_t)j0 * a->width + i0), *t10 = a->texel + 4 * ((size_t)j0 * a->width + i1);
-    const float *t01 = a->texel + 4 * ((size_t)j1 * a->width + i0), *t11 = a->texel + 4 * ((size_t)j1 * a->width + i1);
-    double w00 = (1.0 - fx) * (1.0 - fy), w10 = fx * (1.0 - fy), w01 = (1.0 - fx) * fy, w11 = fx * fy;
-    double al = w00 * t00[3] + w10 * t10[3] + w01 * t01[3] + w11 * t11[3];
-    if (al > 1e-12) {
-        double inv = 1.0 / al;
-        for (int c = 0; c < 3; ++c) rgb[c] = (w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c]) * inv;
-        return 1;
-    }
     rgb[0] = rgb[1] = rgb[2] = 0.0;
     return nearest_covered(a, x, y, rgb);
 }
@@ -304,7 +282,7 @@ dm_result dm_reference_create(const dm_mesh *mesh, double mm_per_unit, const dm_
     ref->kernel = *kernel;
     ref->opt = o;
     ref->cut_sigma = o.cut_sigma != 0.0 ? o.cut_sigma : 4.0;
-    ref->spacing_sigma = o.spacing_sigma != 0.0 ? o.spacing_sigma : 0.25;
+    ref->spacing_sigma = o.spacing_sigma != 0.0 ? o.spacing_sigma : 0.3;
     ref->wide_texels = o.wide_texels != 0.0 ? o.wide_texels : 4.0;
     ref->tail_fraction = exp(-0.5 * ref->cut_sigma * ref->cut_sigma);
     r = dm_ref_premultiply(atlas, &ref->lookup, err);

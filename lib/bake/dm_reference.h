@@ -26,7 +26,7 @@
  *   which vanishes over the plane for smooth I.
  * - Narrow Gaussians (the rest): around each target the triangles within the cut are
  *   subdivided on the fly into n² congruent sub-triangles of edge ≤ spacing_sigma·σ
- *   (default 1/4), only those whose centroid lies within the cut, I read at each centroid.
+ *   (default 0.3), only those whose centroid lies within the cut, I read at each centroid.
  *   Gaussians of close widths (σ ratio < 1.5) share one point set.
  * - Triangles of zero 3-D area carry no mass; zero-UV-area triangles carry their 3-D area
  *   with I read at their (degenerate) UV.
@@ -79,7 +79,7 @@ typedef struct dm_reference_atlas {
 
 typedef struct dm_reference_options {
     double cut_sigma;      /* 0 = 4; [2, 8] */
-    double spacing_sigma;  /* narrow Gaussians' sub-triangle edge in σ; 0 = 0.25; [1/32, 1] */
+    double spacing_sigma;  /* narrow Gaussians' sub-triangle edge in σ; 0 = 0.3; [1/32, 1] */
     double wide_texels;    /* σ (in texels) from which texel elements are used; 0 = 4; ≥ 1,
                             * +inf: never (every Gaussian by subdivision) */
     int thread_count;      /* 0 = all cores */

@@ -147,17 +147,48 @@ static void narrow_triangle(const eval_ctx *ctx, const dm_ref_group *grp, int32_
             int64_t jhi = (int64_t)fmin((double)j1, floor(thi * n - off) + 1.0);
             int64_t jmax = N - 1 - i - down; /* up: i + j ≤ N − 1; down: i + j ≤ N − 2 */
             if (jhi > jmax) jhi = jmax;
+            if (jlo > jhi) continue;
+            /* along the row d² is quadratic in t, so each exp(−d²/2v) follows from the last by
+             * two products (E ← E·R, R ← R·Q): no exp per point */
+            /* from the offset vector itself (no expanded quadratic: its terms cancel
+             * catastrophically on large triangles) */
+            double t_first = (jlo + off) * inv_n, d2 = 0.0, qe = 0.0;
+            for (int a = 0; a < 3; ++a) {
+                double q = s * e1[a] + t_first * e2[a] - d[a];
+                d2 += q * q;
+                qe += q * e2[a];
+            }
+            double step = inv_n * (2.0 * qe + a22 * inv_n); /* d²(j+1) − d²(j) */
+            double step2 = 2.0 * a22 * inv_n * inv_n;
+            double E[DM_REFERENCE_GAUSSIANS_MAX], Rk[DM_REFERENCE_GAUSSIANS_MAX], Qk[DM_REFERENCE_GAUSSIANS_MAX];
+            const gauss *g = ctx->g + grp->first;
+            for (int k = 0; k < grp->count; ++k) {
+                E[k] = exp(-d2 * g[k].inv_2v) * g[k].norm;
+                Rk[k] = exp(-step * g[k].inv_2v);
+                Qk[k] = exp(-step2 * g[k].inv_2v);
+            }
+            double us = uv[0] + s * du1 + t_first * du2, vs = uv[1] + s * dv1 + t_first * dv2;
+            double dus = du2 * inv_n, dvs = dv2 * inv_n;
             for (int64_t j = jlo; j <= jhi; ++j) {
-                double tt = (j + off) * inv_n, d2 = 0.0;
-                for (int a = 0; a < 3; ++a) {
-                    double q = s * e1[a] + tt * e2[a] - d[a];
-                    d2 += q * q;
+                if (d2 < R2) {
+                    double rgb[3];
+                    dm_ref_sample(&ref->lookup, us, vs, rgb);
+                    for (int k = 0; k < grp->count; ++k) {
+                        if (!(d2 < g[k].r2)) continue;
+                        double w = E[k] * sub_area;
+                        S[grp->first + k][0] += rgb[0] * w;
+                        S[grp->first + k][1] += rgb[1] * w;
+                        S[grp->first + k][2] += rgb[2] * w;
+                    }
                 }
-                if (!(d2 < R2)) continue;
-                double rgb[3];
-                dm_ref_sample(&ref->lookup, uv[0] + s * du1 + tt * du2, uv[1] + s * dv1 + tt * dv2, rgb);
-                for (int c = 0; c < 3; ++c) rgb[c] *= sub_area;
-                accumulate(ctx->g, grp->first, grp->count, d2, rgb, S);
+                for (int k = 0; k < grp->count; ++k) {
+                    E[k] *= Rk[k];
+                    Rk[k] *= Qk[k];
+                }
+                d2 += step;
+                step += step2;
+                us += dus;
+                vs += dvs;
             }
         }
 }
