@@ -4,13 +4,16 @@
 # Run by `make demo` after the tools are built; BUILD and ASSETS come from the Makefile.
 set -euo pipefail
 BUILD=${BUILD:-build/release}
+ASSETS=${ASSETS:-../shared/assets}
 out=build/demo
 mkdir -p "$out"
 scene=assets/scenes/lps.json
-if [ ! -f ../shared/assets/lps/LeePerrySmith.obj ]; then
-  echo "error: the head scan is not at ../shared/assets/lps/ (the scenes point there)" >&2
+if [ ! -f "$ASSETS/lps/LeePerrySmith.obj" ]; then
+  echo "error: the head scan is not at $ASSETS/lps/LeePerrySmith.obj: give the asset folder with make demo ASSETS=DIR" >&2
   exit 2
 fi
+# The bundled scenes name their files relative to the asset folder (lps/..., env/...).
+export DERMIS_ASSETS=$ASSETS
 echo "== packing $scene (bakes only what its effects need)"
 "$BUILD/bin/dermis-pack" "$scene" -o "$out/lps.dpk"
 echo

@@ -27,13 +27,15 @@ enum { CHECK_OK = 0, CHECK_FAILED = 1, CHECK_USAGE = 2, MAX_FAILURES = 32 };
 
 static void usage(FILE *f)
 {
-    fprintf(f, "Usage: dermis-check [--json] [-v] [--quiet] FILE...\n"
+    fprintf(f, "Usage: dermis-check [--json] [-v] [--quiet] [--assets DIR] FILE...\n"
                "Validates dermis files: packs (.dpk), Beckmann LUT PNGs, rho_dt / env-BRDF / stretch EXRs,\n"
                "profile and scene JSONs: structure, ranges, finiteness, provenance, cross-consistency,\n"
                "and a sample of LUT texels re-evaluated against the analytic functions.\n"
                "\n"
                "Options:\n"
                "  --json         one JSON object on stdout: {\"files\": [{\"file\", \"type\", \"ok\", \"failures\"}]}\n"
+               "  --assets DIR   where scenes' paths missing beside the scene are looked for, before\n"
+               "                 DERMIS_ASSETS and the build's default (repeatable, up to 8)\n"
                "  -v, --verbose  also say what was checked\n"
                "  --quiet        print failures only\n"
                "  -h, --help     this text\n"
@@ -151,6 +153,10 @@ static void check_profile_json(result *r, const char *file)
     note(r, "%s: %d Gaussians", p.name, p.count);
 }
 
+/* --assets folders, in order (set once by main). */
+static const char *g_assets[8];
+static int g_asset_count;
+
 static void check_scene_json(result *r, const char *file)
 {
     dm_error err = {0};
@@ -159,7 +165,7 @@ static void check_scene_json(result *r, const char *file)
         fail(r, "%s: out of memory", file);
         return;
     }
-    if (dm_scene_read(file, s, &err) != DM_OK) {
+    if (dm_scene_read_assets(file, g_assets, g_asset_count, s, &err) != DM_OK) {
         fail(r, "%s", err.detail);
     } else {
         const struct { const char *key, *path; } files[] = {
@@ -462,6 +468,14 @@ int main(int argc, char **argv)
             return CHECK_OK;
         } else if (!strcmp(a, "--json")) {
             json = true;
+        } else if (!strcmp(a, "--assets")) {
+            const char *v = dm_cli_value(argc, argv, &i);
+            if (!v) return CHECK_USAGE;
+            if (g_asset_count == 8) {
+                fprintf(stderr, "error: --assets: at most 8 folders\n");
+                return CHECK_USAGE;
+            }
+            g_assets[g_asset_count++] = v;
         } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
             verbose = true;
         } else if (!strcmp(a, "--quiet")) {
@@ -494,6 +508,10 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         if (!files_only && !strcmp(argv[i], "--")) {
             files_only = true;
+            continue;
+        }
+        if (!files_only && !strcmp(argv[i], "--assets")) {
+            ++i;
             continue;
         }
         if (!files_only && argv[i][0] == '-' && argv[i][1]) continue;

@@ -47,6 +47,8 @@ static void usage(FILE *f)
             "  --lut-size N           rho_dt / env-BRDF LUT size, N x N (default %d, range 8..1024)\n"
             "  --lut-nodes N          Gauss-Legendre nodes for rho_dt (default %d, range 8..128)\n"
             "  --threads N            bake threads, 0 = all cores (default 0, range 0..256)\n"
+            "  --assets DIR           look here for scene paths missing beside the scene, before\n"
+            "                         DERMIS_ASSETS and the build's default (repeatable, up to 8)\n"
             "  -v, --verbose          print provenance of every entry\n"
             "  --quiet                print nothing but errors\n"
             "  -h, --help             this text\n"
@@ -60,6 +62,8 @@ typedef struct options {
     const char *env_files[8];
     int env_file_count;
     const char *stretch_file;
+    const char *assets[8];
+    int asset_count;
     bool explain, verbose, quiet;
     int beckmann_size, lut_size, lut_nodes, threads;
 } options;
@@ -732,6 +736,14 @@ static int parse_args(int argc, char **argv, options *o)
             const char *t = dm_cli_value(argc, argv, &i);
             if (!t || !dm_cli_int(a, t, 0, 256, &v)) return DM_EXIT_USAGE;
             o->threads = (int)v;
+        } else if (!strcmp(a, "--assets")) {
+            const char *v = dm_cli_value(argc, argv, &i);
+            if (!v) return DM_EXIT_USAGE;
+            if (o->asset_count == 8) {
+                fprintf(stderr, "error: --assets: at most 8 folders\n");
+                return DM_EXIT_USAGE;
+            }
+            o->assets[o->asset_count++] = v;
         } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
             o->verbose = true;
         } else if (!strcmp(a, "--quiet")) {
@@ -810,7 +822,7 @@ int main(int argc, char **argv)
     j->opt = &opt;
     dm_error err = {0};
     double t0 = dm_now_ms();
-    if (dm_scene_read(opt.scene, &j->scene, &err) != DM_OK ||
+    if (dm_scene_read_assets(opt.scene, opt.assets, opt.asset_count, &j->scene, &err) != DM_OK ||
         dm_hash_file_hex(opt.scene, j->scene_hash, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         free(j);

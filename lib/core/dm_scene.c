@@ -62,6 +62,9 @@ typedef struct ctx {
     char dir[DM_SCENE_PATH_SIZE];
     dm_error *err;
     dm_result r;
+    bool search; /* dm_scene_read: relative paths must exist, searched in the asset path */
+    const char *const *asset_dirs;
+    int asset_dir_count;
 } ctx;
 
 enum { JPATH_SIZE = 160 };
@@ -221,22 +224,86 @@ static bool get_vec3(ctx *c, const cJSON *obj, const char *jpath, const char *ke
     return true;
 }
 
-/* Resolves a path relative to the scene's folder into out; "" stays "". */
+/* Joins dir and value into out (dir "." or "" adds nothing); false when too long. */
+static bool join_path(char out[DM_SCENE_PATH_SIZE], const char *dir, const char *value)
+{
+    int n = !*dir || strcmp(dir, ".") == 0 ? snprintf(out, DM_SCENE_PATH_SIZE, "%s", value)
+                                           : snprintf(out, DM_SCENE_PATH_SIZE, "%s/%s", dir, value);
+    return n >= 0 && n < DM_SCENE_PATH_SIZE;
+}
+
+static bool is_file(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* The asset search path after the scene's folder, in order: the caller's folders, each
+ * folder of $DERMIS_ASSETS (':'-separated), the build's default. Calls visit(dir, origin)
+ * until it returns true. */
+static bool each_asset_dir(const ctx *c, bool (*visit)(void *, const char *, const char *), void *user)
+{
+    for (int k = 0; k < c->asset_dir_count; ++k)
+        if (c->asset_dirs[k] && *c->asset_dirs[k] && visit(user, c->asset_dirs[k], "--assets")) return true;
+    const char *env = getenv("DERMIS_ASSETS");
+    while (env && *env) {
+        const char *colon = strchr(env, ':');
+        size_t len = colon ? (size_t)(colon - env) : strlen(env);
+        char d[DM_SCENE_PATH_SIZE];
+        if (len > 0 && len < sizeof d) {
+            memcpy(d, env, len);
+            d[len] = '\0';
+            if (visit(user, d, "DERMIS_ASSETS")) return true;
+        }
+        env = colon ? colon + 1 : NULL;
+    }
+#ifdef DM_ASSETS_DEFAULT
+    if (visit(user, DM_ASSETS_DEFAULT, "the build's default, make ASSETS=")) return true;
+#endif
+    return false;
+}
+
+typedef struct search_state {
+    const char *value;
+    char *out;
+    char looked[700];
+} search_state;
+
+static bool try_dir(void *user, const char *dir, const char *origin)
+{
+    search_state *st = user;
+    char cand[DM_SCENE_PATH_SIZE];
+    if (!join_path(cand, dir, st->value)) return false;
+    if (is_file(cand)) {
+        memcpy(st->out, cand, strlen(cand) + 1);
+        return true;
+    }
+    size_t n = strlen(st->looked);
+    snprintf(st->looked + n, sizeof st->looked - n, "%s%s (%s)", n ? ", " : "", cand, origin);
+    return false;
+}
+
+/* Resolves a path into out; "" stays "", an absolute path is kept. A relative path is
+ * taken against the scene's folder; when reading a scene file (c->search), a relative
+ * path missing there is looked up in the asset search path, and one found nowhere is an
+ * error naming every place looked. */
 static bool resolve(ctx *c, const char *jpath, const char *value, char out[DM_SCENE_PATH_SIZE])
 {
-    int n;
-    if (!*value || value[0] == '/')
-        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s", value);
-    else if (strcmp(c->dir, ".") == 0)
-        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s", value);
-    else
-        n = snprintf(out, DM_SCENE_PATH_SIZE, "%s/%s", c->dir, value);
-    if (n < 0 || n >= DM_SCENE_PATH_SIZE) {
+    bool fits = !*value || value[0] == '/' ? join_path(out, "", value) : join_path(out, c->dir, value);
+    if (!fits) {
         c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: %s: \"%.60s...\" is too long, expected a path under %d bytes",
                        c->file, jpath, value, DM_SCENE_PATH_SIZE);
         return false;
     }
-    return true;
+    if (!c->search || !*value || value[0] == '/' || is_file(out)) return true;
+    search_state st = {.value = value, .out = out};
+    snprintf(st.looked, sizeof st.looked, "%s (the scene's folder)", out);
+    if (each_asset_dir(c, try_dir, &st)) return true;
+    c->r = dm_fail(c->err, DM_ERR_FILE_OPEN,
+                   "%s: %s: \"%s\" not found; looked in %s; expected the asset folder in --assets DIR or "
+                   "DERMIS_ASSETS",
+                   c->file, jpath, value, st.looked);
+    return false;
 }
 
 static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool allow_empty,
@@ -583,12 +650,14 @@ static void line_col(const char *text, const char *at, int *line, int *col)
     }
 }
 
-dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err)
+static dm_result parse_scene(const char *json, const char *path, bool search, const char *const *asset_dirs,
+                             int asset_dir_count, dm_scene *s, dm_error *err)
 {
     static const char *const keys[] = {"format", "version", "mesh",    "material", "lights",
                                        "environment", "effects", "camera", "output", NULL};
     dm_scene_defaults(s);
-    ctx c = {.file = path ? path : "(scene)", .err = err, .r = DM_OK};
+    ctx c = {.file = path ? path : "(scene)", .err = err, .r = DM_OK, .search = search, .asset_dirs = asset_dirs,
+             .asset_dir_count = asset_dir_count};
     snprintf(s->path, sizeof s->path, "%s", c.file);
     dm_dirname(c.file, c.dir, sizeof c.dir);
     const char *end = NULL;
@@ -617,7 +686,18 @@ dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_err
     return ok ? DM_OK : c.r;
 }
 
+dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err)
+{
+    return parse_scene(json, path, false, NULL, 0, s, err);
+}
+
 dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err)
+{
+    return dm_scene_read_assets(path, NULL, 0, s, err);
+}
+
+dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, int asset_dir_count, dm_scene *s,
+                               dm_error *err)
 {
     char *text = NULL;
     size_t size = 0;
@@ -628,7 +708,7 @@ dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err)
         free(text);
         return dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected JSON text", path);
     }
-    r = dm_scene_parse(text, path, s, err);
+    r = parse_scene(text, path, true, asset_dirs, asset_dir_count, s, err);
     free(text);
     return r;
 }

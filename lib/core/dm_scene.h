@@ -125,9 +125,18 @@ void dm_scene_defaults(dm_scene *s);
 
 /* Parses a scene file strictly: an unknown key, a wrong type or an out-of-range value is
  * an error naming the JSON path, the value and what was expected, as
- * "FILE: $.effects.subsurface.taps: 4 is not an odd integer in [3, 63]". */
+ * "FILE: $.effects.subsurface.taps: 4 is not an odd integer in [3, 63]".
+ * Relative file paths resolve against the scene file's folder; one missing there is looked
+ * up in the asset search path: DERMIS_ASSETS (folders separated by ':'), then the build's
+ * default (the Makefile's ASSETS, absolute). A path found nowhere is DM_ERR_FILE_OPEN naming
+ * every place looked. */
 dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err);
-/* The same from a string; `path` is used for messages and to resolve relative paths. */
+/* dm_scene_read with asset_dirs (asset_dir_count folders, a tool's --assets) searched
+ * first, before DERMIS_ASSETS and the default. */
+dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, int asset_dir_count, dm_scene *s,
+                               dm_error *err);
+/* From a string, without touching the disk: relative paths resolve against `path`'s folder
+ * (also used in messages), whether or not the file exists (packs re-read their scene so). */
 dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err);
 
 /* The scene as a complete, self-contained scene file (every key written, the profile
