@@ -205,3 +205,57 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
 #endif
 #endif
 }
+
+#if defined(DM_TRANSLUCENCY) && defined(DM_FRAGMENT)
+// Translucency (lib/render/dm_render_translucency.c, Jimenez et al. 2010): light C I T(d)
+// max(-N.L, 0) through thickness d (mm) between the point, shrunk inward along Ng, and the
+// first surface the light's depth map holds; T(d) = sum_k w_k exp(-d^2 / 2 v_k).
+uniform sampler2D u_tdepth0; // the shadow maps' raw depths (sampler object, no compare)
+uniform sampler2D u_tdepth1;
+uniform sampler2D u_tdepth2;
+uniform sampler2D u_tdepth3;
+uniform vec4 u_light_depth[DM_MAX_LIGHTS]; // near, far (mesh units), z = 1: orthographic
+uniform float u_trans_var[DM_TRANS_GAUSSIANS];   // mm^2
+uniform vec3 u_trans_weight[DM_TRANS_GAUSSIANS]; // per channel, summing to 1
+uniform float u_mm_per_unit;
+uniform float u_translucency;
+
+float dm_tdepth(int map, vec2 uv)
+{
+#if DM_SHADOW_MAPS > 1
+    if (map == 1) return texture(u_tdepth1, uv).r;
+#endif
+#if DM_SHADOW_MAPS > 2
+    if (map == 2) return texture(u_tdepth2, uv).r;
+#endif
+#if DM_SHADOW_MAPS > 3
+    if (map == 3) return texture(u_tdepth3, uv).r;
+#endif
+    return texture(u_tdepth0, uv).r;
+}
+
+// Window depth in [0, 1] to distance from the light in mesh units.
+float dm_light_distance(int i, float d)
+{
+    vec4 nf = u_light_depth[i];
+    if (nf.z > 0.5) return nf.x + d * (nf.y - nf.x);
+    float z = d * 2.0 - 1.0;
+    return 2.0 * nf.x * nf.y / max(nf.y + nf.x - z * (nf.y - nf.x), 1e-20);
+}
+
+vec3 dm_translucency(int i, vec3 P, vec3 Ng, vec3 N, vec3 L)
+{
+    int layer = u_light_shadow[i];
+    float back = max(-dot(N, L), 0.0);
+    if (layer < 0 || back <= 0.0) return vec3(0.0);
+    vec4 c = u_light_matrix[i] * vec4(P - Ng * u_shadow_normal_offset, 1.0);
+    vec3 p = c.xyz / c.w * 0.5 + 0.5;
+    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0 || p.z < 0.0) return vec3(0.0);
+    float first = dm_light_distance(i, dm_tdepth(layer, p.xy));
+    float here = dm_light_distance(i, p.z);
+    float d = max(here - first, 0.0) * u_mm_per_unit;
+    vec3 t = vec3(0.0);
+    for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k) t += u_trans_weight[k] * exp(-d * d / (2.0 * max(u_trans_var[k], 1e-12)));
+    return u_translucency * back * t;
+}
+#endif

@@ -4,6 +4,11 @@
 // specular per light. DM_ENERGY: diffuse x (1 - rho_s rho_dt(N.V)). DM_ENV: SH diffuse (when no
 // subsurface) and, with DM_SPECULAR, split-sum environment specular.
 // u_mode: 0 final, 1 specular only, 2 diffuse only, 3 UV checker, 4 wireframe.
+// DM_SCREEN_SPACE (the ss_shade pass, lib/render/dm_render_ssss.c): three outputs instead of the
+// sum: o_color = diffuse irradiance x albedo^mix with alpha = eye depth (mesh units), o_aux =
+// post-scatter factor albedo^(1-mix) (x energy out), o_spec = specular. DM_TRANSLUCENCY: light
+// through thin parts joins the diffuse irradiance (without texture-space subsurface; with it,
+// the irradiance pass adds it).
 uniform mat4 u_view_proj;
 #ifdef DM_VERTEX
 layout(location = 0) in vec3 a_position;
@@ -27,7 +32,12 @@ in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
-out vec4 o_color;
+layout(location = 0) out vec4 o_color;
+#ifdef DM_SCREEN_SPACE
+layout(location = 1) out vec4 o_aux;
+layout(location = 2) out vec4 o_spec;
+uniform vec3 u_cam_forward;
+#endif
 uniform int u_mode;
 uniform vec3 u_eye;
 uniform sampler2D u_albedo;
@@ -118,6 +128,9 @@ void main()
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
+#ifdef DM_TRANSLUCENCY
+        e += u_light_color[i] * dm_translucency(i, v_pos, Ng, N, L);
+#endif
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;
         float k = ndl * dm_shadow(i, v_pos, Ng);
@@ -129,10 +142,18 @@ void main()
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
 #endif
+#ifdef DM_SCREEN_SPACE
+    vec3 pre = e * pow(albedo, vec3(u_mix)), post = pow(albedo, vec3(1.0 - u_mix));
+#else
     diffuse = e * albedo;
 #endif
+#endif
 #ifdef DM_ENERGY
+#ifdef DM_SCREEN_SPACE
+    post *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndv, m)).r, 0.0);
+#else
     diffuse *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndv, m)).r, 0.0);
+#endif
 #endif
 #ifdef DM_SPECULAR
     for (int i = 0; i < DM_LIGHTS; ++i) {
@@ -146,6 +167,12 @@ void main()
     float split = DM_SKIN_F0 * scale_bias.r + scale_bias.g;
     specular += u_env_intensity * rho_s * split * env_specular(R, m);
 #endif
+#endif
+#ifdef DM_SCREEN_SPACE
+    o_color = vec4(pre, max(dot(v_pos - u_eye, u_cam_forward), 1e-6));
+    o_aux = vec4(post, 1.0);
+    o_spec = vec4(specular, 1.0);
+    return;
 #endif
     vec3 c = u_mode == 1 ? specular : u_mode == 2 ? diffuse : diffuse + specular;
     o_color = vec4(c, 1.0);

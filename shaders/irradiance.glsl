@@ -2,7 +2,7 @@
 // surface, pre-scatter albedo applied. Alpha is chart coverage (1 where a triangle covers the
 // texel centre, cleared to 0 in gutters): the blurs treat rgb as premultiplied by it, so taps
 // in gutters drop out and the kernel renormalises over the chart (seams do not darken).
-// Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse).
+// Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse), DM_TRANSLUCENCY (light through thin parts).
 #ifdef DM_VERTEX
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -49,6 +49,9 @@ void main()
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
+#ifdef DM_TRANSLUCENCY
+        e += u_light_color[i] * dm_translucency(i, v_pos, Ng, N, L);
+#endif
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;
         float k = ndl * dm_shadow(i, v_pos, Ng);

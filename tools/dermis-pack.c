@@ -22,6 +22,7 @@
 #include "core/dm_pack.h"
 #include "core/dm_pack_needs.h"
 #include "core/dm_scene.h"
+#include "core/dm_ssss_kernel.h"
 #include "core/dm_version.h"
 
 #define TOOL "dermis-pack"
@@ -383,6 +384,31 @@ static dm_result step_profile(job *j, dm_error *err)
     return r;
 }
 
+/* The screen-space technique's separable kernel, fitted to the profile (core/dm_ssss_kernel.h);
+ * its fitting error goes into the entry's provenance and the report's source column. */
+static dm_result step_ss_kernel(job *j, dm_error *err)
+{
+    dm_ssss_kernel k;
+    dm_result r = dm_ssss_kernel_fit(&j->scene.profile, j->scene.screen_taps, &k, err);
+    if (r != DM_OK) return r;
+    float texels[DM_SSSS_MAX_TAPS * 4];
+    dm_ssss_kernel_texels(&k, texels);
+    dm_provenance p;
+    dm_prov_init(&p, TOOL);
+    dm_prov_add_string(&p, "source", j->scene.profile_source);
+    dm_prov_add_string(&p, "product", "screen-space separable SSS kernel (Jimenez et al. 2015), rank-1 fit");
+    dm_prov_add_int(&p, "taps", k.taps);
+    dm_prov_add_double(&p, "range_mm", k.range_mm);
+    dm_prov_add_double(&p, "fit_error_r", k.fit_error[0]);
+    dm_prov_add_double(&p, "fit_error_g", k.fit_error[1]);
+    dm_prov_add_double(&p, "fit_error_b", k.fit_error[2]);
+    char src[160];
+    snprintf(src, sizeof src, "%d taps, +-%.2f mm, fit error %.2f/%.2f/%.2f %% (R/G/B)", k.taps, k.range_mm,
+             100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
+    dm_pack_entry d = texture_desc("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
+    return add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);
+}
+
 static dm_result ensure_mesh(job *j, dm_error *err)
 {
     if (j->mesh_loaded) return DM_OK;
@@ -648,6 +674,7 @@ static const step steps[] = {
     {"directional LUTs", {"lut.rho_dt", "lut.env_brdf"}, step_directional},
     {"profile", {"profile"}, step_profile},
     {"stretch", {"stretch", "stretch.mask"}, step_stretch},
+    {"screen-space kernel", {"sss.kernel"}, step_ss_kernel},
     {"environment", {"env.sh", "env.specular", "env.background"}, step_environment},
 };
 

@@ -23,12 +23,14 @@ static const dm_pack_need needs[] = {
      "rho_dt(N.L, m): light the specular takes, 1 - rho_s*rho_dt in and out"},
     {"lut.env_brdf", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS,
      "split-sum scale and bias of F0 for environment specular"},
-    {"profile", DM_PACK_PROFILE, -1, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS,
-     "sum-of-Gaussians diffusion profile: blur variances and weights"},
-    {"stretch", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS,
+    {"profile", DM_PACK_PROFILE, -1, DM_FX(DM_EFFECT_SUBSURFACE) | DM_FX(DM_EFFECT_TRANSLUCENCY), DM_NEED_ALWAYS,
+     "sum-of-Gaussians diffusion profile: blur variances and weights, transmittance T(d)"},
+    {"stretch", DM_PACK_TEXTURE, DM_TEX_RG32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "UV stretch (u, v per mm) and its blurred chain, one layer per Gaussian"},
-    {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_ALWAYS,
+    {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "chart coverage mask (gutter handling)"},
+    {"sss.kernel", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_SCREEN_SPACE,
+     "separable 1-D kernel fitted to the profile (taps x 1: rgb weights, a = offset mm)"},
     {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS,
      "diffuse environment light, 9 RGB SH coefficients"},
     {"env.specular", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS,
@@ -114,6 +116,8 @@ bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s)
     case DM_NEED_IF_SPECULAR_MAP: return s->specular_map[0] != '\0';
     case DM_NEED_IF_ROUGHNESS_MAP: return s->roughness_map[0] != '\0';
     case DM_NEED_IF_BACKGROUND: return s->environment[0] != '\0' && s->env_background;
+    case DM_NEED_IF_TEXTURE_SPACE: return s->sss_technique == DM_SSS_TEXTURE_SPACE;
+    case DM_NEED_IF_SCREEN_SPACE: return s->sss_technique == DM_SSS_SCREEN_SPACE;
     }
     return false;
 }
@@ -127,6 +131,8 @@ const char *dm_need_when_text(dm_need_when w)
     case DM_NEED_IF_SPECULAR_MAP: return "specular map";
     case DM_NEED_IF_ROUGHNESS_MAP: return "roughness map";
     case DM_NEED_IF_BACKGROUND: return "environment with background";
+    case DM_NEED_IF_TEXTURE_SPACE: return "technique texture-space";
+    case DM_NEED_IF_SCREEN_SPACE: return "technique screen-space";
     }
     return "";
 }

@@ -30,7 +30,9 @@ typedef enum dm_need_when {
     DM_NEED_IF_NORMAL_MAP,    /* ... a normal map */
     DM_NEED_IF_SPECULAR_MAP,  /* ... a specular map */
     DM_NEED_IF_ROUGHNESS_MAP, /* ... a roughness map */
-    DM_NEED_IF_BACKGROUND     /* ... an environment shown as background */
+    DM_NEED_IF_BACKGROUND,    /* ... an environment shown as background */
+    DM_NEED_IF_TEXTURE_SPACE, /* ... subsurface by the texture-space technique */
+    DM_NEED_IF_SCREEN_SPACE   /* ... subsurface by the screen-space technique */
 } dm_need_when;
 
 #define DM_FX(e) (1u << (e))

@@ -12,6 +12,7 @@
 
 static const char *const effect_names[DM_EFFECT_COUNT] = {
     "specular", "subsurface", "energy_conservation", "shadows", "environment_lighting", "glow", "tonemap",
+    "translucency",
 };
 
 const char *dm_effect_name(dm_effect e)
@@ -24,6 +25,19 @@ int dm_effect_from_name(const char *name)
     for (int e = 0; e < DM_EFFECT_COUNT; ++e)
         if (name && strcmp(name, effect_names[e]) == 0) return e;
     return -1;
+}
+
+static const char *const technique_names[DM_SSS_TECHNIQUE_COUNT] = {"texture-space", "screen-space",
+                                                                      "pre-integrated"};
+
+const char *dm_sss_technique_name(dm_sss_technique t)
+{
+    return (unsigned)t < DM_SSS_TECHNIQUE_COUNT ? technique_names[t] : NULL;
+}
+
+bool dm_sss_technique_available(dm_sss_technique t)
+{
+    return t == DM_SSS_TEXTURE_SPACE || t == DM_SSS_SCREEN_SPACE;
 }
 
 const char *dm_light_type_name(dm_light_type t)
@@ -40,6 +54,10 @@ void dm_scene_defaults(dm_scene *s)
     s->env_intensity = 1.0f;
     s->env_background = true;
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = true;
+    s->effects[DM_EFFECT_TRANSLUCENCY] = false; /* off unless a scene asks */
+    s->sss_technique = DM_SSS_TEXTURE_SPACE;
+    s->screen_taps = DM_SCENE_SCREEN_TAPS_DEFAULT;
+    s->translucency_intensity = 1.0f;
     dm_profile_gems3_skin(&s->profile);
     snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
     s->blur_taps = 7;
@@ -537,9 +555,44 @@ static bool parse_effect(ctx *c, const cJSON *effects, dm_effect e, const char *
     return true;
 }
 
+/* effects.subsurface.technique (a name from technique_names, available) and screen_taps (one
+ * of DM_SCENE_SCREEN_TAPS_LIST). */
+static bool parse_technique(ctx *c, const cJSON *pm, dm_scene *s)
+{
+    const cJSON *v = get(pm, "technique");
+    if (v) {
+        const char *p = "$.effects.subsurface.technique";
+        const char *want = "\"texture-space\" or \"screen-space\" (\"pre-integrated\" is not implemented yet)";
+        if (!cJSON_IsString(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+        int t = -1;
+        for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)
+            if (strcmp(v->valuestring, technique_names[k]) == 0) t = k;
+        if (t < 0) return fail_value(c, DM_ERR_RANGE, p, v, want);
+        if (!dm_sss_technique_available((dm_sss_technique)t)) {
+            c->r = dm_fail(c->err, DM_ERR_UNSUPPORTED, "%s: %s: \"%s\" is a known technique but not implemented yet, expected %s",
+                           c->file, p, v->valuestring, "\"texture-space\" or \"screen-space\"");
+            return false;
+        }
+        s->sss_technique = (dm_sss_technique)t;
+    }
+    v = get(pm, "screen_taps");
+    if (v) {
+        static const int list[] = DM_SCENE_SCREEN_TAPS_LIST;
+        const char *p = "$.effects.subsurface.screen_taps", *want = "one of 11, 17, 25";
+        if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+        bool ok = false;
+        for (size_t k = 0; k < sizeof list / sizeof list[0]; ++k)
+            if (v->valuedouble == list[k]) ok = true;
+        if (!ok) return fail_value(c, DM_ERR_RANGE, p, v, want);
+        s->screen_taps = (int)v->valuedouble;
+    }
+    return true;
+}
+
 static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
 {
-    static const char *const sss_keys[] = {"profile", "taps", "irradiance_size", "mix", NULL};
+    static const char *const sss_keys[] = {"profile", "taps", "irradiance_size", "mix", "technique", "screen_taps", NULL};
+    static const char *const translucency_keys[] = {"intensity", NULL};
     static const char *const glow_keys[] = {"threshold", "intensity", NULL};
     static const char *const tone_keys[] = {"exposure", NULL};
     bool ok;
@@ -555,6 +608,7 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
         const char *const *extra = e == DM_EFFECT_SUBSURFACE ? sss_keys
                                    : e == DM_EFFECT_GLOW     ? glow_keys
                                    : e == DM_EFFECT_TONEMAP  ? tone_keys
+                                   : e == DM_EFFECT_TRANSLUCENCY ? translucency_keys
                                                              : NULL;
         if (!parse_effect(c, fx, (dm_effect)e, extra, s, &pm)) return false;
         if (!pm) continue;
@@ -564,7 +618,7 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
             if (prof && !parse_profile(c, prof, "$.effects.subsurface.profile", s)) return false;
             if (!get_int(c, pm, p, "taps", 3, 63, true, &s->blur_taps) ||
                 !get_int(c, pm, p, "irradiance_size", 64, 8192, false, &s->irradiance_size) ||
-                !get_float(c, pm, p, "mix", 0.0, 1.0, &s->mix))
+                !get_float(c, pm, p, "mix", 0.0, 1.0, &s->mix) || !parse_technique(c, pm, s))
                 return false;
         } else if (e == DM_EFFECT_GLOW) {
             if (!get_float(c, pm, "$.effects.glow", "threshold", 0.0, 1e6, &s->glow_threshold) ||
@@ -572,6 +626,9 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
                 return false;
         } else if (e == DM_EFFECT_TONEMAP) {
             if (!get_float(c, pm, "$.effects.tonemap", "exposure", -20.0, 20.0, &s->exposure)) return false;
+        } else if (e == DM_EFFECT_TRANSLUCENCY) {
+            if (!get_float(c, pm, "$.effects.translucency", "intensity", 0.0, 100.0, &s->translucency_intensity))
+                return false;
         }
     }
     return true;
@@ -786,6 +843,8 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
             cJSON_AddNumberToObject(o, "taps", s->blur_taps);
             cJSON_AddNumberToObject(o, "irradiance_size", s->irradiance_size);
             cJSON_AddNumberToObject(o, "mix", s->mix);
+            cJSON_AddStringToObject(o, "technique", dm_sss_technique_name(s->sss_technique));
+            cJSON_AddNumberToObject(o, "screen_taps", s->screen_taps);
         } else if (e == DM_EFFECT_GLOW) {
             cJSON *o = cJSON_AddObjectToObject(fx, name);
             cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
@@ -795,6 +854,10 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
             cJSON *o = cJSON_AddObjectToObject(fx, name);
             cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
             cJSON_AddNumberToObject(o, "exposure", s->exposure);
+        } else if (e == DM_EFFECT_TRANSLUCENCY) {
+            cJSON *o = cJSON_AddObjectToObject(fx, name);
+            cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
+            cJSON_AddNumberToObject(o, "intensity", s->translucency_intensity);
         } else {
             cJSON_AddBoolToObject(fx, name, s->effects[e]);
         }

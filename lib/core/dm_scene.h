@@ -33,6 +33,8 @@ typedef enum dm_effect {
     DM_EFFECT_ENVIRONMENT_LIGHTING, /* SH diffuse + prefiltered specular (env bake, env-BRDF) */
     DM_EFFECT_GLOW,                 /* bright pass, blur, add */
     DM_EFFECT_TONEMAP,              /* exposure, filmic curve, sRGB */
+    DM_EFFECT_TRANSLUCENCY,         /* light through thin parts: shadow-map thickness through the
+                                     * profile's transmittance (off unless a scene asks) */
     DM_EFFECT_COUNT
 } dm_effect;
 
@@ -40,6 +42,23 @@ typedef enum dm_effect {
 const char *dm_effect_name(dm_effect e);
 /* The effect with that scene-file name, or -1. */
 int dm_effect_from_name(const char *name);
+
+/* How subsurface scattering is simulated (effects.subsurface.technique). */
+typedef enum dm_sss_technique {
+    DM_SSS_TEXTURE_SPACE = 0, /* "texture-space": d'Eon & Luebke, the default */
+    DM_SSS_SCREEN_SPACE,      /* "screen-space": Jimenez et al. 2015 separable SSS */
+    DM_SSS_PRE_INTEGRATED,    /* "pre-integrated": Penner; named, refused until implemented */
+    DM_SSS_TECHNIQUE_COUNT
+} dm_sss_technique;
+
+/* "texture-space", "screen-space", "pre-integrated"; NULL for out-of-range values. */
+const char *dm_sss_technique_name(dm_sss_technique t);
+/* Whether the technique is implemented (parse-able names that are not are refused). */
+bool dm_sss_technique_available(dm_sss_technique t);
+
+/* The screen-space kernel's tap counts a scene may ask for (effects.subsurface.screen_taps). */
+enum { DM_SCENE_SCREEN_TAPS_DEFAULT = 17 };
+#define DM_SCENE_SCREEN_TAPS_LIST {11, 17, 25}
 
 typedef enum dm_light_type { DM_LIGHT_DIRECTIONAL, DM_LIGHT_POINT } dm_light_type;
 
@@ -89,6 +108,10 @@ typedef struct dm_scene {
     int blur_taps;           /* taps per separable pass, odd, default 7 (the chapter's) */
     int irradiance_size;     /* texture-space resolution, default 1024 */
     float mix;               /* pre/post-scatter albedo mix, default 0.5 */
+    dm_sss_technique sss_technique; /* default texture-space */
+    int screen_taps;         /* screen-space kernel taps: 11, 17 (default) or 25 */
+    /* translucency */
+    float translucency_intensity; /* multiplies the transmitted light, [0, 100], default 1 */
     /* tonemap */
     float exposure;          /* stops, default 0 */
     /* glow */
@@ -112,7 +135,10 @@ typedef struct dm_scene {
  *                      "alternatives": [ ≤ 7 non-empty paths ] (needs "path") },
  *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
  *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
- *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1];
+ *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1],
+ *        "technique" "texture-space" | "screen-space" ("pre-integrated" is refused: not yet),
+ *        "screen_taps" 11 | 17 | 25;
+ *        translucency: "intensity" [0, 100] (off unless listed, also in dm_scene_defaults);
  *        glow: "threshold" [0, 1e6], "intensity" [0, 100]; tonemap: "exposure" [-20, 20].
  *        Exactly the effects listed as on are on; the others are off.
  *     "camera": { "eye", "target", "up" (not parallel to the view), "fov_y_deg": [1, 179] },

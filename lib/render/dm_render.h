@@ -1,5 +1,6 @@
-/* dm_render.h — the real-time skin renderer (GPU Gems 3 ch. 14, texture-space diffusion)
- * on OpenGL 3.3 core. No window or context code: the caller makes a GL 3.3+ core context
+/* dm_render.h — the real-time skin renderer on OpenGL 3.3 core: subsurface scattering by
+ * texture-space diffusion (GPU Gems 3 ch. 14) or screen-space separable SSS (Jimenez et al.
+ * 2015), as the scene's effects.subsurface.technique says, and translucency. No window or context code: the caller makes a GL 3.3+ core context
  * current (lib/host/dm_osmesa.h headless, a GLFW window in the viewer) and keeps it
  * current for every call below.
  *
@@ -98,6 +99,13 @@ typedef struct dm_render_assets {
     dm_texture stretch[DM_PROFILE_MAX_GAUSSIANS];
     dm_texture stretch_mask; /* R8 chart coverage; optional (coverage is also rasterized) */
     const dm_profile *profile; /* NULL: scene->profile */
+
+    /* screen-space subsurface: the separable kernel dermis-pack fitted to the profile
+     * (core/dm_ssss_kernel.h layout: ss_kernel_taps RGBA float32 texels, rgb = weights,
+     * a = offset mm). NULL: fitted at create from the profile with scene->screen_taps taps
+     * (the same function, so the same kernel). */
+    const float *ss_kernel;
+    int ss_kernel_taps;
 
     /* environment (mesh space; equirect: u = 0.5 + atan2(d.x, −d.z)/2π, v = 0.5 + asin(d.y)/π,
      * so v = 1 is straight up; scene->env_rotation_deg turns it about +Y) */

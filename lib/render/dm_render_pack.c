@@ -1,5 +1,7 @@
 #include "render/dm_render_pack.h"
 
+#include "core/dm_ssss_kernel.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -190,5 +192,14 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
     if ((r = texture(pack, "lut.rho_dt", &assets->rho_dt, err)) != DM_OK) return r;
     if ((r = texture(pack, "lut.env_brdf", &assets->env_brdf, err)) != DM_OK) return r;
     if ((r = stretch(pack, assets, err)) != DM_OK) return r;
+    const dm_pack_entry *k = dm_pack_find(pack, "sss.kernel");
+    if (k) { /* screen-space kernel: taps x 1 RGBA32F texels (core/dm_ssss_kernel.h) */
+        if (k->kind != DM_PACK_TEXTURE || k->format != DM_TEX_RGBA32F || k->height != 1 || k->levels != 1 ||
+            k->layers != 1 || k->width < 3 || k->width > DM_SSSS_MAX_TAPS)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: sss.kernel is %dx%d, expected taps x 1 rgba32f, taps 3..%d",
+                           pack->what, k->width, k->height, DM_SSSS_MAX_TAPS);
+        assets->ss_kernel = (const float *)k->data;
+        assets->ss_kernel_taps = k->width;
+    }
     return environment(pack, env, assets, err);
 }

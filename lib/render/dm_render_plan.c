@@ -64,11 +64,16 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     memset(p, 0, sizeof *p);
     memcpy(p->effects, s->effects, sizeof p->effects);
     const bool *fx = s->effects;
-    const bool sss = fx[DM_EFFECT_SUBSURFACE], spec = fx[DM_EFFECT_SPECULAR];
+    const bool sss_on = fx[DM_EFFECT_SUBSURFACE], spec = fx[DM_EFFECT_SPECULAR];
+    const bool sss = sss_on && s->sss_technique == DM_SSS_TEXTURE_SPACE; /* texture-space passes */
+    const bool ssss = sss_on && s->sss_technique == DM_SSS_SCREEN_SPACE;
     const bool env = fx[DM_EFFECT_ENVIRONMENT_LIGHTING];
     p->energy_conservation_active = fx[DM_EFFECT_ENERGY_CONSERVATION] && spec;
     p->env_specular_active = env && spec;
     p->blur_levels = sss ? s->profile.count : 0;
+    p->technique = s->sss_technique;
+    p->texture_space = sss;
+    p->screen_space = ssss;
     p->view = view;
     if (view == DM_VIEW_BLUR && view_index < 0) view_index = p->blur_levels - 1;
     p->view_index = view_index;
@@ -77,14 +82,15 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
         for (int i = 0; i < s->light_count && i < DM_SCENE_MAX_LIGHTS; ++i)
             if (s->lights[i].casts_shadow && p->casting_lights++ < DM_PLAN_MAX_SHADOWS)
                 p->shadow_light[p->shadow_count++] = i;
-
+    p->translucency_active = fx[DM_EFFECT_TRANSLUCENCY] && p->shadow_count > 0;
+    const char *trans = p->translucency_active ? " + transmitted light (shadow-map thickness, profile T(d)) [translucency]" : "";
     /* the view's requirements */
     const char *vname = dm_view_name(view);
     if (!vname) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %d: unknown view", (int)view);
     if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH || view == DM_VIEW_DIFFUSION) &&
         !sss)
-        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect, which this scene turns off",
-                       vname);
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect with the texture-space technique%s",
+                       vname, ssss ? " (this scene uses screen-space)" : ", which this scene turns off");
     if (view == DM_VIEW_BLUR && (view_index < 1 || view_index >= p->blur_levels))
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view blur%d: blur levels are 1..%d", view_index,
                        p->blur_levels - 1);
@@ -122,10 +128,10 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     if (sss && (shaded_view || view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_DIFFUSION) &&
         view != DM_VIEW_SPECULAR) {
         add(p, DM_PASS_IRRADIANCE, 0, "irradiance",
-            "subsurface: lights x N.L (normal map)%s%s%s, pre-scatter albedo^%.2g",
+            "subsurface: lights x N.L (normal map)%s%s%s%s, pre-scatter albedo^%.2g",
             p->shadow_count ? " x shadow" : "",
             p->energy_conservation_active ? " x (1 - rho_s rho_dt) [energy_conservation]" : "",
-            env ? " + SH diffuse [environment_lighting]" : "", (double)s->mix);
+            env ? " + SH diffuse [environment_lighting]" : "", trans, (double)s->mix);
         int last = view == DM_VIEW_IRRADIANCE ? 0 : view == DM_VIEW_BLUR ? view_index : p->blur_levels - 1;
         for (int k = 1; k <= last; ++k) {
             double dv = s->profile.variance_mm2[k] - s->profile.variance_mm2[k - 1];
@@ -154,13 +160,29 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
                        : view == DM_VIEW_DIFFUSE  ? " [debug view: diffuse only]"
                        : view == DM_VIEW_UV_TEST  ? " [debug view: UV checker]"
                                                   : " [debug view: wireframe]";
-    if (shaded_view)
-        add(p, DM_PASS_FINAL, 0, "final", "always: %s diffuse%s%s%s%s%s",
+    const bool ss_view = ssss && (view == DM_VIEW_FINAL || view == DM_VIEW_SPECULAR || view == DM_VIEW_DIFFUSE);
+    if (ss_view) {
+        add(p, DM_PASS_SS_SHADE, 0, "ss_shade",
+            "subsurface [screen-space]: lights x N.L%s%s%s%s, pre-scatter albedo^%.2g, eye depth; post-scatter "
+            "albedo^(1-mix)%s; specular%s%s apart%s",
+            p->shadow_count ? " x shadow" : "",
+            p->energy_conservation_active ? " x (1 - rho_s rho_dt) [energy_conservation]" : "",
+            env ? " + SH diffuse [environment_lighting]" : "", trans, (double)s->mix,
+            p->energy_conservation_active ? " x (1 - rho_s rho_dt(N.V))" : "", spec ? " (KS [specular])" : " (none)",
+            p->env_specular_active ? " + env split-sum [environment_lighting]" : "", mode);
+        add(p, DM_PASS_SS_BLUR_H, 0, "ss_blur_h",
+            "subsurface [screen-space]: %d-tap kernel fitted to the profile along x, width in mm from mm_per_unit "
+            "and depth, follow-surface, skin pixels only",
+            s->screen_taps);
+        add(p, DM_PASS_SS_BLUR_V, 0, "ss_blur_v",
+            "subsurface [screen-space]: the same along y, x post-scatter albedo, + specular");
+    } else if (shaded_view)
+        add(p, DM_PASS_FINAL, 0, "final", "always: %s diffuse%s%s%s%s%s%s",
             sss ? "6-level weighted sum x post-scatter albedo^(1-mix)" : "Lambert (subsurface off) x albedo",
             spec ? " + KS specular (Beckmann LUT, Schlick F0 0.028, spec map) [specular]" : "",
             p->energy_conservation_active ? " x (1 - rho_s rho_dt(N.V)) [energy_conservation]" : "",
             p->env_specular_active ? " + env split-sum specular [environment_lighting]" : "",
-            env && !sss ? " + SH diffuse [environment_lighting]" : "", mode);
+            env && !sss ? " + SH diffuse [environment_lighting]" : "", !sss ? trans : "", mode);
     else
         add(p, DM_PASS_FINAL, 0, "final", "always: draws the mesh%s", mode);
     if (env && s->env_background && s->environment[0] && shaded_view)
@@ -224,6 +246,7 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
         "no SH diffuse, no environment specular, no background",
         "no glow passes",
         "no tonemap pass: linear radiance clamped and sRGB-encoded on readback",
+        "no transmitted light through thin parts",
     };
     bool any_off = false;
     for (int e = 0; e < DM_EFFECT_COUNT; ++e)
@@ -236,6 +259,10 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
         put(&b, "note: energy_conservation is inactive without specular (no light is taken by the surface)\n");
     if (p->casting_lights > p->shadow_count && p->shadow_count > 0)
         put(&b, "note: %d lights cast; only the first %d get shadow maps\n", p->casting_lights, p->shadow_count);
+    if (p->effects[DM_EFFECT_SUBSURFACE])
+        put(&b, "subsurface technique: %s\n", dm_sss_technique_name(p->technique));
+    if (p->effects[DM_EFFECT_TRANSLUCENCY] && !p->translucency_active)
+        put(&b, "note: translucency is inactive: it reads thickness from a shadow map, and no light has one\n");
     if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
         put(&b, "note: shadows on but no light casts: no shadow pass\n");
     return b.len;

@@ -8,7 +8,12 @@
  *                    DM_PLAN_MAX_SHADOWS = 4 casting lights; explain notes any beyond)
  *   irradiance       subsurface on (texture space: lights, shadow, env SH, albedo^mix)
  *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
- *   final            always (draws the head: diffuse, specular, environment terms)
+ *   final            always (draws the head: diffuse, specular, environment terms); with
+ *                    the screen-space technique only for the uv and wireframe views
+ *   ss_shade         subsurface on, technique screen-space: the head into three screen
+ *                    targets (pre-scatter diffuse + eye depth, post-scatter factor, specular)
+ *   ss_blur_h, ss_blur_v   the same: the separable kernel along x, then y (+ combine), on
+ *                    skin pixels only
  *   background       environment given and shown (scene->env_background), and
  *                    environment_lighting on
  *   glow_bright, glow_blur_u, glow_blur_v, glow_add   glow on
@@ -16,7 +21,9 @@
  * Debug views replace final..tonemap by the passes they need (a `view` pass copying the
  * texture to the screen for texture views; final with a mode for shaded views).
  * Effects that only change a shader (energy_conservation, environment_lighting's SH and
- * split-sum terms, specular) add no pass of their own; explain lists them per pass.
+ * split-sum terms, specular, translucency) add no pass of their own; explain lists them per
+ * pass. Translucency needs a shadow map (it reads the thickness from it): with no casting
+ * light it is inactive, and explain says so.
  */
 #ifndef DM_RENDER_PLAN_H
 #define DM_RENDER_PLAN_H
@@ -67,6 +74,9 @@ typedef enum dm_pass_kind {
     DM_PASS_GLOW_ADD,
     DM_PASS_TONEMAP,
     DM_PASS_VIEW,
+    DM_PASS_SS_SHADE,
+    DM_PASS_SS_BLUR_H,
+    DM_PASS_SS_BLUR_V,
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 
@@ -89,7 +99,11 @@ typedef struct dm_render_plan {
     int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */
     int casting_lights;              /* all lights that cast (more than shadow_count: no map) */
     int shadow_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */
-    int blur_levels;                 /* Gaussians (levels incl. level 0), 0 without subsurface */
+    int blur_levels;                 /* Gaussians (levels incl. level 0), 0 without texture-space subsurface */
+    dm_sss_technique technique;      /* the scene's subsurface technique */
+    bool texture_space;              /* subsurface on with the texture-space technique */
+    bool screen_space;               /* subsurface on with the screen-space technique */
+    bool translucency_active;        /* translucency on and at least one shadow map */
     dm_view view;
     int view_index;
 } dm_render_plan;

@@ -71,6 +71,10 @@ Test(render_plan, each_effect_off_removes_its_passes)
                            "blur_u5 blur_v5 final background tonemap",
         [DM_EFFECT_TONEMAP] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
                               "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v glow_add",
+        /* translucency adds no pass (it changes the irradiance shader): off changes nothing */
+        [DM_EFFECT_TRANSLUCENCY] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 "
+                                   "blur_v4 blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v "
+                                   "glow_add tonemap",
     };
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
         dm_scene s;

@@ -1,0 +1,139 @@
+#include "core/dm_ssss_kernel.h"
+
+#include <math.h>
+#include <string.h>
+
+static double phi(double x) /* standard normal CDF */
+{
+    return 0.5 * erfc(-x / sqrt(2.0));
+}
+
+dm_result dm_ssss_kernel_fit(const dm_profile *p, int taps, dm_ssss_kernel *k, dm_error *err)
+{
+    if (taps < 3 || taps > DM_SSSS_MAX_TAPS || taps % 2 == 0)
+        return dm_fail(err, DM_ERR_RANGE, "screen-space kernel: %d taps, expected an odd count in [3, %d]", taps,
+                       DM_SSSS_MAX_TAPS);
+    if (p->count < 1 || p->count > DM_PROFILE_MAX_GAUSSIANS)
+        return dm_fail(err, DM_ERR_RANGE, "screen-space kernel: profile has %d Gaussians, expected 1..%d", p->count,
+                       DM_PROFILE_MAX_GAUSSIANS);
+    memset(k, 0, sizeof *k);
+    k->taps = taps;
+    double vmax = 0;
+    for (int j = 0; j < p->count; ++j) vmax = fmax(vmax, p->variance_mm2[j]);
+    if (!(vmax > 0) || !isfinite(vmax))
+        return dm_fail(err, DM_ERR_RANGE, "screen-space kernel: widest variance %g mm^2, expected > 0", vmax);
+    const int h = taps / 2;
+    const double range = 3.0 * sqrt(vmax);
+    k->range_mm = range;
+    double off[DM_SSSS_MAX_TAPS], lo[DM_SSSS_MAX_TAPS], hi[DM_SSSS_MAX_TAPS];
+    for (int a = 0; a < taps; ++a) {
+        double t = (double)(a - h) / h;
+        off[a] = range * t * fabs(t);
+    }
+    for (int a = 0; a < taps; ++a) { /* bins between midpoints; the end bins take the tails */
+        lo[a] = a == 0 ? -INFINITY : 0.5 * (off[a - 1] + off[a]);
+        hi[a] = a == taps - 1 ? INFINITY : 0.5 * (off[a] + off[a + 1]);
+    }
+    /* p_j[a]: 1-D mass of Gaussian j in bin a */
+    double pm[DM_PROFILE_MAX_GAUSSIANS][DM_SSSS_MAX_TAPS];
+    for (int j = 0; j < p->count; ++j) {
+        double s = sqrt(p->variance_mm2[j]);
+        for (int a = 0; a < taps; ++a) {
+            double ph = isinf(hi[a]) ? 1.0 : s > 0 ? phi(hi[a] / s) : (hi[a] >= 0 ? 1.0 : 0.0);
+            double pl = isinf(lo[a]) ? 0.0 : s > 0 ? phi(lo[a] / s) : (lo[a] >= 0 ? 1.0 : 0.0);
+            pm[j][a] = ph - pl;
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        double M[DM_SSSS_MAX_TAPS][DM_SSSS_MAX_TAPS], total = 0, norm2 = 0;
+        for (int a = 0; a < taps; ++a)
+            for (int b = 0; b < taps; ++b) {
+                double m = 0;
+                for (int j = 0; j < p->count; ++j) m += p->weight[j][c] * pm[j][a] * pm[j][b];
+                M[a][b] = m;
+                total += m;
+            }
+        if (!(total > 0)) { /* a channel with no weight: identity kernel, nothing to fit */
+            k->weight[h][c] = 1.0f;
+            continue;
+        }
+        for (int a = 0; a < taps; ++a)
+            for (int b = 0; b < taps; ++b) {
+                M[a][b] /= total;
+                norm2 += M[a][b] * M[a][b];
+            }
+        /* power iteration from the row sums (M is symmetric with non-negative entries) */
+        double u[DM_SSSS_MAX_TAPS], lambda = 0;
+        for (int a = 0; a < taps; ++a) {
+            u[a] = 0;
+            for (int b = 0; b < taps; ++b) u[a] += M[a][b];
+        }
+        for (int it = 0; it < 200; ++it) {
+            double n = 0, v[DM_SSSS_MAX_TAPS];
+            for (int a = 0; a < taps; ++a) n += u[a] * u[a];
+            n = sqrt(n);
+            for (int a = 0; a < taps; ++a) u[a] /= n;
+            lambda = 0;
+            for (int a = 0; a < taps; ++a) {
+                v[a] = 0;
+                for (int b = 0; b < taps; ++b) v[a] += M[a][b] * u[b];
+                lambda += u[a] * v[a];
+            }
+            memcpy(u, v, sizeof(double) * (size_t)taps);
+        }
+        double n = 0;
+        for (int a = 0; a < taps; ++a) n += u[a] * u[a];
+        n = sqrt(n);
+        double kk[DM_SSSS_MAX_TAPS], sum = 0;
+        for (int a = 0; a < taps; ++a) {
+            kk[a] = sqrt(fmax(lambda, 0.0)) * u[a] / n;
+            sum += kk[a];
+        }
+        double e2 = 0;
+        for (int a = 0; a < taps; ++a)
+            for (int b = 0; b < taps; ++b) {
+                double d = M[a][b] - kk[a] * kk[b];
+                e2 += d * d;
+            }
+        k->fit_error[c] = norm2 > 0 ? sqrt(e2 / norm2) : 0.0;
+        for (int a = 0; a < taps; ++a) k->weight[a][c] = (float)(sum > 0 ? fmax(kk[a], 0.0) / sum : a == h);
+    }
+    for (int a = 0; a < taps; ++a) k->offset_mm[a] = (float)off[a];
+    return DM_OK;
+}
+
+void dm_ssss_kernel_texels(const dm_ssss_kernel *k, float *out)
+{
+    for (int a = 0; a < k->taps; ++a) {
+        for (int c = 0; c < 3; ++c) out[a * 4 + c] = k->weight[a][c];
+        out[a * 4 + 3] = k->offset_mm[a];
+    }
+}
+
+dm_result dm_ssss_kernel_from_texels(const float *t, int taps, dm_ssss_kernel *k, dm_error *err)
+{
+    if (taps < 3 || taps > DM_SSSS_MAX_TAPS || taps % 2 == 0)
+        return dm_fail(err, DM_ERR_RANGE, "sss.kernel: %d taps, expected an odd count in [3, %d]", taps,
+                       DM_SSSS_MAX_TAPS);
+    memset(k, 0, sizeof *k);
+    k->taps = taps;
+    double sum[3] = {0, 0, 0};
+    for (int a = 0; a < taps; ++a) {
+        for (int c = 0; c < 4; ++c)
+            if (!isfinite(t[a * 4 + c]))
+                return dm_fail(err, DM_ERR_RANGE, "sss.kernel: tap %d value %d is not finite", a, c);
+        if (a > 0 && !(t[a * 4 + 3] > t[a * 4 - 1]))
+            return dm_fail(err, DM_ERR_RANGE, "sss.kernel: offset of tap %d (%g mm) not above tap %d's", a,
+                           (double)t[a * 4 + 3], a - 1);
+        for (int c = 0; c < 3; ++c) {
+            k->weight[a][c] = t[a * 4 + c];
+            sum[c] += t[a * 4 + c];
+        }
+        k->offset_mm[a] = t[a * 4 + 3];
+    }
+    for (int c = 0; c < 3; ++c)
+        if (fabs(sum[c] - 1.0) > 1e-4)
+            return dm_fail(err, DM_ERR_RANGE, "sss.kernel: channel %d weights sum to %.6f, expected 1", c, sum[c]);
+    k->range_mm = fabs(k->offset_mm[0]);
+    return DM_OK;
+}

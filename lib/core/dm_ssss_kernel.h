@@ -1,0 +1,52 @@
+/* dm_ssss_kernel.h — the 1-D kernel of screen-space separable subsurface scattering
+ * (Jimenez, Zsolnai, Jarabo, Freude, Auzinger, Wu, von der Pahlen, Wimmer, Gutierrez,
+ * "Separable Subsurface Scattering", Computer Graphics Forum 34(6), 2015), fitted offline
+ * from a sum-of-Gaussians diffusion profile (dermis-pack stores it in the pack).
+ *
+ * A separable blur applies k(x)·k(y); the profile R(r) = Σ_j w_j G(v_j, r) is radial. The
+ * fit takes the exact 2-D profile integrated over the taps' bins, M[a][b] = ∫∫ R over
+ * bin_a × bin_b (a sum of rank-1 terms, since each 2-D Gaussian is separable: M =
+ * Σ_j w_j p_j p_jᵀ with p_j[a] the 1-D Gaussian's mass in bin a, tails folded into the end
+ * bins), and keeps its best rank-1 approximation k kᵀ (power iteration, per channel), scaled
+ * so Σ_a k[a] = 1 (the blur keeps energy, as the texture-space weights do). The fitting error
+ * is ‖M/ΣM − k kᵀ‖_F / ‖M/ΣM‖_F per channel: 0 for one Gaussian (separable), and what the
+ * separable approximation loses for a sum.
+ *
+ * Taps: odd count, offsets o_a = range·t·|t| for t uniform in [−1, 1] (denser near the
+ * centre, Jimenez's exponent 2), range = 3σ of the widest Gaussian, in mm. Units: mm, mm².
+ */
+#ifndef DM_SSSS_KERNEL_H
+#define DM_SSSS_KERNEL_H
+
+#include "core/dm_profile.h"
+#include "core/dm_result.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { DM_SSSS_MAX_TAPS = 25 };
+
+typedef struct dm_ssss_kernel {
+    int taps;                              /* odd, 3..DM_SSSS_MAX_TAPS */
+    float offset_mm[DM_SSSS_MAX_TAPS];     /* ascending, centre tap 0 at index taps/2 */
+    float weight[DM_SSSS_MAX_TAPS][3];     /* per channel, each channel sums to 1 */
+    double range_mm;                       /* |offset| of the end taps */
+    double fit_error[3];                   /* relative Frobenius error of k kᵀ against M */
+} dm_ssss_kernel;
+
+/* Fits the kernel of `taps` taps to the profile (dm_profile_validate'd). Fails with
+ * DM_ERR_RANGE naming the value when taps is not odd in [3, DM_SSSS_MAX_TAPS]. */
+dm_result dm_ssss_kernel_fit(const dm_profile *p, int taps, dm_ssss_kernel *k, dm_error *err);
+
+/* The kernel as taps RGBA float32 texels (rgb = weights, a = offset mm): the pack's
+ * "sss.kernel" entry layout. out holds 4·taps floats. */
+void dm_ssss_kernel_texels(const dm_ssss_kernel *k, float *out);
+/* Reads that layout back, checking finiteness, odd taps, ascending offsets and weights that
+ * sum to 1 per channel within 1e-4. */
+dm_result dm_ssss_kernel_from_texels(const float *texels, int taps, dm_ssss_kernel *k, dm_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,261 @@
+/* dm_render_gl.c — GL helpers: pack formats on the GL side, texture uploads, shader programs
+ * (common.glsl + the pass, the plan's defines, fixed sampler units), small matrix helpers. */
+#include <assert.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/dm_render_internal.h"
+#include "render/dm_render_shaders.h"
+
+/* ---- texture formats ------------------------------------------------------------------ */
+
+
+const fmt_gl dmr_formats[DM_TEX_FORMAT_COUNT] = {
+    [DM_TEX_R8] = {GL_R8, GL_RED, GL_UNSIGNED_BYTE},
+    [DM_TEX_RG8] = {GL_RG8, GL_RG, GL_UNSIGNED_BYTE},
+    [DM_TEX_RGBA8] = {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE},
+    [DM_TEX_RGBA8_SRGB] = {GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE},
+    [DM_TEX_R16F] = {GL_R16F, GL_RED, GL_HALF_FLOAT},
+    [DM_TEX_RG16F] = {GL_RG16F, GL_RG, GL_HALF_FLOAT},
+    [DM_TEX_RGBA16F] = {GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT},
+    [DM_TEX_R32F] = {GL_R32F, GL_RED, GL_FLOAT},
+    [DM_TEX_RG32F] = {GL_RG32F, GL_RG, GL_FLOAT},
+    [DM_TEX_RGBA32F] = {GL_RGBA32F, GL_RGBA, GL_FLOAT},
+};
+
+const char *dmr_format_name(dm_tex_format f)
+{
+    const dm_tex_format_info *i = dm_tex_format_get(f);
+    return i ? i->name : "(invalid)";
+}
+
+
+/* ---- small matrix helpers (column-major, as GL takes them) ----------------------------- */
+
+void dmr_mat_mul(float *o, const float *a, const float *b)
+{
+    float r[16];
+    for (int c = 0; c < 4; ++c)
+        for (int rr = 0; rr < 4; ++rr) {
+            float s = 0;
+            for (int k = 0; k < 4; ++k) s += a[k * 4 + rr] * b[c * 4 + k];
+            r[c * 4 + rr] = s;
+        }
+    memcpy(o, r, sizeof r);
+}
+
+void dmr_v3_sub(float *o, const float *a, const float *b)
+{
+    for (int i = 0; i < 3; ++i) o[i] = a[i] - b[i];
+}
+float dmr_v3_dot(const float *a, const float *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+void dmr_v3_cross(float *o, const float *a, const float *b)
+{
+    float r[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    memcpy(o, r, sizeof r);
+}
+float dmr_v3_norm(float *v)
+{
+    float l = sqrtf(dmr_v3_dot(v, v));
+    if (l > 0)
+        for (int i = 0; i < 3; ++i) v[i] /= l;
+    return l;
+}
+
+/* View matrix; also returns the camera basis (right, up, forward). */
+void dmr_look_at(float *m, const float *eye, const float *target, const float *up_hint, float *right, float *up,
+                    float *fwd)
+{
+    float f[3], s[3], u[3];
+    dmr_v3_sub(f, target, eye);
+    dmr_v3_norm(f);
+    dmr_v3_cross(s, f, up_hint);
+    if (dmr_v3_norm(s) < 1e-6f) { /* up parallel to the view: pick another */
+        float alt[3] = {fabsf(f[0]) < 0.9f ? 1.0f : 0.0f, 0.0f, fabsf(f[0]) < 0.9f ? 0.0f : 1.0f};
+        dmr_v3_cross(s, f, alt);
+        dmr_v3_norm(s);
+    }
+    dmr_v3_cross(u, s, f);
+    float r[16] = {s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
+                   -dmr_v3_dot(s, eye), -dmr_v3_dot(u, eye), dmr_v3_dot(f, eye), 1};
+    memcpy(m, r, sizeof r);
+    if (right) memcpy(right, s, sizeof s);
+    if (up) memcpy(up, u, sizeof u);
+    if (fwd) memcpy(fwd, f, sizeof f);
+}
+
+void dmr_perspective(float *m, float fovy_rad, float aspect, float n, float f)
+{
+    float t = 1.0f / tanf(0.5f * fovy_rad);
+    float r[16] = {t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, (f + n) / (n - f), -1, 0, 0, 2 * f * n / (n - f), 0};
+    memcpy(m, r, sizeof r);
+}
+
+void dmr_ortho(float *m, float half, float n, float f)
+{
+    float r[16] = {1 / half, 0, 0, 0, 0, 1 / half, 0, 0, 0, 0, -2 / (f - n), 0, 0, 0, -(f + n) / (f - n), 1};
+    memcpy(m, r, sizeof r);
+}
+dm_result dmr_gl_check(const char *what, dm_error *err)
+{
+    GLenum e = glGetError(), first = e;
+    while (e != GL_NO_ERROR) e = glGetError();
+    if (first != GL_NO_ERROR) return dm_fail(err, DM_ERR_GL, "%s: GL error 0x%04x", what, (unsigned)first);
+    return DM_OK;
+}
+
+/* ---- shaders -------------------------------------------------------------------------- */
+
+static dm_result compile_stage(GLenum stage, const char *defines, const char *common, const char *src,
+                               const char *name, GLuint *out, dm_error *err)
+{
+    const char *stage_define = stage == GL_VERTEX_SHADER ? "#define DM_VERTEX 1\n" : "#define DM_FRAGMENT 1\n";
+    GLuint sh = glCreateShader(stage);
+    /* "#line 1" before the pass keeps compiler messages in the pass file's numbering */
+    const char *with_line[7] = {"#version 330 core\n", stage_define, defines, "#line 1 1\n", common,
+                                "\n#line 1 2\n", src};
+    glShaderSource(sh, 7, with_line, NULL);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[768] = "";
+        glGetShaderInfoLog(sh, sizeof log, NULL, log);
+        glDeleteShader(sh);
+        return dm_fail(err, DM_ERR_GL, "%s (%s stage; source 1 = common.glsl, 2 = the pass): %s", name,
+                       stage == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
+    }
+    *out = sh;
+    return DM_OK;
+}
+
+static void set_sampler_units(GLuint p)
+{
+    static const struct {
+        const char *name;
+        int unit;
+    } units[] = {{"u_albedo", UNIT_ALBEDO},     {"u_normal_map", UNIT_NORMAL},   {"u_specular_map", UNIT_SPECULAR},
+                 {"u_roughness_map", UNIT_ROUGHNESS}, {"u_beckmann", UNIT_BECKMANN}, {"u_rho_dt", UNIT_RHO_DT},
+                 {"u_env_brdf", UNIT_ENV_BRDF},   {"u_shadow0", UNIT_SHADOW},
+                 {"u_shadow1", UNIT_SHADOW + 1},   {"u_shadow2", UNIT_SHADOW + 2},  {"u_shadow3", UNIT_SHADOW + 3},
+                 {"u_src", UNIT_SRC},             {"u_stretch", UNIT_STRETCH},     {"u_mask", UNIT_MASK},
+                 {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
+                 {"u_env_array", UNIT_ENV_ARRAY}, {"u_aux", UNIT_SS_AUX},   {"u_spec", UNIT_SS_SPEC},
+                 {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
+                 {"u_tdepth3", UNIT_TDEPTH0 + 3}};
+    glUseProgram(p);
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
+        GLint loc = glGetUniformLocation(p, units[i].name);
+        if (loc >= 0) glUniform1i(loc, units[i].unit);
+    }
+    char name[32];
+    for (int k = 0; k < DM_RENDER_ENV_LEVELS_MAX; ++k) {
+        snprintf(name, sizeof name, "u_env_level[%d]", k);
+        GLint loc = glGetUniformLocation(p, name);
+        if (loc >= 0) glUniform1i(loc, UNIT_ENV_LEVEL0 + k);
+    }
+    for (int k = 0; k < 8; ++k) {
+        snprintf(name, sizeof name, "u_level[%d]", k);
+        GLint loc = glGetUniformLocation(p, name);
+        if (loc >= 0) glUniform1i(loc, UNIT_LEVEL0 + k);
+    }
+}
+
+dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_error *err)
+{
+    char defines[768];
+    const dm_render_plan *p = &r->plan;
+    snprintf(defines, sizeof defines,
+             "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n"
+             "#define DM_SHADOW_TAPS %d\n%s",
+             p->texture_space ? "#define DM_SUBSURFACE 1\n" : "",
+             p->effects[DM_EFFECT_SPECULAR] ? "#define DM_SPECULAR 1\n" : "",
+             p->energy_conservation_active ? "#define DM_ENERGY 1\n" : "",
+             p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
+             p->shadow_count, r->taps, p->texture_space ? r->profile.count : 0, r->env_level_count,
+             r->shadow_taps, r->tex_env_array ? "#define DM_ENV_ARRAY 1\n" : "");
+    /* appended only when on: the texture-space programs see exactly the defines they always did */
+    size_t n = strlen(defines);
+    if (p->screen_space)
+        n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n",
+                              r->ss_taps);
+    if (p->translucency_active)
+        snprintf(defines + n, sizeof defines - n, "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n",
+                 r->profile.count);
+    const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
+    char *common = NULL, *src = NULL;
+    dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
+    if (rc == DM_OK) rc = dm_render_shader_source(dir, file, &src, err);
+    GLuint vs = 0, fs = 0;
+    if (rc == DM_OK) rc = compile_stage(GL_VERTEX_SHADER, defines, common, src, file, &vs, err);
+    if (rc == DM_OK) rc = compile_stage(GL_FRAGMENT_SHADER, defines, common, src, file, &fs, err);
+    free(common);
+    free(src);
+    if (rc != DM_OK) {
+        if (vs) glDeleteShader(vs);
+        return rc;
+    }
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, fs);
+    glBindAttribLocation(prog, 0, "a_position");
+    glBindAttribLocation(prog, 1, "a_normal");
+    glBindAttribLocation(prog, 2, "a_tangent");
+    glBindAttribLocation(prog, 3, "a_uv");
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[768] = "";
+        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+        glDeleteProgram(prog);
+        return dm_fail(err, DM_ERR_GL, "%s: link failed: %s", file, log);
+    }
+    set_sampler_units(prog);
+    *out = prog;
+    return dmr_gl_check(file, err);
+}
+/* ---- uploads and targets -------------------------------------------------------------- */
+
+dm_result dmr_upload(const dm_texture *t, const char *what, bool mipmaps, GLenum filter, GLuint *out,
+                        dm_error *err)
+{
+    if (!dm_tex_format_get(t->format))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: texture format %d is not a dm_tex_format", what,
+                       (int)t->format);
+    if (t->width < 1 || t->height < 1 || t->width > 16384 || t->height > 16384)
+        return dm_fail(err, DM_ERR_RANGE, "%s: size %dx%d, expected 1..16384 per side", what, t->width, t->height);
+    const fmt_gl *f = &dmr_formats[t->format];
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, (GLint)f->internal, t->width, t->height, 0, f->format, f->type, t->texels);
+    if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    mipmaps ? GL_LINEAR_MIPMAP_LINEAR : (GLint)filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, (GLint)filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    *out = tex;
+    return dmr_gl_check(what, err);
+}
+
+GLuint dmr_solid_texture(uint8_t v)
+{
+    uint8_t px[4] = {v, v, v, 255};
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, px);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return tex;
+}

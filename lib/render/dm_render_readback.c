@@ -1,0 +1,105 @@
+/* dm_render_readback.c — the frame's outputs back to the CPU: any target as float, the linear
+ * screen, the last view at full precision, the 8-bit display; plan and size queries. */
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/dm_render_internal.h"
+
+const dm_render_plan *dm_renderer_plan(const dm_renderer *r)
+{
+    return &r->plan;
+}
+
+void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradiance_size)
+{
+    if (width) *width = r->width;
+    if (height) *height = r->height;
+    if (irradiance_size) *irradiance_size = r->irr_size;
+}
+
+int dm_renderer_target_count(const dm_renderer *r)
+{
+    return r->target_count;
+}
+
+void dm_renderer_target_info(const dm_renderer *r, int index, dm_target_info *info)
+{
+    assert(index >= 0 && index < r->target_count);
+    const target *t = &r->targets[index];
+    info->name = t->name;
+    info->width = t->width;
+    info->height = t->height;
+    info->channels = t->channels;
+}
+
+int dm_renderer_find_target(const dm_renderer *r, const char *name)
+{
+    for (int i = 0; i < r->target_count; ++i)
+        if (strcmp(r->targets[i].name, name) == 0) return i;
+    return -1;
+}
+
+dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_error *err)
+{
+    assert(index >= 0 && index < r->target_count);
+    const target *t = &r->targets[index];
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (t->channels == 1) {
+        glReadPixels(0, 0, t->width, t->height, GL_DEPTH_COMPONENT, GL_FLOAT, out);
+    } else {
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glReadPixels(0, 0, t->width, t->height, GL_RGBA, GL_FLOAT, out);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return dmr_gl_check(t->name, err);
+}
+
+dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err)
+{
+    return dm_renderer_read_target(r, dm_renderer_find_target(r, "screen"), rgba, err);
+}
+
+void dm_renderer_view_size(const dm_renderer *r, int *width, int *height)
+{
+    const target *t = &r->targets[r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen")];
+    *width = t->width;
+    *height = t->height;
+}
+
+dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err)
+{
+    return dm_renderer_read_target(r, r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen"), rgba,
+                                   err);
+}
+
+static uint8_t dmr_srgb8(float c)
+{
+    c = c > 0 ? (c < 1 ? c : 1) : 0; /* NaN becomes 0 */
+    float e = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+    return (uint8_t)lrintf(e * 255.0f);
+}
+
+dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err)
+{
+    if (r->tonemapped) {
+        glBindFramebuffer(GL_FRAMEBUFFER, r->display_fbo);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        return dmr_gl_check("display", err);
+    }
+    size_t n = (size_t)r->width * r->height;
+    float *lin = malloc(n * 4 * sizeof *lin);
+    if (!lin) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "display: cannot allocate %zu floats", n * 4);
+    dm_result rc = dm_renderer_read_linear(r, lin, err);
+    for (size_t i = 0; rc == DM_OK && i < n; ++i) {
+        for (int c = 0; c < 3; ++c) rgba[i * 4 + c] = dmr_srgb8(lin[i * 4 + c]);
+        rgba[i * 4 + 3] = 255;
+    }
+    free(lin);
+    return rc;
+}

@@ -1,0 +1,48 @@
+/* dm_render_shade.c — the final pass: the head on screen with the diffuse term of the active
+ * technique (texture-space levels, or Lambert without subsurface), KS specular, environment
+ * specular; the specular/diffuse/uv/wireframe debug modes. Screen-space subsurface shades the
+ * head in its own pass (dm_render_ssss.c) from the same shader file. */
+#include "render/dm_render_internal.h"
+
+void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
+{
+    glUseProgram(p);
+    glUniformMatrix4fv(loc(p, "u_view_proj"), 1, GL_FALSE, r->view_proj);
+    glUniform3fv(loc(p, "u_eye"), 1, r->eye);
+    u1i(p, "u_mode", mode);
+    dmr_set_light_uniforms(r, p);
+    dmr_set_surface_uniforms(r, p);
+    dmr_bind_surface(r);
+    glUniform1fv(loc(p, "u_env_level_m"), DM_RENDER_ENV_LEVELS_MAX, r->env_level_m);
+    dmr_bind_levels(r, p);
+    if (r->plan.screen_space) glUniform3fv(loc(p, "u_cam_forward"), 1, r->cam_fwd);
+    dmr_translucency_bind(r, p);
+    dmr_draw_mesh(r);
+    dmr_translucency_unbind(r);
+}
+
+void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    static const int modes[DM_VIEW_COUNT] = {[DM_VIEW_FINAL] = 0,   [DM_VIEW_SPECULAR] = 1,
+                                             [DM_VIEW_DIFFUSE] = 2, [DM_VIEW_UV_TEST] = 3,
+                                             [DM_VIEW_WIREFRAME] = 4};
+    int mode = modes[r->plan.view];
+    GLuint p = r->prog[DM_PASS_FINAL];
+    dmr_target_begin(r->screen_fbo, r->width, r->height);
+    glClearColor(0, 0, 0, 0); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    if (mode == 4) {
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    } else {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+    }
+    dmr_shade_head(r, p, mode);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DEPTH_TEST);
+}

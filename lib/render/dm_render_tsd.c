@@ -1,0 +1,161 @@
+/* dm_render_tsd.c — texture-space diffusion (d'Eon & Luebke, GPU Gems 3 ch. 14): the
+ * irradiance pass unwraps the lit head into the UV atlas, then each Gaussian level k is made
+ * from level k−1 by a U and a V blur of variance v_k − v_{k−1}, tap offsets in mm turned into
+ * UV by the stretch chain. The final pass sums the levels (dm_diffusion, shaders/common.glsl).
+ * Owns the stretch uploads, the level targets and the blur kernel. */
+#include <assert.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "render/dm_render_internal.h"
+
+static double phi(double x) /* standard normal CDF */
+{
+    return 0.5 * erfc(-x / sqrt(2.0));
+}
+
+double dm_render_blur_kernel(int taps, float *offsets_sigma, float *weights)
+{
+    assert(taps >= 3 && taps <= 63 && taps % 2 == 1);
+    int h = (taps - 1) / 2;
+    double step = 3.0 / h, var = 0.0;
+    for (int i = 0; i < taps; ++i) {
+        double x = (i - h) * step;
+        double lo = i == 0 ? -INFINITY : x - 0.5 * step, hi = i == taps - 1 ? INFINITY : x + 0.5 * step;
+        double w = (isinf(hi) ? 1.0 : phi(hi)) - (isinf(lo) ? 0.0 : phi(lo));
+        offsets_sigma[i] = (float)x;
+        weights[i] = (float)w;
+        var += w * x * x;
+    }
+    return var;
+}
+
+static dm_result need_texture(const dm_texture *t, const char *what, const char *effect, dm_error *err)
+{
+    if (!t->texels)
+        return dm_fail(err, DM_ERR_MISMATCH, "assets: %s is missing, and the %s effect needs it", what, effect);
+    return DM_OK;
+}
+
+dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_error *err)
+{
+    dm_result rc = dm_profile_validate(prof, "assets: profile", err);
+    if (rc == DM_OK && (a->stretch_level_count < 1 || a->stretch_level_count > DM_PROFILE_MAX_GAUSSIANS))
+        return dm_fail(err, DM_ERR_MISMATCH, "assets: %d stretch levels, subsurface needs 1..%d",
+                       a->stretch_level_count, DM_PROFILE_MAX_GAUSSIANS);
+    for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k) {
+        rc = need_texture(&a->stretch[k], "a stretch level", "subsurface", err);
+        if (rc == DM_OK && a->stretch[k].format != DM_TEX_RG32F && a->stretch[k].format != DM_TEX_RG16F)
+            rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: stretch level %d is %s, expected rg32f or rg16f", k,
+                         dmr_format_name(a->stretch[k].format));
+    }
+    int taps = a->scene->blur_taps;
+    if (rc == DM_OK && (taps < 3 || taps > 63 || taps % 2 == 0))
+        rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, 63]", taps);
+    return rc;
+}
+
+dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    dm_result rc = DM_OK;
+    r->stretch_count = a->stretch_level_count;
+    for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k)
+        rc = dmr_upload(&a->stretch[k], "stretch", false, GL_LINEAR, &r->tex_stretch[k], err);
+    if (rc == DM_OK && a->stretch_mask.texels)
+        rc = dmr_upload(&a->stretch_mask, "stretch_mask", false, GL_LINEAR, &r->tex_mask, err);
+    return rc;
+}
+
+dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
+{
+    const dm_render_plan *p = &r->plan;
+    dm_result rc = DM_OK;
+    char name[32];
+    for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
+        snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
+        rc = dmr_color_target(r, name, r->level_size[k], r->level_size[k], r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->irr_tex[k], &r->irr_fbo[k], err);
+    }
+    if (rc == DM_OK && p->blur_levels > 1)
+        rc = dmr_color_target(r, "blur_tmp", r->irr_size, r->irr_size, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_tex, &r->tmp_fbo, err);
+    int small = r->level_size[p->blur_levels > 0 ? p->blur_levels - 1 : 0];
+    if (rc == DM_OK && p->blur_levels > 1 && small != r->irr_size)
+        rc = dmr_color_target(r, "blur_tmp_small", small, small, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->tmp_small_tex, &r->tmp_small_fbo, err);
+    return rc;
+}
+
+void dmr_prepare_blur(dm_renderer *r, float scale)
+{
+    float off_sigma[63];
+    double var = dm_render_blur_kernel(r->taps, off_sigma, r->blur_weight);
+    r->blur_scale = scale;
+    for (int k = 1; k < r->profile.count; ++k) {
+        double dv = (r->profile.variance_mm2[k] - r->profile.variance_mm2[k - 1]) * (double)scale;
+        /* scale so that the discrete kernel's variance is exactly dv */
+        double s = sqrt(dv / var);
+        for (int i = 0; i < r->taps; ++i) r->blur_offset[k][i] = (float)(off_sigma[i] * s);
+    }
+    dmr_profile_weights(r);
+}
+
+void dmr_profile_weights(dm_renderer *r)
+{
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0;
+        for (int k = 0; k < r->profile.count; ++k) sum += r->profile.weight[k][c];
+        for (int k = 0; k < r->profile.count; ++k)
+            r->level_weight[k][c] = sum > 0 ? (float)(r->profile.weight[k][c] / sum) : 0.0f;
+    }
+}
+
+void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    GLuint p = r->prog[DM_PASS_IRRADIANCE];
+    dmr_target_begin(r->irr_fbo[0], r->irr_size, r->irr_size);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glUseProgram(p);
+    dmr_set_light_uniforms(r, p);
+    dmr_set_surface_uniforms(r, p);
+    dmr_bind_surface(r);
+    dmr_translucency_bind(r, p);
+    dmr_draw_mesh(r);
+    dmr_translucency_unbind(r);
+}
+
+void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)opt;
+    int k = ps->index;
+    bool along_v = ps->kind == DM_PASS_BLUR_V;
+    GLuint p = r->prog[DM_PASS_BLUR_U];
+    /* the U pass already writes at level k's size (the taps read level k−1 by UV) */
+    int n = r->level_size[k];
+    bool small = n != r->irr_size;
+    GLuint tmp_tex = small ? r->tmp_small_tex : r->tmp_tex, tmp_fbo = small ? r->tmp_small_fbo : r->tmp_fbo;
+    dmr_target_begin(along_v ? r->irr_fbo[k] : tmp_fbo, n, n);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(p);
+    int s = k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
+    dmr_bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? tmp_tex : r->irr_tex[k - 1]);
+    dmr_bind(UNIT_STRETCH, GL_TEXTURE_2D, r->tex_stretch[s]);
+    u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
+    glUniform1fv(loc(p, "u_offset_mm"), r->taps, r->blur_offset[k]);
+    glUniform1fv(loc(p, "u_weight"), r->taps, r->blur_weight);
+    dmr_draw_fullscreen(r);
+}
+
+/* The levels and their weights for dm_diffusion (common.glsl), in the final pass and the
+ * diffusion view alike; absent levels read black. */
+void dmr_bind_levels(const dm_renderer *r, GLuint p)
+{
+    int levels = r->plan.texture_space ? r->profile.count : 0;
+    if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
+    for (int k = 0; k < 8; ++k) dmr_bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
+}

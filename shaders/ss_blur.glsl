@@ -1,0 +1,52 @@
+// ss_blur.glsl - one pass of the screen-space separable subsurface blur (Jimenez et al. 2015;
+// lib/render/dm_render_ssss.c). u_src: rgb = diffuse irradiance x albedo^mix, a = eye depth in
+// mesh units (0: no skin). The kernel's offsets are mm on the surface: pixels = mm x
+// u_px_per_mm / depth. Follow-surface: a tap whose depth differs from the centre's by more than
+// its lateral distance fades to the centre's value (fully at twice it), so nothing bleeds
+// across silhouettes and the weights still sum to 1. The triangle sits at the far plane and
+// the depth test (GREATER) keeps it to skin pixels.
+// u_combine 0: out = (blurred, depth); 1: out = blurred x u_aux + u_spec (u_mode 1: specular
+// only, 2: diffuse only), alpha 1.
+uniform sampler2D u_src;
+uniform sampler2D u_aux;
+uniform sampler2D u_spec;
+uniform vec2 u_dir;
+uniform vec2 u_texel;
+uniform vec4 u_kernel[DM_SS_TAPS]; // rgb weight, a = offset mm
+uniform float u_px_per_mm;         // pixels per mm at eye depth 1 mesh unit
+uniform float u_mm_per_unit;
+uniform int u_combine;
+uniform int u_mode;
+#ifdef DM_VERTEX
+out vec2 v_uv;
+void main()
+{
+    gl_Position = dm_fullscreen(v_uv);
+    gl_Position.z = gl_Position.w; // the far plane
+}
+#else
+in vec2 v_uv;
+out vec4 o_color;
+void main()
+{
+    vec4 c = texture(u_src, v_uv);
+    vec3 sum = vec3(0.0);
+    if (c.a > 0.0) {
+        float px_per_mm = u_px_per_mm / c.a;
+        for (int i = 0; i < DM_SS_TAPS; ++i) {
+            float o_mm = u_kernel[i].a;
+            vec4 t = texture(u_src, v_uv + u_dir * (o_mm * px_per_mm) * u_texel);
+            float dz_mm = abs(t.a - c.a) * u_mm_per_unit;
+            float s = t.a > 0.0 ? clamp(dz_mm / (abs(o_mm) + 1e-3) - 1.0, 0.0, 1.0) : 1.0;
+            sum += u_kernel[i].rgb * mix(t.rgb, c.rgb, s);
+        }
+    }
+    if (u_combine == 0) {
+        o_color = vec4(sum, c.a);
+        return;
+    }
+    vec3 diffuse = u_mode == 1 ? vec3(0.0) : sum * texture(u_aux, v_uv).rgb;
+    vec3 spec = u_mode == 2 ? vec3(0.0) : texture(u_spec, v_uv).rgb;
+    o_color = vec4(diffuse + spec, c.a > 0.0 ? 1.0 : 0.0);
+}
+#endif
