@@ -166,44 +166,9 @@ static int parse(int argc, char **argv, options *o)
 /* Parses SPEC (preset name, 3 or 7 numbers) into a validated medium; 0 or DM_EXIT_USAGE. */
 static int parse_medium(const options *o, dm_medium *m)
 {
-    const char *opt = o->multipole ? "--multipole" : "--dipole";
     dm_error err = {0};
-    memset(m, 0, sizeof *m);
-    if (!strchr(o->spec, ',')) { /* a name; numbers always come in 3 or 7 */
-        if (dm_medium_preset(o->spec, m, &err) != DM_OK) {
-            fprintf(stderr, "error: %s: %s\n", opt, err.detail);
-            return DM_EXIT_USAGE;
-        }
-    } else {
-        double v[8];
-        int count = 0;
-        const char *s = o->spec;
-        for (;;) {
-            char *end;
-            if (count == 8) break;
-            v[count++] = strtod(s, &end);
-            if (end == s || (*end && *end != ',')) {
-                fprintf(stderr, "error: %s: '%s': item %d is not a number\n", opt, o->spec, count);
-                return DM_EXIT_USAGE;
-            }
-            if (!*end) break;
-            s = end + 1;
-        }
-        if (count != 3 && count != 7) {
-            fprintf(stderr, "error: %s: '%s' has %d numbers, expected 3 (sa,ss,eta) or 7 (saR,saG,saB,ssR,ssG,ssB,eta)\n",
-                    opt, o->spec, count);
-            return DM_EXIT_USAGE;
-        }
-        for (int c = 0; c < 3; ++c) {
-            m->sigma_a_per_mm[c] = count == 3 ? v[0] : v[c];
-            m->sigma_s_prime_per_mm[c] = count == 3 ? v[1] : v[3 + c];
-        }
-        m->eta = v[count - 1];
-    }
-    m->model = o->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE;
-    m->thickness_mm = o->thickness_mm;
-    m->pair_count = o->pairs;
-    if (dm_medium_validate(m, opt, &err) != DM_OK) {
+    if (dm_medium_parse(o->spec, o->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, o->thickness_mm, o->pairs,
+                        o->multipole ? "--multipole" : "--dipole", m, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         return DM_EXIT_USAGE;
     }

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bake/dm_exr.h"
+#include "bake/dm_profile_fit.h"
 #include "bake/dm_ref_frame.h"
 #include "bake/dm_ref_surface.h"
 #include "bake/dm_reference.h"
@@ -43,6 +44,12 @@ static void usage(FILE *f)
             "                       and OUT.png through the scene's tonemap\n"
             "  --size WxH           frame size, default the scene's; 1..16384 per side\n"
             "  --atlas N            frame: CPU irradiance atlas size, default 1024; 16..8192\n"
+            "  --dipole SPEC        diffuse by a dipole (Jensen 2001) instead of the pack's Gaussians: a medium\n"
+            "                       (skin1, skin2, marble, ...) or 'sa,ss,eta' / 7 numbers (mm^-1), as in\n"
+            "                       dermis-fit-profile; represented by dense Gaussians (error reported)\n"
+            "  --multipole SPEC     the same for a slab (Donner & Jensen 2005); needs --thickness MM\n"
+            "  --thickness MM       slab thickness, (0, 1e4]; --pairs N dipole pairs, default 20\n"
+            "  --radial-gaussians N Gaussians representing --dipole/--multipole, default 12; 2..32\n"
             "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
             "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
             "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"
@@ -58,7 +65,10 @@ static void usage(FILE *f)
 }
 
 typedef struct args {
-    const char *pack, *out, *irradiance;
+    const char *pack, *out, *irradiance, *medium;
+    bool multipole;
+    double thickness_mm;
+    int pairs, radial_gaussians;
     const char *merge[MERGE_MAX];
     int merge_count;
     int size, width, height, atlas, tile_index, tile_count, threads;
@@ -118,6 +128,19 @@ static int parse(int argc, char **argv, args *a)
                 fprintf(stderr, "error: --merge needs the tile files\n");
                 return DM_EXIT_USAGE;
             }
+        } else if (!strcmp(s, "--dipole") || !strcmp(s, "--multipole")) {
+            if (!(a->medium = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            a->multipole = !strcmp(s, "--multipole");
+        } else if (!strcmp(s, "--thickness")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1e-9, DM_THICKNESS_MAX_MM, &a->thickness_mm))
+                return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--pairs")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 1, DM_MULTIPOLE_PAIRS_MAX, &n)) return DM_EXIT_USAGE;
+            a->pairs = (int)n;
+        } else if (!strcmp(s, "--radial-gaussians")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 2, DM_REFERENCE_GAUSSIANS_MAX, &n))
+                return DM_EXIT_USAGE;
+            a->radial_gaussians = (int)n;
         } else if (!strcmp(s, "--levels")) {
             a->levels = true;
         } else if (!strcmp(s, "--cut")) {
@@ -155,6 +178,9 @@ static int parse(int argc, char **argv, args *a)
                       : !a->frame && (a->width || a->atlas) ? "--size and --atlas are --frame options"
                       : a->quiet && a->verbose             ? "--quiet conflicts with -v"
                                                            : NULL;
+    if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
+    if (!bad && !a->multipole && (a->thickness_mm > 0.0 || a->pairs)) bad = "--thickness and --pairs apply to --multipole";
+    if (!bad && !a->medium && a->radial_gaussians) bad = "--radial-gaussians applies to --dipole/--multipole";
     size_t n = strlen(a->out);
     if (!bad && (n < 4 || strcmp(a->out + n - 4, ".exr"))) bad = "the output must be an .exr file";
     if (bad) {
@@ -162,6 +188,7 @@ static int parse(int argc, char **argv, args *a)
         return DM_EXIT_USAGE;
     }
     a->ropt.thread_count = a->threads;
+    if (!a->radial_gaussians) a->radial_gaussians = 12;
     return -1;
 }
 
@@ -243,6 +270,35 @@ static int load_surface(const args *a, const dm_pack *pack, dm_scene *scene, dm_
     return -1;
 }
 
+/* What is convolved: the profile's Gaussians, or --dipole/--multipole's representation. */
+static int make_kernel(const args *a, const dm_profile *profile, dm_reference_kernel *k, char *name, size_t name_size)
+{
+    dm_error err = {0};
+    if (!a->medium) {
+        snprintf(name, name_size, "%s", profile->name);
+        if (dm_reference_kernel_from_profile(profile, k, &err) == DM_OK) return -1;
+        fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
+        return DM_EXIT_PROCESS;
+    }
+    dm_profile_source src = {.kind = DM_SOURCE_MEDIUM};
+    double e[3];
+    const char *opt = a->multipole ? "--multipole" : "--dipole";
+    if (dm_medium_parse(a->medium, a->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, a->thickness_mm, a->pairs, opt,
+                        &src.medium, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_USAGE;
+    }
+    if (dm_reference_kernel_from_source(&src, a->radial_gaussians, k, e, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_PROCESS;
+    }
+    snprintf(name, name_size, "%s:%s", a->multipole ? "multipole" : "dipole", a->medium);
+    if (!a->quiet)
+        printf("%s %s in %d Gaussians (sigma %.3g..%.3g mm): relative L2 error %.2e %.2e %.2e\n", opt, a->medium, k->count,
+               sqrt(k->variance_mm2[0]), sqrt(k->variance_mm2[k->count - 1]), e[0], e[1], e[2]);
+    return -1;
+}
+
 static void base_provenance(const args *a, const char *mode, dm_provenance *prov)
 {
     dm_prov_init(prov, "dermis-reference");
@@ -253,6 +309,12 @@ static void base_provenance(const args *a, const char *mode, dm_provenance *prov
     dm_prov_add_double(prov, "cut_sigma", a->ropt.cut_sigma != 0.0 ? a->ropt.cut_sigma : 4.0);
     dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.3);
     dm_prov_add_double(prov, "wide_texels", a->ropt.wide_texels != 0.0 ? a->ropt.wide_texels : 4.0);
+    if (a->medium) {
+        dm_prov_add_string(prov, a->multipole ? "multipole" : "dipole", a->medium);
+        if (a->multipole) dm_prov_add_double(prov, "thickness_mm", a->thickness_mm);
+        if (a->multipole) dm_prov_add_int(prov, "pairs", a->pairs ? a->pairs : DM_MULTIPOLE_PAIRS_DEFAULT);
+        dm_prov_add_int(prov, "radial_gaussians", a->radial_gaussians);
+    }
 }
 
 static int texture_space(const args *a, const dm_pack *pack)
@@ -281,8 +343,9 @@ static int texture_space(const args *a, const dm_pack *pack)
     dm_reference_options ropt = a->ropt;
     ropt.progress = on_progress;
     ropt.progress_user = &bar;
-    if (code == -1 && (dm_reference_kernel_from_profile(&profile, &kernel, &err) != DM_OK ||
-                       dm_reference_atlas_targets(&surface->mesh, &ra, a->threads, &targets, &texel_of, &count, &err) != DM_OK ||
+    char kernel_name[256] = "";
+    if (code == -1) code = make_kernel(a, &profile, &kernel, kernel_name, sizeof kernel_name);
+    if (code == -1 && (dm_reference_atlas_targets(&surface->mesh, &ra, a->threads, &targets, &texel_of, &count, &err) != DM_OK ||
                        dm_reference_create(&surface->mesh, scene.mm_per_unit, &ra, &kernel, &ropt, &ref, &err) != DM_OK)) {
         fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
         code = DM_EXIT_PROCESS;
@@ -337,7 +400,7 @@ static int texture_space(const args *a, const dm_pack *pack)
         dm_reference_get_stats(ref, &st);
         dm_prov_add_int(&prov, "size", N);
         dm_prov_add_string(&prov, "irradiance", source);
-        dm_prov_add_string(&prov, "profile", profile.name);
+        dm_prov_add_string(&prov, "profile", kernel_name);
         dm_prov_add_int(&prov, "gaussians", K);
         dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
         dm_prov_add_int(&prov, "covered_texels", (int64_t)count);
@@ -398,14 +461,28 @@ static int frame(const args *a, const dm_pack *pack)
         fprintf(stderr, "error: cannot allocate a %dx%d frame\n", W, H);
         return DM_EXIT_PROCESS;
     }
+    dm_reference_kernel kernel;
+    char kernel_name[256];
+    dm_profile profile;
+    dm_ref_surface_desc desc;
+    int code = a->medium ? -1 : DM_EXIT_LOAD;
+    if (!a->medium && dm_ref_surface_desc_from_pack(pack, &scene, &profile, &desc, &err) == DM_OK) code = -1;
+    if (code == -1) code = make_kernel(a, &profile, &kernel, kernel_name, sizeof kernel_name);
+    if (code != -1) {
+        if (code == DM_EXIT_LOAD) fprintf(stderr, "error: %s\n", err.detail);
+        free(rgba);
+        free(display);
+        return code;
+    }
     dm_progress bar;
     dm_progress_begin(&bar, "frame", a->quiet);
     dm_ref_frame_stats st = {0};
     dm_ref_frame_options fo = {.width = W, .height = H, .atlas_size = a->atlas, .thread_count = a->threads,
-                               .reference = &a->ropt, .progress = on_stage, .progress_user = &bar, .stats = &st};
+                               .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
+                               .stats = &st};
     dm_result r = dm_ref_frame_render(pack, &scene, &fo, rgba, &err);
     dm_progress_end(&bar);
-    int code = DM_EXIT_OK;
+    code = DM_EXIT_OK;
     if (r != DM_OK) {
         fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
         code = DM_EXIT_PROCESS;
@@ -422,6 +499,7 @@ static int frame(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "height", H);
         dm_prov_add_int(&prov, "atlas", a->atlas ? a->atlas : 1024);
         dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
+        dm_prov_add_string(&prov, "profile", kernel_name);
         dm_exr_channel ch[4] = {{"R", planes, DM_EXR_FLOAT}, {"G", planes + n, DM_EXR_FLOAT},
                                 {"B", planes + 2 * n, DM_EXR_FLOAT}, {"A", planes + 3 * n, DM_EXR_FLOAT}};
         char png[4096];

@@ -9,7 +9,7 @@
 
 #include "core/dm_math.h"
 
-enum { NMAX = DM_PROFILE_MAX_GAUSSIANS };
+enum { NMAX = DM_PROFILE_MAX_GAUSSIANS, LSQ_MAX = DM_PROFILE_REPRESENT_MAX }; /* LSQ_MAX: nnls, small_lsq */
 
 /* ---- sources ------------------------------------------------------------------------ */
 
@@ -183,11 +183,11 @@ static void qr_apply_q(const double *a, int rows, int cols, const double *beta, 
     }
 }
 
-/* min ‖A z − y‖ for a small A (rows × cols ≤ NMAX × NMAX, column-major); columns whose R
+/* min ‖A z − y‖ for a small A (rows × cols ≤ LSQ_MAX × LSQ_MAX, column-major); columns whose R
  * diagonal is negligible (dependent) get z = 0. */
 static void small_lsq(const double *a_in, int rows, int cols, const double *y_in, double *z)
 {
-    double a[NMAX * NMAX], y[NMAX], beta[NMAX], rd[NMAX];
+    double a[LSQ_MAX * LSQ_MAX], y[LSQ_MAX], beta[LSQ_MAX], rd[LSQ_MAX];
     memcpy(a, a_in, sizeof(double) * (size_t)rows * cols);
     memcpy(y, y_in, sizeof(double) * (size_t)rows);
     qr(a, rows, cols, beta, rd);
@@ -209,7 +209,7 @@ static void small_lsq(const double *a_in, int rows, int cols, const double *y_in
  * full storage, zeros below) left by the QR of the full problem. */
 static void nnls(const double *rm, int n, const double *c, double *w)
 {
-    int in_p[NMAX] = {0};
+    int in_p[LSQ_MAX] = {0};
     for (int k = 0; k < n; ++k) w[k] = 0.0;
     double gmax0 = 0.0;
     for (int k = 0; k < n; ++k) {
@@ -219,7 +219,7 @@ static void nnls(const double *rm, int n, const double *c, double *w)
     }
     double tol = 1e-13 * gmax0;
     for (int outer = 0; outer < 3 * n; ++outer) {
-        double res[NMAX];
+        double res[LSQ_MAX];
         for (int i = 0; i < n; ++i) {
             res[i] = c[i];
             for (int k = 0; k < n; ++k) res[i] -= rm[(size_t)k * n + i] * w[k];
@@ -236,8 +236,8 @@ static void nnls(const double *rm, int n, const double *c, double *w)
         in_p[j] = 1;
         int first = 1;
         for (int inner = 0; inner < 3 * n; ++inner) {
-            double sub[NMAX * NMAX], z[NMAX], zp[NMAX];
-            int idx[NMAX], p = 0;
+            double sub[LSQ_MAX * LSQ_MAX], z[LSQ_MAX], zp[LSQ_MAX];
+            int idx[LSQ_MAX], p = 0;
             for (int k = 0; k < n; ++k)
                 if (in_p[k]) {
                     memcpy(sub + (size_t)p * n, rm + (size_t)k * n, sizeof(double) * (size_t)n);
@@ -277,7 +277,7 @@ static void nnls(const double *rm, int n, const double *c, double *w)
 /* Cholesky solve of the SPD n × n system m x = y (row-major); 0 when not positive definite. */
 static int cholesky_solve(const double *m_in, int n, const double *y, double *x)
 {
-    double l[NMAX * NMAX] = {0};
+    double l[LSQ_MAX * LSQ_MAX] = {0};
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j <= i; ++j) {
             double s = m_in[i * n + j];
@@ -290,7 +290,7 @@ static int cholesky_solve(const double *m_in, int n, const double *y, double *x)
             }
         }
     }
-    double t[NMAX];
+    double t[LSQ_MAX];
     for (int i = 0; i < n; ++i) {
         double s = y[i];
         for (int k = 0; k < i; ++k) s -= l[i * n + k] * t[k];
@@ -633,4 +633,71 @@ dm_result dm_profile_fit_error(const dm_profile_source *s, const dm_profile *p, 
     }
     grid_free(&g);
     return r;
+}
+
+/* ---- a dense representation ----------------------------------------------------------- */
+
+dm_result dm_profile_represent(const dm_profile_source *s, int gaussian_count, double *variance_mm2,
+                               double (*weight)[3], double rel_error[3], dm_error *err)
+{
+    const int n = gaussian_count, m = DM_FIT_NODES_DEFAULT;
+    if (n < 2 || n > DM_PROFILE_REPRESENT_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "profile representation: %d Gaussians, expected 2..%d", n,
+                       DM_PROFILE_REPRESENT_MAX);
+    dm_result r = dm_profile_source_validate(s, "profile source", err);
+    if (r != DM_OK) return r;
+    grid g;
+    if ((r = grid_init(&g, s, m, err)) != DM_OK) {
+        grid_free(&g);
+        return r;
+    }
+    /* scales: from a quarter of the narrowest source scale to a third of the radius that
+     * holds all but 1e-4 of the widest channel's mass */
+    double lo, hi, total[3] = {0, 0, 0}, cum[3] = {0, 0, 0}, r_mass = g.r_max;
+    source_scales(s, &lo, &hi);
+    for (int i = 0; i < m; ++i)
+        for (int c = 0; c < 3; ++c) total[c] += g.q[i] * g.b[c][i] / g.sq[i];
+    for (int i = 0, done = 0; i < m && !done; ++i) {
+        done = 1;
+        for (int c = 0; c < 3; ++c) {
+            cum[c] += g.q[i] * g.b[c][i] / g.sq[i];
+            done &= !(total[c] > 0.0) || cum[c] >= (1.0 - 1e-4) * total[c];
+        }
+        r_mass = g.r[i];
+    }
+    double s_lo = 0.25 * lo, s_hi = fmax(r_mass / 3.0, 2.0 * s_lo);
+    for (int k = 0; k < n; ++k) {
+        double sk = s_lo * pow(s_hi / s_lo, (double)k / (n - 1));
+        variance_mm2[k] = sk * sk;
+    }
+    double *a = malloc(sizeof(double) * (size_t)m * n * 2 + sizeof(double) * (size_t)m);
+    if (!a) {
+        grid_free(&g);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile representation");
+    }
+    double *qrb = a + (size_t)m * n, *y = qrb + (size_t)m * n;
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < m; ++i) a[(size_t)k * m + i] = g.sq[i] * dm_gaussian(variance_mm2[k], g.r[i]);
+    double beta[LSQ_MAX], rd[LSQ_MAX], rm[LSQ_MAX * LSQ_MAX];
+    memcpy(qrb, a, sizeof(double) * (size_t)m * n);
+    qr(qrb, m, n, beta, rd);
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < n; ++i) rm[(size_t)k * n + i] = i < k ? qrb[(size_t)k * m + i] : i == k ? rd[k] : 0.0;
+    for (int c = 0; c < 3; ++c) {
+        double w[LSQ_MAX];
+        memcpy(y, g.b[c], sizeof(double) * (size_t)m);
+        qr_apply(qrb, m, n, beta, y);
+        nnls(rm, n, y, w);
+        double e = 0.0;
+        for (int i = 0; i < m; ++i) {
+            double d = -g.b[c][i];
+            for (int k = 0; k < n; ++k) d += a[(size_t)k * m + i] * w[k];
+            e += d * d;
+        }
+        for (int k = 0; k < n; ++k) weight[k][c] = w[k];
+        rel_error[c] = g.energy[c] > 0.0 ? sqrt(e / g.energy[c]) : 0.0;
+    }
+    free(a);
+    grid_free(&g);
+    return DM_OK;
 }

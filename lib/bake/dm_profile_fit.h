@@ -85,6 +85,17 @@ dm_result dm_profile_fit(const dm_profile_source *s, const dm_fit_options *opt, 
 dm_result dm_profile_fit_error(const dm_profile_source *s, const dm_profile *p, const dm_fit_options *opt,
                                double error_relative[3], dm_error *err);
 
+enum { DM_PROFILE_REPRESENT_MAX = 32 };
+
+/* A dense representation of the source for the ground truth (dm_reference.h): gaussian_count
+ * (2..DM_PROFILE_REPRESENT_MAX) Gaussians with fixed log-spaced standard deviations from a
+ * quarter of the source's narrowest scale to a third of the radius holding all but 1e-4 of
+ * its mass, weights ≥ 0 per channel by NNLS on the fit's quadrature (no variance search).
+ * variance_mm2 and weight receive gaussian_count values (ascending variances, the source's
+ * units: not normalised); rel_error the relative L2 error per channel, as the fit's. */
+dm_result dm_profile_represent(const dm_profile_source *s, int gaussian_count, double *variance_mm2,
+                               double (*weight)[3], double rel_error[3], dm_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -228,7 +228,8 @@ static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, i
     stats->covered_texels = as.covered_texels;
     stats->atlas_ms = now_ms() - t0;
     dm_reference_kernel kernel;
-    if ((r = dm_reference_kernel_from_profile(&st->s->profile, &kernel, err)) != DM_OK) return r;
+    if (o->kernel) kernel = *o->kernel;
+    else if ((r = dm_reference_kernel_from_profile(&st->s->profile, &kernel, err)) != DM_OK) return r;
     dm_reference_options ro = {0};
     if (o->reference) ro = *o->reference;
     ro.thread_count = o->thread_count;

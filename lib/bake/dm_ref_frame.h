@@ -72,6 +72,9 @@ typedef struct dm_ref_frame_options {
     /* quadrature of the convolution (cut, spacing, wide_texels); NULL = its defaults.
      * Its thread_count and progress are replaced by these options'. */
     const dm_reference_options *reference;
+    /* what is convolved; NULL = the profile's Gaussians (dm_reference_kernel_from_profile),
+     * else e.g. a dipole's dense representation (dm_reference_kernel_from_source) */
+    const dm_reference_kernel *kernel;
     /* Called now and then from the calling thread: stage ("setup", "irradiance", "elements",
      * "rays", "convolution", "shading") and the fraction of that stage done. May be NULL. */
     void (*progress)(void *user, const char *stage, double fraction);

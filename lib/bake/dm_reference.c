@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bake/dm_profile_fit.h"
 #include "bake/dm_reference_impl.h"
 #include "core/dm_math.h"
 
@@ -25,6 +26,27 @@ dm_result dm_reference_kernel_from_profile(const dm_profile *p, dm_reference_ker
     for (int i = 0; i < p->count; ++i) {
         k->variance_mm2[i] = p->variance_mm2[i];
         for (int c = 0; c < 3; ++c) k->weight[i][c] = p->weight[i][c] / sum[c];
+    }
+    return DM_OK;
+}
+
+dm_result dm_reference_kernel_from_source(const dm_profile_source *s, int gaussian_count, dm_reference_kernel *k,
+                                          double rel_error[3], dm_error *err)
+{
+    memset(k, 0, sizeof *k);
+    if (gaussian_count < 2 || gaussian_count > DM_REFERENCE_GAUSSIANS_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "reference: %d Gaussians for a radial profile, expected 2..%d", gaussian_count,
+                       DM_REFERENCE_GAUSSIANS_MAX);
+    double e[3];
+    dm_result r = dm_profile_represent(s, gaussian_count, k->variance_mm2, k->weight, e, err);
+    if (r != DM_OK) return r;
+    k->count = gaussian_count;
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        for (int i = 0; i < k->count; ++i) sum += k->weight[i][c];
+        if (!(sum > 0.0)) return dm_fail(err, DM_ERR_RANGE, "reference: the radial profile's channel %d is zero", c);
+        for (int i = 0; i < k->count; ++i) k->weight[i][c] /= sum;
+        if (rel_error) rel_error[c] = e[c];
     }
     return DM_OK;
 }

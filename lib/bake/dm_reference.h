@@ -54,7 +54,7 @@ extern "C" {
 
 enum {
     /* Gaussians one reference evaluates: a profile's (≤ DM_PROFILE_MAX_GAUSSIANS), or more
-     * for a dense representation of a tabulated radial profile (not yet: see the docs). */
+     * for the dense representation of a radial profile (dm_reference_kernel_from_source). */
     DM_REFERENCE_GAUSSIANS_MAX = 32
 };
 
@@ -70,6 +70,16 @@ typedef struct dm_reference_kernel {
 /* The profile's Gaussians with each channel's weights normalised to sum 1, as the renderer
  * does (u_level_weight). DM_ERR_RANGE when a channel sums to 0. */
 dm_result dm_reference_kernel_from_profile(const dm_profile *p, dm_reference_kernel *k, dm_error *err);
+
+/* A radial profile that is not a sum of a few Gaussians (dipole, multipole: a
+ * dm_profile_source) represented by gaussian_count (2..32) Gaussians with log-spaced widths
+ * and non-negative weights (dm_profile_represent), each channel normalised to sum 1 as the
+ * renderer normalises its profiles. rel_error (may be NULL) receives the representation's
+ * relative L2 error per channel, sqrt(∫ r (R − ΣG)² dr / ∫ r R² dr): the tool reports it
+ * beside the profile fits it is compared with. */
+struct dm_profile_source;
+dm_result dm_reference_kernel_from_source(const struct dm_profile_source *s, int gaussian_count,
+                                          dm_reference_kernel *k, double rel_error[3], dm_error *err);
 
 /* The irradiance atlas (borrowed; the caller keeps it alive while the reference exists). */
 typedef struct dm_reference_atlas {

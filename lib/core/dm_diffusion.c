@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/dm_math.h"
@@ -193,4 +194,41 @@ void dm_medium_total(const dm_medium *m, double rgb[3])
                      ? dm_multipole_total(m->sigma_a_per_mm[c], m->sigma_s_prime_per_mm[c], m->eta,
                                           m->thickness_mm, m->pair_count)
                      : dm_dipole_total(m->sigma_a_per_mm[c], m->sigma_s_prime_per_mm[c], m->eta);
+}
+
+dm_result dm_medium_parse(const char *spec, dm_diffusion_model model, double thickness_mm, int pair_count,
+                          const char *what, dm_medium *m, dm_error *err)
+{
+    memset(m, 0, sizeof *m);
+    if (!strchr(spec, ',')) { /* a name; numbers always come in 3 or 7 */
+        dm_error e = {0};
+        dm_result r = dm_medium_preset(spec, m, &e);
+        if (r != DM_OK) return dm_fail(err, r, "%s: %s", what, e.detail);
+    } else {
+        double v[8];
+        int count = 0;
+        const char *s = spec;
+        for (;;) {
+            char *end;
+            if (count == 8) break;
+            v[count++] = strtod(s, &end);
+            if (end == s || (*end && *end != ','))
+                return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: '%s': item %d is not a number", what, spec, count);
+            if (!*end) break;
+            s = end + 1;
+        }
+        if (count != 3 && count != 7)
+            return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                           "%s: '%s' has %d numbers, expected 3 (sa,ss,eta) or 7 (saR,saG,saB,ssR,ssG,ssB,eta)", what,
+                           spec, count);
+        for (int c = 0; c < 3; ++c) {
+            m->sigma_a_per_mm[c] = count == 3 ? v[0] : v[c];
+            m->sigma_s_prime_per_mm[c] = count == 3 ? v[1] : v[3 + c];
+        }
+        m->eta = v[count - 1];
+    }
+    m->model = model;
+    m->thickness_mm = thickness_mm;
+    m->pair_count = pair_count;
+    return dm_medium_validate(m, what, err);
 }

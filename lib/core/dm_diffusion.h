@@ -75,6 +75,14 @@ dm_result dm_medium_preset(const char *name, dm_medium *m, dm_error *err);
 /* The preset names, NULL-terminated, for --help. */
 const char *const *dm_medium_preset_names(void);
 
+/* A medium from a command-line SPEC: a preset name (dm_medium_preset), 3 numbers
+ * "sa,ss,eta" (every channel alike) or 7 "saR,saG,saB,ssR,ssG,ssB,eta" (σa, σs′ in mm⁻¹),
+ * with the model, slab thickness (multipole) and pair count (0 = default) given; validated.
+ * `what` (the option, e.g. "--dipole") prefixes messages. DM_ERR_INVALID_ARGUMENT for a
+ * malformed SPEC, dm_medium_validate's codes for values out of range. */
+dm_result dm_medium_parse(const char *spec, dm_diffusion_model model, double thickness_mm, int pair_count,
+                          const char *what, dm_medium *m, dm_error *err);
+
 /* Fdr, the average diffuse Fresnel reflectance for η ≥ 1 (Jensen 2001, eq. 5's fit). */
 double dm_fresnel_diffuse_reflectance(double eta);
 

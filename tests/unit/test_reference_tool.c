@@ -2,6 +2,7 @@
  * file byte for byte, the thread count changes nothing, the renderer's irradiance given as
  * a file gives the same result, levels, the frame, and every usage and load error. */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,6 +125,12 @@ Test(reference_tool, errors, .init = setup)
     cr_expect_eq(run(a), 1, "tile out of range");
     snprintf(a, sizeof a, "%s --texture-space 32 -o %s/x.png", pack, dir);
     cr_expect_eq(run(a), 1, "not an EXR");
+    snprintf(a, sizeof a, "%s --texture-space 32 --multipole skin1 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--multipole without --thickness");
+    snprintf(a, sizeof a, "%s --texture-space 32 --dipole nope -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "unknown medium");
+    snprintf(a, sizeof a, "%s --texture-space 32 --radial-gaussians 8 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--radial-gaussians without a medium");
     snprintf(a, sizeof a, "%s/missing.dpk --texture-space 32 -o %s/x.exr", dir, dir);
     cr_expect_eq(run(a), 2, "no pack");
     snprintf(a, sizeof a, "%s --texture-space 32 --irradiance %s/missing.exr -o %s/x.exr", pack, dir, dir);
@@ -131,4 +138,22 @@ Test(reference_tool, errors, .init = setup)
     snprintf(a, sizeof a, "%s --texture-space 32 -o /dev/null/no/such/dir/x.exr", pack);
     cr_expect_eq(run(a), 4, "cannot save");
     cr_expect_eq(test_count_files(dir, ".tmp"), 0, "no temporary file left");
+}
+
+/* A dipole instead of the pack's Gaussians: its name in the provenance, finite output. */
+Test(reference_tool, dipole, .init = setup, .timeout = 120)
+{
+    char a[8192];
+    snprintf(a, sizeof a, "%s --texture-space 32 --dipole skin1 -o %s/dipole.exr --quiet", pack, dir);
+    cr_assert_eq(run(a), 0);
+    dm_exr_image img;
+    dm_error err = {0};
+    char x[700];
+    snprintf(x, sizeof x, "%s/dipole.exr", dir);
+    cr_assert_eq(dm_exr_read(x, &img, &err), DM_OK, "%s", err.detail);
+    const dm_param *p = dm_prov_find(&img.prov, "profile");
+    cr_expect(p && !strcmp(p->s, "dipole:skin1"), "profile %s", p ? p->s : "(none)");
+    cr_expect(dm_prov_find(&img.prov, "radial_gaussians") != NULL);
+    for (int i = 0; i < 32 * 32; ++i) cr_expect(isfinite(dm_exr_find(&img, "R")[i]));
+    dm_exr_free(&img);
 }
