@@ -10,6 +10,7 @@ tiles=${REF_TILES:-16}
 scene=${REF_SCENE:-assets/scenes/lps-sss.json}
 out=build/reference
 mkdir -p "$out/tiles"
+rm -f "$out"/tiles/t*.exr # tiles of an earlier run would be merged too
 pack="$out/$(basename "$scene" .json).dpk"
 ref="$BUILD/bin/dermis-reference"
 command -v parallel >/dev/null || { echo "error: GNU parallel is missing (scripts/deps.sh installs it)" >&2; exit 2; }
