@@ -7,9 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/dm_lsq.h"
 #include "core/dm_math.h"
 
-enum { NMAX = DM_PROFILE_MAX_GAUSSIANS, LSQ_MAX = DM_PROFILE_REPRESENT_MAX }; /* LSQ_MAX: nnls, small_lsq */
+enum { NMAX = DM_PROFILE_MAX_GAUSSIANS, LSQ_MAX = DM_LSQ_MAX };
 
 /* ---- sources ------------------------------------------------------------------------ */
 
@@ -132,178 +133,6 @@ static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error 
     return DM_OK;
 }
 
-/* ---- small dense linear algebra ------------------------------------------------------ */
-
-/* Householder QR in place of a (rows × cols, column-major, rows ≥ cols). The reflector of
- * column k is stored in a[k][k..rows) with its scale in beta[k]; R's diagonal in rdiag,
- * R's upper part above the diagonal of a. */
-static void qr(double *a, int rows, int cols, double *beta, double *rdiag)
-{
-    for (int k = 0; k < cols; ++k) {
-        double *v = a + (size_t)k * rows;
-        double norm = 0.0;
-        for (int i = k; i < rows; ++i) norm += v[i] * v[i];
-        norm = sqrt(norm);
-        double alpha = v[k] > 0 ? -norm : norm;
-        rdiag[k] = alpha;
-        v[k] -= alpha;
-        double vv = 0.0;
-        for (int i = k; i < rows; ++i) vv += v[i] * v[i];
-        beta[k] = vv > 0.0 ? 2.0 / vv : 0.0;
-        for (int j = k + 1; j < cols; ++j) {
-            double *x = a + (size_t)j * rows, d = 0.0;
-            for (int i = k; i < rows; ++i) d += v[i] * x[i];
-            d *= beta[k];
-            for (int i = k; i < rows; ++i) x[i] -= d * v[i];
-        }
-    }
-}
-
-/* y ← Qᵀ y with the reflectors of qr(). */
-static void qr_apply(const double *a, int rows, int cols, const double *beta, double *y)
-{
-    for (int k = 0; k < cols; ++k) {
-        const double *v = a + (size_t)k * rows;
-        double d = 0.0;
-        for (int i = k; i < rows; ++i) d += v[i] * y[i];
-        d *= beta[k];
-        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
-    }
-}
-
-/* y ← Q y: the reflectors of qr() in reverse order. */
-static void qr_apply_q(const double *a, int rows, int cols, const double *beta, double *y)
-{
-    for (int k = cols - 1; k >= 0; --k) {
-        const double *v = a + (size_t)k * rows;
-        double d = 0.0;
-        for (int i = k; i < rows; ++i) d += v[i] * y[i];
-        d *= beta[k];
-        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
-    }
-}
-
-/* min ‖A z − y‖ for a small A (rows × cols ≤ LSQ_MAX × LSQ_MAX, column-major); columns whose R
- * diagonal is negligible (dependent) get z = 0. */
-static void small_lsq(const double *a_in, int rows, int cols, const double *y_in, double *z)
-{
-    double a[LSQ_MAX * LSQ_MAX], y[LSQ_MAX], beta[LSQ_MAX], rd[LSQ_MAX];
-    memcpy(a, a_in, sizeof(double) * (size_t)rows * cols);
-    memcpy(y, y_in, sizeof(double) * (size_t)rows);
-    qr(a, rows, cols, beta, rd);
-    qr_apply(a, rows, cols, beta, y);
-    double big = 0.0;
-    for (int k = 0; k < cols; ++k) big = fmax(big, fabs(rd[k]));
-    for (int k = cols - 1; k >= 0; --k) {
-        if (!(fabs(rd[k]) > 1e-14 * big)) {
-            z[k] = 0.0;
-            continue;
-        }
-        double s = y[k];
-        for (int j = k + 1; j < cols; ++j) s -= a[(size_t)j * rows + k] * z[j];
-        z[k] = s / rd[k];
-    }
-}
-
-/* Lawson–Hanson NNLS: min ‖R w − c‖, w ≥ 0, for the n × n upper-triangular R (column-major,
- * full storage, zeros below) left by the QR of the full problem. */
-static void nnls(const double *rm, int n, const double *c, double *w)
-{
-    int in_p[LSQ_MAX] = {0};
-    for (int k = 0; k < n; ++k) w[k] = 0.0;
-    double gmax0 = 0.0;
-    for (int k = 0; k < n; ++k) {
-        double gk = 0.0;
-        for (int i = 0; i < n; ++i) gk += rm[(size_t)k * n + i] * c[i];
-        gmax0 = fmax(gmax0, fabs(gk));
-    }
-    double tol = 1e-13 * gmax0;
-    for (int outer = 0; outer < 3 * n; ++outer) {
-        double res[LSQ_MAX];
-        for (int i = 0; i < n; ++i) {
-            res[i] = c[i];
-            for (int k = 0; k < n; ++k) res[i] -= rm[(size_t)k * n + i] * w[k];
-        }
-        int j = -1;
-        double best = tol;
-        for (int k = 0; k < n; ++k) {
-            if (in_p[k]) continue;
-            double gk = 0.0;
-            for (int i = 0; i < n; ++i) gk += rm[(size_t)k * n + i] * res[i];
-            if (gk > best) best = gk, j = k;
-        }
-        if (j < 0) break;
-        in_p[j] = 1;
-        int first = 1;
-        for (int inner = 0; inner < 3 * n; ++inner) {
-            double sub[LSQ_MAX * LSQ_MAX], z[LSQ_MAX], zp[LSQ_MAX];
-            int idx[LSQ_MAX], p = 0;
-            for (int k = 0; k < n; ++k)
-                if (in_p[k]) {
-                    memcpy(sub + (size_t)p * n, rm + (size_t)k * n, sizeof(double) * (size_t)n);
-                    idx[p++] = k;
-                }
-            small_lsq(sub, n, p, c, zp);
-            for (int k = 0; k < n; ++k) z[k] = 0.0;
-            for (int t = 0; t < p; ++t) z[idx[t]] = zp[t];
-            if (first && !(z[j] > 0.0)) { /* rounding: the new column does not help */
-                in_p[j] = 0;
-                return;
-            }
-            first = 0;
-            int feasible = 1;
-            for (int t = 0; t < p; ++t) feasible &= z[idx[t]] > 0.0;
-            if (feasible) {
-                memcpy(w, z, sizeof(double) * (size_t)n);
-                break;
-            }
-            double alpha = 1.0;
-            for (int t = 0; t < p; ++t) {
-                int k = idx[t];
-                if (z[k] <= 0.0) alpha = fmin(alpha, w[k] / (w[k] - z[k]));
-            }
-            for (int t = 0; t < p; ++t) {
-                int k = idx[t];
-                w[k] += alpha * (z[k] - w[k]);
-                if (w[k] <= 1e-300 || (z[k] <= 0.0 && w[k] <= DBL_EPSILON * fabs(z[k]))) {
-                    w[k] = 0.0;
-                    in_p[k] = 0;
-                }
-            }
-        }
-    }
-}
-
-/* Cholesky solve of the SPD n × n system m x = y (row-major); 0 when not positive definite. */
-static int cholesky_solve(const double *m_in, int n, const double *y, double *x)
-{
-    double l[LSQ_MAX * LSQ_MAX] = {0};
-    for (int i = 0; i < n; ++i) {
-        for (int j = 0; j <= i; ++j) {
-            double s = m_in[i * n + j];
-            for (int k = 0; k < j; ++k) s -= l[i * n + k] * l[j * n + k];
-            if (i == j) {
-                if (!(s > 0.0)) return 0;
-                l[i * n + i] = sqrt(s);
-            } else {
-                l[i * n + j] = s / l[j * n + j];
-            }
-        }
-    }
-    double t[LSQ_MAX];
-    for (int i = 0; i < n; ++i) {
-        double s = y[i];
-        for (int k = 0; k < i; ++k) s -= l[i * n + k] * t[k];
-        t[i] = s / l[i * n + i];
-    }
-    for (int i = n - 1; i >= 0; --i) {
-        double s = t[i];
-        for (int k = i + 1; k < n; ++k) s -= l[k * n + i] * x[k];
-        x[i] = s / l[i * n + i];
-    }
-    return 1;
-}
-
 /* ---- variable projection ------------------------------------------------------------- */
 
 typedef struct state {
@@ -340,15 +169,15 @@ static void evaluate(fitter *ft, state *st)
     }
     double beta[NMAX], rd[NMAX], rm[NMAX * NMAX];
     memcpy(ft->qrbuf, st->a, sizeof(double) * (size_t)m * n);
-    qr(ft->qrbuf, m, n, beta, rd);
+    dm_lsq_qr(ft->qrbuf, m, n, beta, rd);
     for (int k = 0; k < n; ++k)
         for (int i = 0; i < n; ++i)
             rm[(size_t)k * n + i] = i < k ? ft->qrbuf[(size_t)k * m + i] : i == k ? rd[k] : 0.0;
     st->f = 0.0;
     for (int c = 0; c < 3; ++c) {
         memcpy(ft->ybuf, g->b[c], sizeof(double) * (size_t)m);
-        qr_apply(ft->qrbuf, m, n, beta, ft->ybuf);
-        nnls(rm, n, ft->ybuf, st->w[c]);
+        dm_lsq_qr_apply(ft->qrbuf, m, n, beta, ft->ybuf);
+        dm_lsq_nnls(rm, n, ft->ybuf, st->w[c]);
         double e = 0.0;
         for (int i = 0; i < m; ++i) {
             double s = -g->b[c][i];
@@ -414,15 +243,15 @@ static void levenberg_marquardt(fitter *ft, state *cur, state *trial, int iterat
                 }
             if (p == 0) continue;
             double beta[NMAX], rd[NMAX];
-            qr(ft->qrbuf, m, p, beta, rd);
+            dm_lsq_qr(ft->qrbuf, m, p, beta, rd);
             for (int t = 0; t < p; ++t) {
                 int k = idx[t];
                 double *jk = ft->jbuf + (size_t)t * m;
                 const double *dk = cur->d + (size_t)k * m;
                 for (int i = 0; i < m; ++i) jk[i] = cur->w[c][k] * dk[i];
-                qr_apply(ft->qrbuf, m, p, beta, jk);
+                dm_lsq_qr_apply(ft->qrbuf, m, p, beta, jk);
                 for (int i = 0; i < p; ++i) jk[i] = 0.0;
-                qr_apply_q(ft->qrbuf, m, p, beta, jk);
+                dm_lsq_qr_apply_q(ft->qrbuf, m, p, beta, jk);
                 double s = 0.0;
                 for (int i = 0; i < m; ++i) s += dk[i] * cur->res[c][i];
                 jtr[k] += cur->w[c][k] * s / g->energy[c];
@@ -448,7 +277,7 @@ static void levenberg_marquardt(fitter *ft, state *cur, state *trial, int iterat
                 sys[k * n + k] += lambda * fmax(jtj[k * n + k], floor_diag);
                 rhs[k] = -jtr[k];
             }
-            if (!cholesky_solve(sys, n, rhs, step)) {
+            if (!dm_lsq_cholesky_solve(sys, n, rhs, step)) {
                 lambda *= 4.0;
                 continue;
             }
@@ -680,14 +509,14 @@ dm_result dm_profile_represent(const dm_profile_source *s, int gaussian_count, d
         for (int i = 0; i < m; ++i) a[(size_t)k * m + i] = g.sq[i] * dm_gaussian(variance_mm2[k], g.r[i]);
     double beta[LSQ_MAX], rd[LSQ_MAX], rm[LSQ_MAX * LSQ_MAX];
     memcpy(qrb, a, sizeof(double) * (size_t)m * n);
-    qr(qrb, m, n, beta, rd);
+    dm_lsq_qr(qrb, m, n, beta, rd);
     for (int k = 0; k < n; ++k)
         for (int i = 0; i < n; ++i) rm[(size_t)k * n + i] = i < k ? qrb[(size_t)k * m + i] : i == k ? rd[k] : 0.0;
     for (int c = 0; c < 3; ++c) {
         double w[LSQ_MAX];
         memcpy(y, g.b[c], sizeof(double) * (size_t)m);
-        qr_apply(qrb, m, n, beta, y);
-        nnls(rm, n, y, w);
+        dm_lsq_qr_apply(qrb, m, n, beta, y);
+        dm_lsq_nnls(rm, n, y, w);
         double e = 0.0;
         for (int i = 0; i < m; ++i) {
             double d = -g.b[c][i];
