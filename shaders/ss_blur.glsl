@@ -14,7 +14,7 @@ uniform vec2 u_dir;
 uniform vec2 u_texel;
 uniform vec4 u_kernel[DM_SS_TAPS]; // rgb weight, a = offset mm
 uniform float u_px_per_mm;         // pixels per mm at eye depth 1 mesh unit
-uniform float u_mm_per_unit;
+uniform float u_ss_mm_per_unit;
 uniform int u_combine;
 uniform int u_mode;
 #ifdef DM_VERTEX
@@ -36,7 +36,7 @@ void main()
         for (int i = 0; i < DM_SS_TAPS; ++i) {
             float o_mm = u_kernel[i].a;
             vec4 t = texture(u_src, v_uv + u_dir * (o_mm * px_per_mm) * u_texel);
-            float dz_mm = abs(t.a - c.a) * u_mm_per_unit;
+            float dz_mm = abs(t.a - c.a) * u_ss_mm_per_unit;
             float s = t.a > 0.0 ? clamp(dz_mm / (abs(o_mm) + 1e-3) - 1.0, 0.0, 1.0) : 1.0;
             sum += u_kernel[i].rgb * mix(t.rgb, c.rgb, s);
         }

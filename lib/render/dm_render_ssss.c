@@ -109,7 +109,7 @@ void dmr_pass_ss_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options 
     float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
     float t = tanf((float)(0.5 * r->scene.fov_y_deg * DM_PI / 180.0));
     u1f(p, "u_px_per_mm", sqrtf(blur_scale) * 0.5f * (float)r->height / (t * (float)r->scene.mm_per_unit));
-    u1f(p, "u_mm_per_unit", (float)r->scene.mm_per_unit);
+    u1f(p, "u_ss_mm_per_unit", (float)r->scene.mm_per_unit);
     static const int modes[DM_VIEW_COUNT] = {[DM_VIEW_SPECULAR] = 1, [DM_VIEW_DIFFUSE] = 2};
     u1i(p, "u_combine", along_y);
     u1i(p, "u_mode", modes[r->plan.view]);
