@@ -12,6 +12,7 @@
 #include "bake/dm_ref_frame.h"
 #include "bake/dm_ref_surface.h"
 #include "bake/dm_reference.h"
+#include "bake/dm_reference_tiles.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_pack.h"
@@ -526,120 +527,17 @@ static int frame(const args *a, const dm_pack *pack)
 
 /* ---- merge ------------------------------------------------------------------------- */
 
-/* Everything but the tile must match; returns the differing parameter's name or NULL. */
-static const char *prov_differs(const dm_provenance *a, const dm_provenance *b)
-{
-    if (strcmp(a->tool, b->tool) || strcmp(a->version, b->version)) return "tool or version";
-    if (strcmp(a->input_hash, b->input_hash)) return "input_hash";
-    if (a->param_count != b->param_count) return "parameter count";
-    for (int i = 0; i < a->param_count; ++i) {
-        const dm_param *p = &a->params[i], *q = &b->params[i];
-        if (!strcmp(p->name, "tile_index")) continue;
-        if (strcmp(p->name, q->name) || p->type != q->type || p->i != q->i || memcmp(&p->d, &q->d, sizeof p->d) ||
-            strcmp(p->s, q->s))
-            return p->name;
-    }
-    return NULL;
-}
-
 static int merge(const args *a)
 {
     dm_error err = {0};
-    dm_exr_image *img = calloc((size_t)a->merge_count, sizeof *img);
-    unsigned char *seen = NULL;
-    int code = img ? -1 : DM_EXIT_PROCESS;
-    int64_t tiles = 0, covered = 0;
-    for (int f = 0; code == -1 && f < a->merge_count; ++f) {
-        const char *path = a->merge[f];
-        if (dm_exr_read(path, &img[f], &err) != DM_OK) {
-            fprintf(stderr, "error: %s\n", err.detail);
-            code = DM_EXIT_LOAD;
-            break;
-        }
-        const dm_param *ti = dm_prov_find(&img[f].prov, "tile_index"), *tc = dm_prov_find(&img[f].prov, "tile_count");
-        const dm_param *cv = dm_prov_find(&img[f].prov, "covered_texels");
-        if (!img[f].has_provenance || strcmp(img[f].prov.tool, "dermis-reference") || !ti || !tc || !cv ||
-            !dm_exr_find(&img[f], "A")) {
-            fprintf(stderr, "error: %s: not a texture-space tile of dermis-reference\n", path);
-            code = DM_EXIT_LOAD;
-            break;
-        }
-        if (f == 0) {
-            tiles = tc->i, covered = cv->i;
-            seen = calloc((size_t)tiles + 1, 1);
-            if (!seen) code = DM_EXIT_PROCESS;
-        } else {
-            const char *d = prov_differs(&img[0].prov, &img[f].prov);
-            if (d || img[f].width != img[0].width || img[f].height != img[0].height ||
-                img[f].channel_count != img[0].channel_count) {
-                fprintf(stderr, "error: %s: not a tile of the same run as %s (%s differs)\n", path, a->merge[0],
-                        d ? d : "the image size or channels");
-                code = DM_EXIT_LOAD;
-                break;
-            }
-        }
-        if (code == -1 && (ti->i < 1 || ti->i > tiles || seen[ti->i]++)) {
-            fprintf(stderr, "error: %s: tile %lld of %lld %s\n", path, (long long)ti->i, (long long)tiles,
-                    ti->i < 1 || ti->i > tiles ? "is out of range" : "is given twice");
-            code = DM_EXIT_LOAD;
-        }
+    int64_t texels = 0;
+    dm_result r = dm_reference_merge_tiles(a->merge, a->merge_count, a->out, &texels, &err);
+    if (r != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return r == DM_ERR_FILE_WRITE ? DM_EXIT_SAVE : r == DM_ERR_OUT_OF_MEMORY ? DM_EXIT_PROCESS : DM_EXIT_LOAD;
     }
-    if (code == -1 && a->merge_count != tiles) {
-        fprintf(stderr, "error: %d tiles given, the run has %lld\n", a->merge_count, (long long)tiles);
-        code = DM_EXIT_LOAD;
-    }
-    float *planes = NULL;
-    size_t n = code == -1 ? (size_t)img[0].width * img[0].height : 0;
-    int nch = code == -1 ? img[0].channel_count : 0;
-    if (code == -1 && !(planes = calloc(n * (size_t)nch, sizeof *planes))) code = DM_EXIT_PROCESS;
-    int64_t merged = 0;
-    for (int f = 0; code == -1 && f < a->merge_count; ++f) {
-        const float *alpha = dm_exr_find(&img[f], "A");
-        for (size_t i = 0; i < n; ++i) {
-            if (!(alpha[i] > 0.0f)) continue;
-            ++merged;
-            for (int c = 0; c < nch; ++c) planes[(size_t)c * n + i] = img[f].planes[c][i];
-        }
-    }
-    if (code == -1 && merged != covered) {
-        fprintf(stderr, "error: the tiles hold %lld texels, the run covers %lld (overlapping tiles?)\n",
-                (long long)merged, (long long)covered);
-        code = DM_EXIT_PROCESS;
-    }
-    if (code == -1) {
-        dm_exr_channel ch[4 + 3 * DM_REFERENCE_GAUSSIANS_MAX];
-        for (int c = 0; c < nch; ++c) ch[c] = (dm_exr_channel){img[0].names[c], planes + (size_t)c * n, DM_EXR_FLOAT};
-        dm_provenance prov = img[0].prov;
-        /* JSON keeps no int/double distinction for integral values: this tool's doubles */
-        static const char *const doubles[] = {"cut_sigma", "spacing_sigma", "wide_texels", "mm_per_unit"};
-        for (int i = 0; i < prov.param_count; ++i)
-            for (int d = 0; d < 4; ++d)
-                if (!strcmp(prov.params[i].name, doubles[d]) && prov.params[i].type == DM_PARAM_INT) {
-                    prov.params[i].type = DM_PARAM_DOUBLE;
-                    prov.params[i].d = (double)prov.params[i].i;
-                }
-        for (int i = 0; i < prov.param_count; ++i) {
-            if (!strcmp(prov.params[i].name, "tile_index")) prov.params[i].i = 1;
-            if (!strcmp(prov.params[i].name, "tile_count")) prov.params[i].i = 1;
-        }
-        /* the one-shot run writes R, G, B, A first, then the levels */
-        dm_exr_channel ordered[4 + 3 * DM_REFERENCE_GAUSSIANS_MAX];
-        int k = 0;
-        const char *first[4] = {"R", "G", "B", "A"};
-        for (int q = 0; q < 4; ++q)
-            for (int c = 0; c < nch; ++c)
-                if (!strcmp(ch[c].name, first[q])) ordered[k++] = ch[c];
-        for (int c = 0; c < nch; ++c)
-            if (strlen(ch[c].name) > 1) ordered[k++] = ch[c];
-        code = dm_exr_write(a->out, img[0].width, img[0].height, ordered, k, &prov, &err) == DM_OK ? DM_EXIT_OK : DM_EXIT_SAVE;
-        if (code != DM_EXIT_OK) fprintf(stderr, "error: %s\n", err.detail);
-        else if (!a->quiet) printf("%s: %d tiles merged, %lld texels\n", a->out, a->merge_count, (long long)merged);
-    }
-    for (int f = 0; img && f < a->merge_count; ++f) dm_exr_free(&img[f]);
-    free(img);
-    free(seen);
-    free(planes);
-    return code;
+    if (!a->quiet) printf("%s: %d tiles merged, %lld texels\n", a->out, a->merge_count, (long long)texels);
+    return DM_EXIT_OK;
 }
 
 int main(int argc, char **argv)
