@@ -246,7 +246,7 @@ float dm_light_distance(int i, float d)
 vec3 dm_translucency(int i, vec3 P, vec3 Ng, vec3 N, vec3 L)
 {
     int layer = u_light_shadow[i];
-    float back = max(-dot(N, L), 0.0);
+    float back = max(-dot(Ng, L), 0.0); // the geometric normal: the normal map's detail is front-surface relief
     if (layer < 0 || back <= 0.0) return vec3(0.0);
     vec4 c = u_light_matrix[i] * vec4(P - Ng * u_shadow_normal_offset, 1.0);
     vec3 p = c.xyz / c.w * 0.5 + 0.5;

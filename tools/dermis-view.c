@@ -155,7 +155,7 @@ static void handle_key(app *a, int key, int mods)
 {
     dm_viewer *v = &a->v;
     bool shift = (mods & GLFW_MOD_SHIFT) != 0;
-    if (key >= GLFW_KEY_1 && key <= GLFW_KEY_7) {
+    if (key >= GLFW_KEY_1 && key <= GLFW_KEY_8) {
         dm_effect e = (dm_effect)(key - GLFW_KEY_1);
         dm_viewer_set_effect(v, e, !v->scene.effects[e]);
         return;
@@ -170,6 +170,10 @@ static void handle_key(app *a, int key, int mods)
     case GLFW_KEY_R: v->light_rotating = !v->light_rotating; break;
     case GLFW_KEY_B: dm_viewer_set_background(v, !v->scene.env_background); break;
     case GLFW_KEY_C: dm_viewer_cycle_compare(v); break;
+    case GLFW_KEY_T:
+        if (shift) dm_viewer_set_technique_split(v, !v->tsplit);
+        else dm_viewer_cycle_technique(v);
+        break;
     case GLFW_KEY_V: dm_viewer_cycle_view(v, shift ? -1 : 1); break;
     case GLFW_KEY_SPACE: dm_viewer_reset_camera(v); break;
     case GLFW_KEY_EQUAL:
@@ -250,12 +254,12 @@ static int key_from_name(const char *name, int *mods)
         int key;
     } keys[] = {{"F1", GLFW_KEY_F1},       {"F12", GLFW_KEY_F12},     {"H", GLFW_KEY_H},
                 {"S", GLFW_KEY_S},         {"R", GLFW_KEY_R},         {"B", GLFW_KEY_B},
-                {"V", GLFW_KEY_V},         {"Q", GLFW_KEY_Q},         {"C", GLFW_KEY_C},         {"TAB", GLFW_KEY_TAB},
+                {"V", GLFW_KEY_V},         {"Q", GLFW_KEY_Q},         {"C", GLFW_KEY_C},         {"TAB", GLFW_KEY_TAB}, {"T", GLFW_KEY_T},
                 {"SPACE", GLFW_KEY_SPACE}, {"ESCAPE", GLFW_KEY_ESCAPE}, {"PLUS", GLFW_KEY_EQUAL},
                 {"MINUS", GLFW_KEY_MINUS}};
     *mods = 0;
     if (!strncmp(name, "shift+", 6)) *mods = GLFW_MOD_SHIFT, name += 6;
-    if (name[0] >= '1' && name[0] <= '7' && !name[1]) return GLFW_KEY_1 + (name[0] - '1');
+    if (name[0] >= '1' && name[0] <= '8' && !name[1]) return GLFW_KEY_1 + (name[0] - '1');
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
         if (!strcmp(name, keys[i].name)) return keys[i].key;
     return -1;
@@ -320,6 +324,11 @@ static bool run_event(app *a, const dm_script_event *e)
         dm_viewer_set_env(v, (int)k);
     } else if (!strcmp(c, "compare")) {
         dm_viewer_set_compare(v, e->args[0]);
+    } else if (!strcmp(c, "technique")) { /* NAME, or split / nosplit */
+        if (!strcmp(e->args[0], "split") || !strcmp(e->args[0], "nosplit"))
+            dm_viewer_set_technique_split(v, e->args[0][0] == 's');
+        else
+            dm_viewer_set_technique(v, e->args[0]);
     } else if (!strcmp(c, "screenshot")) {
         if (!dm_viewer_screenshot(v, e->args[0])) a->save_failures++;
     } else if (!strcmp(c, "window-shot")) {

@@ -27,8 +27,10 @@ const char dm_viewer_help[] =
     "right/middle   pan\n"
     "shift + left   move the light (the one chosen in the panel)\n"
     "R              rotate the lights around the head (toggle)\n"
-    "1 .. 7         toggle specular, subsurface, energy conservation,\n"
-    "               shadows, environment lighting, glow, tonemap\n"
+    "1 .. 8         toggle specular, subsurface, energy conservation,\n"
+    "               shadows, environment lighting, glow, tonemap, translucency\n"
+    "T              subsurface technique: texture-space / screen-space\n"
+    "shift+T        the other technique beside this one (C: side, split, error)\n"
     "B              environment background on/off\n"
     "C              reference comparison: side by side, split, error map, off\n"
     "               (--reference; split position and colour scale in the panel)\n"
@@ -182,6 +184,7 @@ dm_result dm_viewer_start(dm_viewer *v, dm_error *err)
 void dm_viewer_free(dm_viewer *v)
 {
     dm_viewer_compare_free(v);
+    dm_renderer_destroy(v->r_other);
     dm_renderer_destroy(v->r);
     if (v->tex) {
         GLuint t = v->tex;
@@ -210,6 +213,11 @@ static bool rebuild(dm_viewer *v, const dm_scene *previous, int previous_irr, co
     if (create_renderer(v, &err2) != DM_OK) fprintf(stderr, "error: cannot restore the renderer: %s\n", err2.detail);
     dm_viewer_set_status(v, true, "%s refused: %s", what, why);
     return false;
+}
+
+bool dm_viewer_rebuild(dm_viewer *v, const dm_scene *previous, int previous_irr, const char *what)
+{
+    return rebuild(v, previous, previous_irr, what);
 }
 
 static void apply_camera(dm_viewer *v)
@@ -253,6 +261,8 @@ void dm_viewer_update(dm_viewer *v, double dt_s)
     if (v->cmp.on) { /* the view the reference matches, unscaled */
         fo.view = v->cmp.ref.mode == DM_REFCMP_TEXTURE_SPACE ? DM_VIEW_DIFFUSION : DM_VIEW_FINAL;
         fo.view_index = 0, fo.view_scale = 1;
+    } else if (v->tsplit) { /* two techniques: the final pictures */
+        fo.view = DM_VIEW_FINAL, fo.view_index = 0, fo.view_scale = 1;
     }
     if (dm_render_frame(v->r, &fo, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "frame: %s", err.detail);
@@ -265,6 +275,8 @@ void dm_viewer_update(dm_viewer *v, double dt_s)
     dm_renderer_last_timings(v->r, v->pass_ms, &v->frame_ms);
     if (v->cmp.on) {
         if (!dm_viewer_compare_frame(v)) return;
+    } else if (v->tsplit) {
+        if (!dm_viewer_technique_frame(v, &fo)) return;
     } else if (dm_renderer_read_display(v->r, v->rgba, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "read back: %s", err.detail);
         return;

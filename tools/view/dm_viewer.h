@@ -95,6 +95,11 @@ typedef struct dm_viewer {
     char status[DM_VIEWER_STATUS_SIZE]; /* the last message, shown in the panel */
     int shot_count;
     dm_viewer_compare cmp;
+    /* technique split (dm_viewer_technique.c): the other subsurface technique rendered by a
+     * second renderer beside this one, through the comparison's split/side/error machinery */
+    bool tsplit;
+    dm_renderer *r_other;
+    dm_scene scene_other;
     /* --watch */
     long long watch_mtime_ns, watch_size;
     double watch_next_ms;
@@ -144,6 +149,22 @@ void dm_viewer_cycle_compare(dm_viewer *v);
 /* The frame's comparison picture into v->rgba (called by dm_viewer_update). */
 bool dm_viewer_compare_frame(dm_viewer *v);
 void dm_viewer_compare_free(dm_viewer *v);
+
+/* Subsurface technique (dm_viewer_technique.c): "texture-space" or "screen-space"; the
+ * renderer is recreated over the same assets (a screen-space kernel missing from the pack is
+ * fitted from the profile; texture-space needs the pack's stretch maps, refused without). */
+bool dm_viewer_set_technique(dm_viewer *v, const char *name);
+/* Key T: texture-space ↔ screen-space. */
+void dm_viewer_cycle_technique(dm_viewer *v);
+/* Key shift+T: the other technique beside this one (layout and divider of the comparison:
+ * split at cmp.split by default; C cycles side/split/error), with their difference's
+ * statistics; refused while a --reference comparison is on. */
+bool dm_viewer_set_technique_split(dm_viewer *v, bool on);
+/* The frame's technique comparison into v->rgba (called by dm_viewer_update). */
+bool dm_viewer_technique_frame(dm_viewer *v, const dm_frame_options *fo);
+/* Recreates the renderer for the edited scene, restoring `previous` on failure (what: the
+ * status text). */
+bool dm_viewer_rebuild(dm_viewer *v, const dm_scene *previous, int previous_irr, const char *what);
 
 /* Screenshot of the rendered image with provenance (view, scene, every parameter). */
 bool dm_viewer_screenshot(dm_viewer *v, const char *path);

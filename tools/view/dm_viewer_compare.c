@@ -55,6 +55,11 @@ bool dm_viewer_set_compare(dm_viewer *v, const char *mode)
 void dm_viewer_cycle_compare(dm_viewer *v)
 {
     dm_viewer_compare *c = &v->cmp;
+    if (!c->loaded && v->tsplit) { /* the technique split uses the same layouts */
+        c->layout = (dm_refcmp_layout)((c->layout + 1) % DM_REFCMP_LAYOUT_COUNT);
+        v->dirty = true;
+        return;
+    }
     if (!c->loaded) {
         dm_viewer_set_status(v, false, "no reference to compare with (--reference REF.exr)");
         return;

@@ -15,7 +15,7 @@ typedef struct command_spec {
 static const command_spec specs[] = {
     {"key", 1, 1, -1},        {"drag", 4, 5, 0},       {"scroll", 1, 1, 0},     {"toggle", 1, 2, -1},
     {"view", 1, 1, -1},       {"set", 2, 4, 1},        {"screenshot", 1, 1, -1}, {"window-shot", 1, 1, -1},
-    {"quit", 0, 0, -1},       {"env", 1, 1, 0},        {"compare", 1, 1, -1},
+    {"quit", 0, 0, -1},       {"env", 1, 1, 0},        {"compare", 1, 1, -1},   {"technique", 1, 1, -1},
 };
 
 static bool number(const char *t)
@@ -64,7 +64,7 @@ dm_result dm_script_read(const char *path, dm_script *s, dm_error *err)
         if (!spec) {
             rc = dm_fail(err, DM_ERR_FORMAT,
                          "%s:%d: error: '%s' is not a command (key, drag, scroll, toggle, view, set, env, "
-                         "compare, screenshot, window-shot, quit)",
+                         "compare, technique, screenshot, window-shot, quit)",
                          path, line, tok ? tok : "");
             break;
         }

@@ -67,6 +67,21 @@ static void section_effects(dm_viewer *v)
         snprintf(label, sizeof label, "%d  %s", e + 1, dm_effect_name((dm_effect)e));
         if (ImGui::Checkbox(label, &on)) dm_viewer_set_effect(v, (dm_effect)e, on);
     }
+    const char *tech = dm_sss_technique_name(v->scene.sss_technique);
+    if (ImGui::BeginCombo("technique (T)", tech)) {
+        for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)
+            if (dm_sss_technique_available((dm_sss_technique)k) &&
+                ImGui::Selectable(dm_sss_technique_name((dm_sss_technique)k), k == (int)v->scene.sss_technique))
+                dm_viewer_set_technique(v, dm_sss_technique_name((dm_sss_technique)k));
+        ImGui::EndCombo();
+    }
+    bool split = v->tsplit;
+    if (ImGui::Checkbox("beside the other technique (shift+T)", &split)) dm_viewer_set_technique_split(v, split);
+    if (v->tsplit) {
+        if (v->cmp.layout == DM_REFCMP_SPLIT && ImGui::SliderFloat("divider", &v->cmp.split, 0.0f, 1.0f, "%.2f"))
+            v->dirty = true;
+        if (v->cmp.has_stats) ImGui::TextWrapped("left/reference: the other technique\n%s", v->cmp.text);
+    }
     if (ImGui::SliderFloat("exposure", &v->scene.exposure, -6.0f, 6.0f, "%.2f stops")) v->dirty = true;
     if (ImGui::SliderFloat("blur width", &v->blur_scale, 0.1f, 10.0f, "x%.2f variance",
                            ImGuiSliderFlags_Logarithmic))
