@@ -1,6 +1,6 @@
 /* dermis-fit-profile — fits N Gaussians (shared variances, per-channel weights) to a
- * diffusion profile: the GPU Gems 3 table, or a dipole / multipole from optical
- * parameters; writes the profile JSON and prints what each N costs. */
+ * diffusion profile: the GPU Gems 3 table, a dipole / multipole from optical parameters,
+ * or Burley's normalized diffusion from albedo and mean free path; writes the profile JSON and prints what each N costs. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -19,6 +19,8 @@
 typedef struct options {
     const char *preset;    /* --preset */
     const char *spec;      /* --dipole / --multipole value */
+    bool burley;           /* --burley */
+    const char *albedo, *mfp; /* --albedo, --mfp (Burley) */
     int source_count;      /* how many source options were given */
     bool multipole;
     double thickness_mm;   /* 0 = not given */
@@ -34,7 +36,8 @@ typedef struct options {
 
 static void usage(FILE *f)
 {
-    fprintf(f, "Usage: " TOOL " (--preset gems3-skin | --dipole SPEC | --multipole SPEC --thickness MM)\n"
+    fprintf(f, "Usage: " TOOL " (--preset gems3-skin | --dipole SPEC | --multipole SPEC --thickness MM |\n"
+               "                          --burley --albedo R,G,B --mfp R,G,B)\n"
                "                          [-n N] [--table] [-o profile.json] [options]\n");
 }
 
@@ -56,7 +59,12 @@ static void help(void)
            "       or 'saR,saG,saB,ssR,ssG,ssB,eta'.\n"
            "       sigma_a in [0, %g], sigma_s' in (0, %g], eta in [%g, %g].\n"
            "  --thickness MM         slab thickness, (0, %g] mm; multipole only, required there\n"
-           "  --pairs N              dipole pairs i = -N..N of the multipole, 1..%d (default %d)\n\n"
+           "  --pairs N              dipole pairs i = -N..N of the multipole, 1..%d (default %d)\n"
+           "  --burley               Christensen & Burley 2015 normalized diffusion,\n"
+           "                         R(r) = A s (exp(-s r) + exp(-s r/3)) / (8 pi r), s = S(A) / mfp,\n"
+           "                         S(A) = 1.85 - A + 7|A - 0.8|^3 (their searchlight fit for the mfp)\n"
+           "  --albedo A|R,G,B       Burley albedo A per channel, [0, 1]; required with --burley\n"
+           "  --mfp MM|R,G,B         Burley mean free path per channel, (0, %g] mm; required there\n\n"
            "Fit:\n"
            "  -n, --gaussians N      Gaussians, 1..%d (default %d); the runtime blurs 2(N-1) passes\n"
            "  --nodes N              radial quadrature nodes in ln r, odd, %d..%d (default %d)\n"
@@ -72,7 +80,7 @@ static void help(void)
            "Exit codes: 0 ok, 1 usage (bad option or parameter), 2 cannot load input,\n"
            "            3 fit failed, 4 cannot save output.\n",
            DM_SIGMA_MAX_PER_MM, DM_SIGMA_MAX_PER_MM, DM_ETA_MIN, DM_ETA_MAX, DM_THICKNESS_MAX_MM,
-           DM_MULTIPOLE_PAIRS_MAX, DM_MULTIPOLE_PAIRS_DEFAULT, DM_PROFILE_MAX_GAUSSIANS, DM_FIT_GAUSSIANS_DEFAULT,
+           DM_MULTIPOLE_PAIRS_MAX, DM_MULTIPOLE_PAIRS_DEFAULT, DM_MFP_MAX_MM, DM_PROFILE_MAX_GAUSSIANS, DM_FIT_GAUSSIANS_DEFAULT,
            DM_FIT_NODES_MIN, DM_FIT_NODES_MAX, DM_FIT_NODES_DEFAULT, DM_PROFILE_MAX_GAUSSIANS);
 }
 
@@ -99,6 +107,13 @@ static int parse(int argc, char **argv, options *o)
             o->spec = v;
             o->multipole = !strcmp(a, "--multipole");
             ++o->source_count;
+        } else if (!strcmp(a, "--burley")) {
+            o->burley = true;
+            ++o->source_count;
+        } else if (!strcmp(a, "--albedo")) {
+            if (!(o->albedo = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--mfp")) {
+            if (!(o->mfp = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--thickness")) {
             if (!(v = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
             if (!dm_cli_double(a, v, 0.0, DM_THICKNESS_MAX_MM, &o->thickness_mm)) return DM_EXIT_USAGE;
@@ -142,9 +157,13 @@ static int parse(int argc, char **argv, options *o)
     }
     const char *why = NULL;
     if (o->source_count == 0)
-        why = "give a source: --preset, --dipole or --multipole";
+        why = "give a source: --preset, --dipole, --multipole or --burley";
     else if (o->source_count > 1)
-        why = "--preset, --dipole and --multipole exclude each other";
+        why = "--preset, --dipole, --multipole and --burley exclude each other";
+    else if (o->burley && (!o->albedo || !o->mfp))
+        why = "--burley needs --albedo and --mfp";
+    else if (!o->burley && (o->albedo || o->mfp))
+        why = "--albedo and --mfp apply to --burley only";
     else if (o->multipole && o->thickness_mm == 0.0)
         why = "--multipole needs --thickness MM";
     else if (!o->multipole && o->thickness_mm != 0.0)
@@ -181,6 +200,13 @@ static void provenance(const options *o, const dm_profile_source *s, dm_provenan
     if (s->kind == DM_SOURCE_GAUSSIANS) {
         dm_prov_add_string(p, "source", "preset");
         dm_prov_add_string(p, "preset", o->preset);
+    } else if (s->kind == DM_SOURCE_BURLEY) {
+        dm_prov_add_string(p, "source", "burley");
+        dm_prov_add_string(p, "burley_shape", "S(A)=1.85-A+7|A-0.8|^3 (Christensen & Burley 2015, searchlight, mfp)");
+        static const char *const a[3] = {"albedo_r", "albedo_g", "albedo_b"};
+        static const char *const l[3] = {"mfp_mm_r", "mfp_mm_g", "mfp_mm_b"};
+        for (int c = 0; c < 3; ++c) dm_prov_add_double(p, a[c], s->burley.albedo[c]);
+        for (int c = 0; c < 3; ++c) dm_prov_add_double(p, l[c], s->burley.mfp_mm[c]);
     } else {
         const dm_medium *m = &s->medium;
         dm_prov_add_string(p, "source", o->multipole ? "multipole" : "dipole");
@@ -239,6 +265,14 @@ int main(int argc, char **argv)
         src.kind = DM_SOURCE_GAUSSIANS;
         dm_profile_gems3_skin(&src.gaussians);
         snprintf(name, sizeof name, "%s", o.preset);
+    } else if (o.burley) {
+        src.kind = DM_SOURCE_BURLEY;
+        dm_error err = {0};
+        if (dm_burley_parse(o.albedo, o.mfp, "--burley", &src.burley, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            return DM_EXIT_USAGE;
+        }
+        snprintf(name, sizeof name, "burley");
     } else {
         src.kind = DM_SOURCE_MEDIUM;
         if ((rc = parse_medium(&o, &src.medium))) return rc;
@@ -275,7 +309,7 @@ int main(int argc, char **argv)
                           .has_error = 1,
                           .error_relative_max = fr.error_relative_max,
                           .source = &src,
-                          .source_preset = o.preset ? o.preset : src.medium.name,
+                          .source_preset = o.preset ? o.preset : o.burley ? "" : src.medium.name,
                           .provenance = &prov};
     memcpy(doc.total_reflectance, total, sizeof total);
     memcpy(doc.error_relative, fr.error_relative, sizeof fr.error_relative);

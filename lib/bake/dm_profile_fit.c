@@ -18,7 +18,8 @@ dm_result dm_profile_source_validate(const dm_profile_source *s, const char *wha
 {
     if (s->kind == DM_SOURCE_GAUSSIANS) return dm_profile_validate(&s->gaussians, what, err);
     if (s->kind == DM_SOURCE_MEDIUM) return dm_medium_validate(&s->medium, what, err);
-    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: source kind %d, expected Gaussians or a medium", what,
+    if (s->kind == DM_SOURCE_BURLEY) return dm_burley_validate(&s->burley, what, err);
+    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: source kind %d, expected Gaussians, a medium or Burley", what,
                    (int)s->kind);
 }
 
@@ -26,6 +27,8 @@ void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[
 {
     if (s->kind == DM_SOURCE_GAUSSIANS)
         dm_profile_eval(&s->gaussians, r_mm, rgb);
+    else if (s->kind == DM_SOURCE_BURLEY)
+        dm_burley_eval(&s->burley, r_mm, rgb);
     else
         dm_medium_eval(&s->medium, r_mm, rgb);
 }
@@ -34,14 +37,29 @@ void dm_profile_source_total(const dm_profile_source *s, double rgb[3])
 {
     if (s->kind == DM_SOURCE_GAUSSIANS)
         dm_profile_channel_sums(&s->gaussians, rgb);
+    else if (s->kind == DM_SOURCE_BURLEY)
+        dm_burley_total(&s->burley, rgb);
     else
         dm_medium_total(&s->medium, rgb);
 }
 
-/* Smallest and largest length scales of the source, mm: the Gaussians' σ, or the
- * medium's real and virtual source depths. */
+/* Smallest and largest length scales of the source, mm: the Gaussians' σ, the medium's
+ * real and virtual source depths, or Burley's d/10 (so that r_min = 1e-4 d resolves the
+ * 1/r spike) and 3d (the slow exponential) over the channels with A > 0. */
 static void source_scales(const dm_profile_source *s, double *lo, double *hi)
 {
+    if (s->kind == DM_SOURCE_BURLEY) {
+        *lo = INFINITY;
+        *hi = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            int c = k % 3; /* k = 3: every albedo is 0, take channel R's scale */
+            if (k == 3 ? *hi > 0.0 : s->burley.albedo[c] == 0.0) continue;
+            double d = dm_burley_scale_mm(s->burley.albedo[c], s->burley.mfp_mm[c]);
+            *lo = fmin(*lo, 0.1 * d);
+            *hi = fmax(*hi, 3.0 * d);
+        }
+        return;
+    }
     if (s->kind == DM_SOURCE_GAUSSIANS) {
         *lo = sqrt(s->gaussians.variance_mm2[0]);
         *hi = sqrt(s->gaussians.variance_mm2[s->gaussians.count - 1]);
@@ -90,10 +108,13 @@ static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error 
     memset(g, 0, sizeof *g);
     double lo, hi;
     source_scales(s, &lo, &hi);
-    g->r_min = 1e-3 * lo;
+    /* Burley: r_min = 1e-6 d, so that the disc [0, r_min], where r R ≈ A s/4π and r G → 0,
+     * holds ~1e-6 of the norm; the cap then follows the widest scale instead. */
+    int burley = s->kind == DM_SOURCE_BURLEY;
+    g->r_min = (burley ? 1e-5 : 1e-3) * lo;
     /* r_max: walk out by √2 until r²R(r) (the profile's mass per unit ln r) has fallen
-     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min. */
-    double cap = 1e6 * g->r_min, peak = 0.0, r = g->r_min;
+     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min (Burley: 1e3·hi). */
+    double cap = burley ? 1e3 * hi : 1e6 * g->r_min, peak = 0.0, r = g->r_min;
     for (;;) {
         double p = peak_r2(s, r);
         if (!isfinite(p)) return dm_fail(err, DM_ERR_NON_FINITE, "profile source: R(%g mm) is not finite", r);
@@ -114,9 +135,12 @@ static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error 
         double ri = i == m - 1 ? g->r_max : exp(u0 + i * h);
         double coef = (i == 0 || i == m - 1) ? 1.0 : (i % 2 ? 4.0 : 2.0);
         g->r[i] = ri;
-        g->q[i] = coef * h / 3.0 * ri * ri; /* dr = r du, and the weight r */
+        /* dr = r du, and the weight r (r² for Burley: see dm_profile_fit.h) */
+        g->q[i] = coef * h / 3.0 * ri * ri * (s->kind == DM_SOURCE_BURLEY ? ri : 1.0);
     }
-    g->q[0] += 0.5 * g->r_min * g->r_min; /* the disc [0, r_min], f taken as f(r_min) */
+    /* the disc [0, r_min]: f taken as f(r_min); for Burley r²f is taken as r_min² f(r_min)
+     * (exact for the 1/r² of (R − G)² there) */
+    g->q[0] += s->kind == DM_SOURCE_BURLEY ? g->r_min * g->r_min * g->r_min : 0.5 * g->r_min * g->r_min;
     for (int c = 0; c < 3; ++c) g->energy[c] = 0.0;
     for (int i = 0; i < m; ++i) {
         double v[3];

@@ -7,6 +7,7 @@
  * summed over the channels as Σ_c e_c / E_c with E_c = ∫ r R_c² dr, so every channel's
  * relative error counts the same (a dim blue channel as much as a bright red one).
  * Reported error per channel: sqrt(e_c / E_c) (0 = exact; 1 = no better than zero).
+ * (Burley's profile uses the weight r² instead: see dm_source_kind.)
  *
  * Method (deterministic: no threads, no randomness, fixed iteration limits):
  *   - the integral is a composite Simpson rule in u = ln r over [r_min, r_max], plus the
@@ -40,22 +41,29 @@ enum {
 };
 #define DM_FIT_MIN_RATIO 1.2 /* smallest v_{k+1}/v_k */
 
-/* What to fit: a sum of Gaussians (e.g. the gems3-skin preset, or a profile read from JSON)
- * or a physical medium (dipole or multipole). */
-typedef enum dm_source_kind { DM_SOURCE_GAUSSIANS, DM_SOURCE_MEDIUM } dm_source_kind;
+/* What to fit: a sum of Gaussians (e.g. the gems3-skin preset, or a profile read from JSON),
+ * a physical medium (dipole or multipole) or Burley's normalized diffusion.
+ *
+ * Burley's R(r) ∝ 1/r at r → 0: its mass is finite but ∫ r R² dr diverges (like ln 1/r_min),
+ * so for DM_SOURCE_BURLEY the fit and its errors use the weight r² instead of r, i.e. the L2
+ * error of the radial mass density r R(r): e_c = ∫₀^∞ (r R_c − r Σ w G)² dr, which is
+ * finite. r_min is then 1e-6 of the smallest d = ℓ/S(A) and r_max at most 3000 of the
+ * largest (the disc [0, r_min] counts r_min³ f(r_min): ~1e-6 of the norm). */
+typedef enum dm_source_kind { DM_SOURCE_GAUSSIANS, DM_SOURCE_MEDIUM, DM_SOURCE_BURLEY } dm_source_kind;
 
 typedef struct dm_profile_source {
     dm_source_kind kind;
     dm_profile gaussians; /* DM_SOURCE_GAUSSIANS */
     dm_medium medium;     /* DM_SOURCE_MEDIUM */
+    dm_burley burley;     /* DM_SOURCE_BURLEY */
 } dm_profile_source;
 
-/* Checks the source (dm_profile_validate or dm_medium_validate); `what` names it. */
+/* Checks the source (dm_profile_validate, dm_medium_validate or dm_burley_validate). */
 dm_result dm_profile_source_validate(const dm_profile_source *s, const char *what, dm_error *err);
 /* R(r) of the source per channel, mm⁻². */
 void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3]);
-/* Its total diffuse reflectance ∫ 2πr R dr in closed form (weight sums or the dipole /
- * multipole formulas). */
+/* Its total diffuse reflectance ∫ 2πr R dr in closed form (weight sums, the dipole /
+ * multipole formulas, or Burley's albedo). */
 void dm_profile_source_total(const dm_profile_source *s, double rgb[3]);
 
 /* Zero-initialised = defaults. */

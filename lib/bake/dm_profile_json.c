@@ -107,6 +107,7 @@ static void put_source(sbuf *b, const dm_profile_source *s, const char *preset)
     double total[3];
     dm_profile_source_total(s, total);
     const char *model = s->kind == DM_SOURCE_GAUSSIANS             ? "gaussians"
+                        : s->kind == DM_SOURCE_BURLEY           ? "burley"
                         : s->medium.model == DM_MODEL_MULTIPOLE ? "multipole"
                                                                  : "dipole";
     put(b, "{\n    \"model\": \"%s\",\n    \"preset\": ", model);
@@ -114,6 +115,11 @@ static void put_source(sbuf *b, const dm_profile_source *s, const char *preset)
     if (s->kind == DM_SOURCE_GAUSSIANS) {
         put(b, ",\n    \"gaussians\": ");
         put_gaussians(b, &s->gaussians, "    ", 0);
+    } else if (s->kind == DM_SOURCE_BURLEY) { /* Christensen & Burley 2015, S(A) for ℓ (searchlight) */
+        put(b, ",\n    \"albedo\": ");
+        put_rgb(b, s->burley.albedo);
+        put(b, ",\n    \"mfp_mm\": ");
+        put_rgb(b, s->burley.mfp_mm);
     } else {
         const dm_medium *m = &s->medium;
         put(b, ",\n    \"sigma_a_per_mm\": ");

@@ -232,3 +232,82 @@ dm_result dm_medium_parse(const char *spec, dm_diffusion_model model, double thi
     m->pair_count = pair_count;
     return dm_medium_validate(m, what, err);
 }
+
+/* ---- Burley normalized diffusion (Christensen & Burley 2015) ------------------------- */
+
+dm_result dm_burley_validate(const dm_burley *b, const char *what, dm_error *err)
+{
+    dm_result r;
+    for (int c = 0; c < 3; ++c) {
+        if ((r = check(b->albedo[c], 0.0, 0, 1.0, what, "albedo", c, err))) return r;
+        if ((r = check(b->mfp_mm[c], 0.0, 1, DM_MFP_MAX_MM, what, "mfp_mm", c, err))) return r;
+    }
+    return DM_OK;
+}
+
+/* 1 or 3 comma-separated numbers into v[3]; 0 on success. */
+static int parse_rgb(const char *spec, double v[3])
+{
+    int count = 0;
+    const char *s = spec;
+    for (;;) {
+        char *end;
+        if (count == 3) return -1;
+        v[count++] = strtod(s, &end);
+        if (end == s || (*end && *end != ',')) return -1;
+        if (!*end) break;
+        s = end + 1;
+    }
+    if (count == 1) v[1] = v[2] = v[0];
+    return count == 1 || count == 3 ? 0 : -1;
+}
+
+dm_result dm_burley_parse(const char *albedo, const char *mfp, const char *what, dm_burley *b, dm_error *err)
+{
+    memset(b, 0, sizeof *b);
+    if (parse_rgb(albedo, b->albedo))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: albedo '%s', expected 1 number or 3 (R,G,B) in [0, 1]",
+                       what, albedo);
+    if (parse_rgb(mfp, b->mfp_mm))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: mean free path '%s', expected 1 number or 3 (R,G,B) in mm",
+                       what, mfp);
+    return dm_burley_validate(b, what, err);
+}
+
+double dm_burley_shape(double albedo)
+{
+    double t = fabs(albedo - 0.8);
+    return 1.85 - albedo + 7.0 * t * t * t;
+}
+
+double dm_burley_scale_mm(double albedo, double mfp_mm)
+{
+    return mfp_mm / dm_burley_shape(albedo);
+}
+
+double dm_burley_reflectance(double albedo, double mfp_mm, double r_mm)
+{
+    if (albedo == 0.0 || isinf(r_mm)) return 0.0;
+    double s = 1.0 / dm_burley_scale_mm(albedo, mfp_mm);
+    if (r_mm == 0.0) return INFINITY;
+    double x = s * r_mm;
+    /* exp(−x/3) underflows only beyond x ≈ 2235; then both terms are 0. */
+    return albedo * s * (exp(-x) + exp(-x / 3.0)) / (8.0 * DM_PI * r_mm);
+}
+
+void dm_burley_eval(const dm_burley *b, double r_mm, double rgb[3])
+{
+    for (int c = 0; c < 3; ++c) rgb[c] = dm_burley_reflectance(b->albedo[c], b->mfp_mm[c], r_mm);
+}
+
+void dm_burley_total(const dm_burley *b, double rgb[3])
+{
+    for (int c = 0; c < 3; ++c) rgb[c] = b->albedo[c];
+}
+
+double dm_burley_mass_within(double albedo, double mfp_mm, double rho_mm)
+{
+    double x = rho_mm / dm_burley_scale_mm(albedo, mfp_mm);
+    /* 1 − e^(−x)/4 − 3e^(−x/3)/4 = (−expm1(−x) + 3·(−expm1(−x/3)))/4: accurate near 0. */
+    return albedo * (-expm1(-x) - 3.0 * expm1(-x / 3.0)) / 4.0;
+}
