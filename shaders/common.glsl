@@ -208,7 +208,7 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
 
 #if defined(DM_TRANSLUCENCY) && defined(DM_FRAGMENT)
 // Translucency (lib/render/dm_render_translucency.c, Jimenez et al. 2010): light C I T(d)
-// max(-N.L, 0) through thickness d (mm) between the point, shrunk inward along Ng, and the
+// max(-Ng.L, 0) through thickness d (mm) between the point, shrunk inward along Ng, and the
 // first surface the light's depth map holds; T(d) = sum_k w_k exp(-d^2 / 2 v_k).
 uniform sampler2D u_tdepth0; // the shadow maps' raw depths (sampler object, no compare)
 uniform sampler2D u_tdepth1;
@@ -243,19 +243,28 @@ float dm_light_distance(int i, float d)
     return 2.0 * nf.x * nf.y / max(nf.y + nf.x - z * (nf.y - nf.x), 1e-20);
 }
 
-vec3 dm_translucency(int i, vec3 P, vec3 Ng, vec3 N, vec3 L)
+// Transmitted light of every light with a shadow map, summed (coloured by the lights): a loop
+// over the DM_SHADOW_MAPS maps, not over the lights, so lights without a map cost nothing.
+uniform int u_trans_light[4]; // the light index of shadow map j
+vec3 dm_translucency(vec3 P, vec3 Ng)
 {
-    int layer = u_light_shadow[i];
-    float back = max(-dot(Ng, L), 0.0); // the geometric normal: the normal map's detail is front-surface relief
-    if (layer < 0 || back <= 0.0) return vec3(0.0);
-    vec4 c = u_light_matrix[i] * vec4(P - Ng * u_shadow_normal_offset, 1.0);
-    vec3 p = c.xyz / c.w * 0.5 + 0.5;
-    if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0 || p.z < 0.0) return vec3(0.0);
-    float first = dm_light_distance(i, dm_tdepth(layer, p.xy));
-    float here = dm_light_distance(i, p.z);
-    float d = max(here - first, 0.0) * u_mm_per_unit;
-    vec3 t = vec3(0.0);
-    for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k) t += u_trans_weight[k] * exp(-d * d / (2.0 * max(u_trans_var[k], 1e-12)));
-    return u_translucency * back * t;
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < DM_SHADOW_MAPS; ++j) {
+        int i = u_trans_light[j];
+        vec3 L = dm_light_dir(i, P);
+        float back = max(-dot(Ng, L), 0.0); // the geometric normal: the normal map's relief is the front's
+        if (back <= 0.0) continue;
+        vec4 c = u_light_matrix[i] * vec4(P - Ng * u_shadow_normal_offset, 1.0); // shrunk inward
+        vec3 p = c.xyz / c.w * 0.5 + 0.5;
+        if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0 || p.z < 0.0) continue;
+        float first = dm_light_distance(i, dm_tdepth(j, p.xy));
+        float here = dm_light_distance(i, p.z);
+        float d = max(here - first, 0.0) * u_mm_per_unit;
+        vec3 t = vec3(0.0);
+        for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k)
+            t += u_trans_weight[k] * exp(-d * d / (2.0 * max(u_trans_var[k], 1e-12)));
+        sum += u_light_color[i] * (back * t);
+    }
+    return u_translucency * sum;
 }
 #endif

@@ -49,9 +49,6 @@ void main()
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
-#ifdef DM_TRANSLUCENCY
-        e += u_light_color[i] * dm_translucency(i, v_pos, Ng, N, L);
-#endif
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;
         float k = ndl * dm_shadow(i, v_pos, Ng);
@@ -60,6 +57,9 @@ void main()
 #endif
         e += u_light_color[i] * k;
     }
+#ifdef DM_TRANSLUCENCY
+    e += dm_translucency(v_pos, Ng);
+#endif
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
 #endif

@@ -145,6 +145,69 @@ Test(head, golden_lps, .timeout = 120) { golden_scene("lps"); }
 Test(head, golden_lps_specular, .timeout = 120) { golden_scene("lps-specular"); }
 Test(head, golden_lps_sss, .timeout = 120) { golden_scene("lps-sss"); }
 Test(head, golden_lps_env, .timeout = 120) { golden_scene("lps-env"); }
+Test(head, golden_lps_screen_space, .timeout = 120) { golden_scene("lps-screen-space"); }
+Test(head, golden_lps_backlit, .timeout = 120) { golden_scene("lps-backlit"); }
+
+/* The ear seen from the side, lit from behind (lps-backlit), with and without translucency. */
+static void ear_camera(dm_scene *s)
+{
+    const float eye[3] = {9.0f, 1.0f, 4.0f}, target[3] = {1.3f, 0.9f, -0.2f};
+    memcpy(s->camera_eye, eye, sizeof eye);
+    memcpy(s->camera_target, target, sizeof target);
+}
+static void ear_without(dm_scene *s)
+{
+    ear_camera(s);
+    s->effects[DM_EFFECT_TRANSLUCENCY] = false;
+}
+static void ear_screen_space(dm_scene *s)
+{
+    ear_camera(s);
+    s->sss_technique = DM_SSS_SCREEN_SPACE;
+}
+static void ear_screen_space_without(dm_scene *s)
+{
+    ear_without(s);
+    s->sss_technique = DM_SSS_SCREEN_SPACE;
+}
+
+static uint8_t *ear_picture(void (*edit)(dm_scene *))
+{
+    head h;
+    pack_scene(&h, "lps-backlit", edit);
+    render(&h, DM_VIEW_FINAL, 0);
+    uint8_t *rgba = malloc((size_t)W * H * 4);
+    dm_error err = {0};
+    cr_assert_eq(dm_renderer_read_display(h.r, rgba, &err), DM_OK, "%s", err.detail);
+    close_head(&h);
+    return rgba;
+}
+
+/* A light behind the head visibly reddens the ear: pixels gain at least 8 display steps of
+ * red (measured: the helix and the rim), and over the picture red gains more than green,
+ * green more than blue (the profile's red Gaussians are the widest), for both techniques. */
+static void ears_redden(void (*with)(dm_scene *), void (*without)(dm_scene *))
+{
+    uint8_t *on = ear_picture(with), *off = ear_picture(without);
+    long gain[3] = {0, 0, 0};
+    int visible = 0;
+    for (int i = 0; i < W * H; ++i) {
+        int d[3];
+        for (int c = 0; c < 3; ++c) {
+            d[c] = (int)on[i * 4 + c] - (int)off[i * 4 + c];
+            cr_assert_geq(d[c], -1, "pixel %d channel %d darker with translucency (%d)", i, c, d[c]);
+            gain[c] += d[c];
+        }
+        visible += d[0] >= 8 && d[0] > d[1] && d[1] >= d[2];
+    }
+    cr_expect_gt(visible, 10, "only %d pixels redden visibly", visible);
+    cr_expect(gain[0] > gain[1] && gain[1] >= gain[2], "gains R %ld G %ld B %ld", gain[0], gain[1], gain[2]);
+    free(on);
+    free(off);
+}
+
+Test(head, backlit_ear_reddens_texture_space, .timeout = 180) { ears_redden(ear_camera, ear_without); }
+Test(head, backlit_ear_reddens_screen_space, .timeout = 180) { ears_redden(ear_screen_space, ear_screen_space_without); }
 
 Test(head, specular_scene_runs_exactly_the_specular_passes)
 {
