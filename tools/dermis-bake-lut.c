@@ -1,5 +1,6 @@
 /* dermis-bake-lut — bakes the specular lookup tables: the 8-bit Beckmann table, rho_dt
- * and the split-sum environment-BRDF table, with their error against the exact functions.
+ * and the split-sum environment-BRDF table, with their error against the exact functions;
+ * and on request Penner's pre-integrated diffuse table for a profile.
  * Pipeline: parse options → bake → (report) → write. */
 #include <inttypes.h>
 #include <stdio.h>
@@ -10,8 +11,10 @@
 #include "bake/dm_image.h"
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
+#include "bake/dm_preintegrated.h"
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
+#include "core/dm_hash.h"
 #include "core/dm_parallel.h"
 #include "core/dm_prov.h"
 #include "core/dm_version.h"
@@ -22,6 +25,9 @@ typedef struct options {
     const char *out_dir;
     const char *beckmann_path, *float_path, *rho_dt_path, *env_brdf_path;
     int want_beckmann, want_rho_dt, want_env_brdf;
+    const char *preint_path, *profile; /* --preintegrated, --profile */
+    int want_preint, preint_w, preint_h;
+    double curvature_max;
     int beckmann_w, beckmann_h, dir_w, dir_h, nodes, threads;
     double f0;
     int report, verbose, quiet;
@@ -40,10 +46,15 @@ static void usage(FILE *f)
             "            s = N.L, t = m. True values (they exceed 1 toward grazing).\n"
             "  env_brdf  float EXR channels \"scale\", \"bias\": integral of f_KS cos = F0*scale + bias,\n"
             "            s = N.V, t = m (split-sum image-based specular).\n"
+            "  preintegrated  (only when named) float EXR channels R, G, B: Penner's pre-integrated\n"
+            "            skin diffuse D = int max(0, cos(theta+x)) R(2r sin(x/2)) dx / int R(2r sin(x/2)) dx\n"
+            "            over the whole circle; s = N.L from -1 to 1 (texel centres), t = curvature 1/r,\n"
+            "            row j = curvature_max*j/(height-1) (row 0 is flat: max(0, N.L)).\n"
             "\n"
             "Options:\n"
             "  -o, --out-dir DIR       folder for the default file names (default .)\n"
-            "  --tables LIST           comma list of beckmann,rho_dt,env_brdf (default all)\n"
+            "  --tables LIST           comma list of beckmann,rho_dt,env_brdf,preintegrated\n"
+            "                          (default beckmann,rho_dt,env_brdf)\n"
             "  --beckmann FILE         Beckmann PNG path (default DIR/beckmann.png)\n"
             "  --float FILE            also write the exact Beckmann D as float EXR (default off)\n"
             "  --rho-dt FILE           rho_dt EXR path (default DIR/rho_dt.exr)\n"
@@ -51,16 +62,23 @@ static void usage(FILE *f)
             "  --size N|WxH            Beckmann size (default %d, range 1..%d)\n"
             "  --rho-dt-size N|WxH     rho_dt and env-BRDF size (default %d, range 2..%d)\n"
             "  --nodes N               Gauss-Legendre nodes per axis for rho_dt (default %d, 8..128)\n"
+            "  --preintegrated FILE    pre-integrated EXR path (default DIR/preintegrated.exr)\n"
+            "  --profile FILE|gems3-skin  profile JSON (dermis-fit-profile) for preintegrated\n"
+            "                          (default gems3-skin; Burley: fit it with --burley first)\n"
+            "  --preint-size N|WxH     pre-integrated size, N.L x curvature (default %dx%d, 2..%d)\n"
+            "  --curvature-max K       largest curvature, 1/mm (default %g, range (0, %g])\n"
             "  --f0 X                  Schlick F0 for rho_dt (default %.3f, 0..1)\n"
             "  --threads N             worker threads (default 0 = all cores, 0..64)\n"
             "  --report                print each table's error against the exact function and times\n"
             "  -v, --verbose           more detail   --quiet   only errors\n"
             "  -h, --help              this text     --version\n"
             "\n"
-            "Exit codes: 0 ok, 1 usage error, 3 bake failed, 4 cannot write an output.\n"
-            "Example: " TOOL " -o build/luts --report\n",
+            "Exit codes: 0 ok, 1 usage error, 2 cannot load --profile, 3 bake failed, 4 cannot write an output.\n"
+            "Example: " TOOL " -o build/luts --report\n"
+            "         " TOOL " --tables preintegrated --profile skin.json -o build/luts --report\n",
             DM_LUT_BECKMANN_SIZE_DEFAULT, DM_LUT_SIZE_MAX, DM_LUT_DIRECTIONAL_SIZE_DEFAULT, DM_LUT_SIZE_MAX,
-            DM_LUT_NODES_DEFAULT, DM_SKIN_F0);
+            DM_LUT_NODES_DEFAULT, DM_PREINT_WIDTH_DEFAULT, DM_PREINT_HEIGHT_DEFAULT, DM_PREINT_SIZE_MAX,
+            DM_PREINT_CURVATURE_MAX_DEFAULT, DM_PREINT_CURVATURE_MAX_LIMIT, DM_SKIN_F0);
 }
 
 static int parse_size(const char *opt, const char *text, int min, int *w, int *h)
@@ -83,19 +101,21 @@ static int parse_size(const char *opt, const char *text, int min, int *w, int *h
 
 static int parse_tables(const char *text, options *o)
 {
-    o->want_beckmann = o->want_rho_dt = o->want_env_brdf = 0;
+    o->want_beckmann = o->want_rho_dt = o->want_env_brdf = o->want_preint = 0;
     char buf[256];
     snprintf(buf, sizeof buf, "%s", text);
     for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
         if (strcmp(t, "beckmann") == 0) o->want_beckmann = 1;
         else if (strcmp(t, "rho_dt") == 0) o->want_rho_dt = 1;
         else if (strcmp(t, "env_brdf") == 0) o->want_env_brdf = 1;
+        else if (strcmp(t, "preintegrated") == 0) o->want_preint = 1;
         else {
-            fprintf(stderr, "error: --tables: unknown table '%s' (expected beckmann, rho_dt, env_brdf)\n", t);
+            fprintf(stderr, "error: --tables: unknown table '%s' (expected beckmann, rho_dt, env_brdf, preintegrated)\n",
+                    t);
             return 0;
         }
     }
-    if (!o->want_beckmann && !o->want_rho_dt && !o->want_env_brdf) {
+    if (!o->want_beckmann && !o->want_rho_dt && !o->want_env_brdf && !o->want_preint) {
         fprintf(stderr, "error: --tables: no table named\n");
         return 0;
     }
@@ -108,7 +128,9 @@ static int parse_args(int argc, char **argv, options *o)
     *o = (options){.out_dir = ".", .want_beckmann = 1, .want_rho_dt = 1, .want_env_brdf = 1,
                    .beckmann_w = DM_LUT_BECKMANN_SIZE_DEFAULT, .beckmann_h = DM_LUT_BECKMANN_SIZE_DEFAULT,
                    .dir_w = DM_LUT_DIRECTIONAL_SIZE_DEFAULT, .dir_h = DM_LUT_DIRECTIONAL_SIZE_DEFAULT,
-                   .nodes = DM_LUT_NODES_DEFAULT, .f0 = DM_SKIN_F0};
+                   .nodes = DM_LUT_NODES_DEFAULT, .f0 = DM_SKIN_F0, .preint_w = DM_PREINT_WIDTH_DEFAULT,
+                   .preint_h = DM_PREINT_HEIGHT_DEFAULT, .curvature_max = DM_PREINT_CURVATURE_MAX_DEFAULT};
+    int preint_option = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v;
         int64_t n;
@@ -129,6 +151,27 @@ static int parse_args(int argc, char **argv, options *o)
             if (!(o->rho_dt_path = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--env-brdf")) {
             if (!(o->env_brdf_path = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--preintegrated")) {
+            if (!(o->preint_path = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            preint_option = 1;
+        } else if (!strcmp(a, "--profile")) {
+            if (!(o->profile = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            preint_option = 1;
+        } else if (!strcmp(a, "--preint-size")) {
+            if (!parse_size(a, dm_cli_value(argc, argv, &i), 2, &o->preint_w, &o->preint_h)) return DM_EXIT_USAGE;
+            if (o->preint_w > DM_PREINT_SIZE_MAX || o->preint_h > DM_PREINT_SIZE_MAX) {
+                fprintf(stderr, "error: --preint-size: at most %d per side\n", DM_PREINT_SIZE_MAX);
+                return DM_EXIT_USAGE;
+            }
+            preint_option = 1;
+        } else if (!strcmp(a, "--curvature-max")) {
+            if (!dm_cli_double(a, dm_cli_value(argc, argv, &i), 0.0, DM_PREINT_CURVATURE_MAX_LIMIT, &o->curvature_max))
+                return DM_EXIT_USAGE;
+            if (!(o->curvature_max > 0.0)) {
+                fprintf(stderr, "error: --curvature-max: must be more than 0 /mm\n");
+                return DM_EXIT_USAGE;
+            }
+            preint_option = 1;
         } else if (!strcmp(a, "--size")) {
             if (!parse_size(a, dm_cli_value(argc, argv, &i), 1, &o->beckmann_w, &o->beckmann_h)) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--rho-dt-size")) {
@@ -154,6 +197,11 @@ static int parse_args(int argc, char **argv, options *o)
     }
     if (o->verbose && o->quiet) {
         fprintf(stderr, "error: -v and --quiet contradict each other\n");
+        return DM_EXIT_USAGE;
+    }
+    if (preint_option && !o->want_preint) {
+        fprintf(stderr, "error: --preintegrated, --profile, --preint-size and --curvature-max need "
+                        "--tables preintegrated\n");
         return DM_EXIT_USAGE;
     }
     if (o->float_path && !o->want_beckmann) {
@@ -238,6 +286,39 @@ static void print_report(const options *o, const dm_beckmann_lut *bl, const dm_d
     }
 }
 
+/* The profile of --profile (a JSON or the gems3-skin preset) and a hash of its numbers. */
+static int load_profile(const options *o, dm_profile *p, char hash[DM_HASH_HEX_SIZE])
+{
+    dm_error err = {0};
+    if (!o->profile || strcmp(o->profile, "gems3-skin") == 0) {
+        dm_profile_gems3_skin(p);
+    } else if (dm_profile_read(o->profile, p, &err) != DM_OK) {
+        fprintf(stderr, "error: --profile: %s\n", err.detail);
+        return DM_EXIT_LOAD;
+    }
+    double numbers[4 * DM_PROFILE_MAX_GAUSSIANS];
+    for (int k = 0; k < p->count; ++k) {
+        numbers[4 * k] = p->variance_mm2[k];
+        for (int c = 0; c < 3; ++c) numbers[4 * k + 1 + c] = p->weight[k][c];
+    }
+    dm_hash_hex(numbers, sizeof(double) * 4 * (size_t)p->count, hash);
+    return 0;
+}
+
+static void preint_report(const options *o, const dm_profile *p, const dm_preint_lut *l)
+{
+    enum { BRUTE = 1 << 16 };
+    int stride = l->width / 32 > 1 ? l->width / 32 : 1;
+    dm_preint_error e;
+    dm_preint_lut_error(p, l, stride, BRUTE, o->threads, &e);
+    printf("preintegrated %dx%d (curvature 0..%g /mm, profile %s): absolute error against a %d-point\n"
+           "brute-force midpoint rule over the circle, every %d-th row and column; bake %.1f ms\n",
+           l->width, l->height, l->curvature_max_per_mm, p->name, BRUTE, stride, l->bake_ms);
+    printf("  centres %.3e (the integral's own error and float rounding), bilinear midpoints %.3e\n"
+           "  (worst at N.L=%.4f curvature=%.4f /mm), %ld samples, check %.1f ms\n",
+           e.max_abs_centres, e.max_abs_bilinear, e.worst_cos, e.worst_curvature, e.samples, e.ms);
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -245,6 +326,9 @@ int main(int argc, char **argv)
     if (code) return code;
     double t_start = dm_now_ms();
     dm_error err = {0};
+    dm_profile profile;
+    char profile_hash[DM_HASH_HEX_SIZE] = "";
+    if (o.want_preint && (code = load_profile(&o, &profile, profile_hash))) return code;
 
     /* bake */
     dm_beckmann_lut bl = {0};
@@ -260,10 +344,18 @@ int main(int argc, char **argv)
         dm_beckmann_lut_free(&bl);
         return DM_EXIT_PROCESS;
     }
+    dm_preint_lut pl = {0};
+    if (o.want_preint &&
+        dm_preint_bake(&profile, o.preint_w, o.preint_h, o.curvature_max, o.threads, &pl, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_beckmann_lut_free(&bl);
+        dm_directional_lut_free(&dl);
+        return DM_EXIT_PROCESS;
+    }
     double t_baked = dm_now_ms();
 
     /* write */
-    char b1[4200], b2[4200], b3[4200];
+    char b1[4200], b2[4200], b3[4200], b4[4200];
     dm_provenance prov;
     dm_result r = DM_OK;
     if (o.want_beckmann) {
@@ -293,10 +385,26 @@ int main(int argc, char **argv)
         r = dm_exr_write(p, dl.width, dl.height, ch, 2, &prov, &err);
         if (r == DM_OK && !o.quiet) printf("wrote %s (%dx%d, float scale+bias)\n", p, dl.width, dl.height);
     }
+    if (r == DM_OK && o.want_preint) {
+        dm_lut_prov_preintegrated(&prov, TOOL, pl.width, pl.height, pl.curvature_max_per_mm, profile.name,
+                                  profile_hash);
+        dm_prov_add_string(&prov, "s", "N.L = 2s-1 at texel centres, -1..1");
+        dm_prov_add_string(&prov, "t", "curvature = curvature_max*j/(height-1) on row j: row 0 flat (max(0, N.L))");
+        dm_prov_add_string(&prov, "integral", "int_-pi^pi max(0,cos(theta+x)) R(2r sin(x/2)) dx / int R(2r sin(x/2)) dx");
+        dm_prov_add_string(&prov, "integrator", "per Gaussian, Gauss-Legendre 24 on pieces cut at kinks and sigma chords");
+        size_t plane = (size_t)pl.width * pl.height;
+        dm_exr_channel ch[3] = {{"B", pl.rgb + 2 * plane, DM_EXR_FLOAT},
+                                {"G", pl.rgb + plane, DM_EXR_FLOAT},
+                                {"R", pl.rgb, DM_EXR_FLOAT}};
+        const char *p = out_path(b4, sizeof b4, o.preint_path, o.out_dir, "preintegrated.exr");
+        r = dm_exr_write(p, pl.width, pl.height, ch, 3, &prov, &err);
+        if (r == DM_OK && !o.quiet) printf("wrote %s (%dx%d, float RGB)\n", p, pl.width, pl.height);
+    }
     if (r != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         dm_beckmann_lut_free(&bl);
         dm_directional_lut_free(&dl);
+        dm_preint_lut_free(&pl);
         return DM_EXIT_SAVE;
     }
     double t_written = dm_now_ms();
@@ -305,11 +413,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "warning: beckmann: %" PRId64 " texels in %d rows (m <= %.5f) exceed D = 1024 and saturate\n",
                 bl.saturated_texels, bl.clipped_rows, bl.max_clipped_m);
     if (o.report) print_report(&o, o.want_beckmann ? &bl : NULL, (o.want_rho_dt || o.want_env_brdf) ? &dl : NULL);
+    if (o.report && o.want_preint) preint_report(&o, &profile, &pl);
     if (!o.quiet)
-        printf("time: bake %.1f ms (beckmann %.1f, rho_dt+env_brdf %.1f), write %.1f ms, %d threads\n",
-               t_baked - t_start, bl.bake_ms, dl.bake_ms, t_written - t_baked,
+        printf("time: bake %.1f ms (beckmann %.1f, rho_dt+env_brdf %.1f, preintegrated %.1f), write %.1f ms, "
+               "%d threads\n",
+               t_baked - t_start, bl.bake_ms, dl.bake_ms, pl.bake_ms, t_written - t_baked,
                o.threads ? o.threads : dm_cpu_count());
     dm_beckmann_lut_free(&bl);
     dm_directional_lut_free(&dl);
+    dm_preint_lut_free(&pl);
     return DM_EXIT_OK;
 }

@@ -32,6 +32,19 @@ void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *tab
     dm_prov_add_int(p, "nodes", nodes);
 }
 
+void dm_lut_prov_preintegrated(dm_provenance *p, const char *tool, int width, int height, double curvature_max_per_mm,
+                               const char *profile_name, const char *profile_hash)
+{
+    dm_prov_init(p, tool);
+    dm_prov_add_string(p, "table", "preintegrated");
+    dm_prov_add_int(p, "width", width);
+    dm_prov_add_int(p, "height", height);
+    dm_prov_add_string(p, "encoding", "f32 R,G,B D(N.L, curvature)");
+    dm_prov_add_double(p, "curvature_max_per_mm", curvature_max_per_mm);
+    dm_prov_add_string(p, "profile", profile_name);
+    dm_prov_add_string(p, "profile_hash", profile_hash);
+}
+
 dm_result dm_lut_prov_match(const dm_provenance *have, const dm_provenance *want, const char *file, dm_error *err)
 {
     if (strcmp(have->version, want->version) != 0)

@@ -156,8 +156,8 @@ static void bake_rows(void *vctx, size_t begin, size_t end)
         for (int i = 0; i < l->width; ++i) {
             double rgb[3];
             eval_with(b->p, dm_preint_texel_cos(i, l->width), kappa, b->gx, b->gw, rgb);
-            float *t = l->rgb + 3 * ((size_t)j * l->width + i);
-            for (int ch = 0; ch < 3; ++ch) t[ch] = (float)rgb[ch];
+            size_t plane = (size_t)l->width * l->height, at = j * l->width + i;
+            for (int ch = 0; ch < 3; ++ch) l->rgb[ch * plane + at] = (float)rgb[ch];
         }
     }
 }
@@ -216,19 +216,20 @@ static void error_rows(void *vctx, size_t begin, size_t end)
         memset(o, 0, sizeof *o);
         for (int i = 0; i < l->width; i += e->stride) {
             double ref[3];
-            const float *t = l->rgb + 3 * ((size_t)j * l->width + i);
+            size_t plane = (size_t)l->width * l->height, at = (size_t)j * l->width + i, up = at + l->width;
+            const float *t = l->rgb;
             dm_preint_brute(e->p, dm_preint_texel_cos(i, l->width),
                             dm_preint_texel_curvature(j, l->height, l->curvature_max_per_mm), e->sample_count, ref);
-            for (int ch = 0; ch < 3; ++ch) o->centres = fmax(o->centres, fabs(t[ch] - ref[ch]));
+            for (int ch = 0; ch < 3; ++ch) o->centres = fmax(o->centres, fabs(t[ch * plane + at] - ref[ch]));
             ++o->samples;
             if (i + 1 >= l->width || j + 1 >= l->height) continue;
             /* halfway between four centres, GL_LINEAR is their mean */
             double c = 2.0 * (i + 1.0) / l->width - 1.0;
             double kappa = l->curvature_max_per_mm * (j + 0.5) / (l->height - 1);
             dm_preint_brute(e->p, c, kappa, e->sample_count, ref);
-            const float *u = t + 3 * (size_t)l->width;
             for (int ch = 0; ch < 3; ++ch) {
-                double m = 0.25 * ((double)t[ch] + t[3 + ch] + u[ch] + u[3 + ch]), d = fabs(m - ref[ch]);
+                const float *q = t + ch * plane;
+                double m = 0.25 * ((double)q[at] + q[at + 1] + q[up] + q[up + 1]), d = fabs(m - ref[ch]);
                 if (d > o->bilinear) {
                     o->bilinear = d;
                     o->worst_cos = c;

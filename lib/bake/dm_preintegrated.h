@@ -56,7 +56,8 @@ void dm_preint_brute(const dm_profile *p, double cos_theta, double curvature_per
 typedef struct dm_preint_lut {
     int width, height;
     double curvature_max_per_mm;
-    float *rgb;     /* width*height*3, interleaved R, G, B, rows bottom-up */
+    float *rgb;     /* 3 planes R, G, B of width*height each (plane c at rgb + c*width*height),
+                     * rows bottom-up: what an EXR channel or a GL upload per channel takes */
     double bake_ms;
 } dm_preint_lut;
 

@@ -5,6 +5,10 @@
 #include <math.h>
 #include <string.h>
 
+#include <stdio.h>
+
+#include "../common/tmpdir.h"
+#include "bake/dm_exr.h"
 #include "bake/dm_preintegrated.h"
 #include "core/dm_math.h"
 
@@ -46,7 +50,7 @@ Test(preintegrated, flat_row_is_lambert)
     cr_assert_eq(dm_preint_bake(&p, 32, 8, 1.0, 1, &lut, NULL), DM_OK);
     for (int i = 0; i < 32; ++i)
         for (int ch = 0; ch < 3; ++ch)
-            cr_assert_eq(lut.rgb[3 * i + ch], (float)fmax(0.0, dm_preint_texel_cos(i, 32)));
+            cr_assert_eq(lut.rgb[ch * 32 * 8 + i], (float)fmax(0.0, dm_preint_texel_cos(i, 32)));
     dm_preint_lut_free(&lut);
 }
 
@@ -167,4 +171,48 @@ Test(preintegrated, range_checks)
     p.count = 0;
     cr_assert_neq(dm_preint_bake(&p, 8, 8, 1.0, 1, &l, &err), DM_OK);
     cr_assert_null(l.rgb);
+}
+
+#define LUT DERMIS_BIN "/dermis-bake-lut"
+
+Test(preintegrated, bake_lut_tool)
+{
+    char dir[64], cmd[512], path[160];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(cmd, sizeof cmd, LUT " -o %s --quiet --tables preintegrated --preint-size 16x8 --curvature-max 2", dir);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(path, sizeof path, "%s/preintegrated.exr", dir);
+    dm_exr_image img;
+    dm_error err = {0};
+    cr_assert_eq(dm_exr_read(path, &img, &err), DM_OK, "%s", err.detail);
+    cr_assert(img.has_provenance);
+    cr_expect_str_eq(dm_prov_find(&img.prov, "table")->s, "preintegrated");
+    cr_expect_eq(dm_prov_find(&img.prov, "curvature_max_per_mm")->d, 2.0);
+    cr_expect_str_eq(dm_prov_find(&img.prov, "profile")->s, "gems3-skin");
+    cr_assert(dm_prov_find(&img.prov, "s") && dm_prov_find(&img.prov, "t") && dm_prov_find(&img.prov, "profile_hash"));
+    cr_assert_eq(img.width, 16);
+    cr_assert_eq(img.height, 8);
+    dm_profile p;
+    dm_profile_gems3_skin(&p);
+    static const char *const names[3] = {"R", "G", "B"};
+    for (int ch = 0; ch < 3; ++ch) {
+        const float *plane = dm_exr_find(&img, names[ch]);
+        cr_assert(plane);
+        for (int j = 0; j < 8; ++j)
+            for (int i = 0; i < 16; ++i) {
+                double rgb[3];
+                dm_preint_eval(&p, dm_preint_texel_cos(i, 16), 2.0 * j / 7.0, rgb);
+                cr_assert_eq(plane[j * 16 + i], (float)rgb[ch]);
+            }
+    }
+    dm_exr_free(&img);
+    static const char *const bad[] = {"--profile gems3-skin", "--tables preintegrated --curvature-max 0",
+                                      "--tables preintegrated --preint-size 1", "--curvature-max 1",
+                                      "--tables preintegrated --preint-size 5000"};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; ++k) {
+        snprintf(cmd, sizeof cmd, LUT " -o %s --quiet %s 2>/dev/null", dir, bad[k]);
+        cr_expect_eq(test_run(cmd, NULL), 1, "'%s' should be a usage error", bad[k]);
+    }
+    snprintf(cmd, sizeof cmd, LUT " -o %s --quiet --tables preintegrated --profile %s/none.json 2>/dev/null", dir, dir);
+    cr_expect_eq(test_run(cmd, NULL), 2);
 }
