@@ -50,7 +50,9 @@ static void usage(FILE *f)
             "                       dermis-fit-profile; represented by dense Gaussians (error reported)\n"
             "  --multipole SPEC     the same for a slab (Donner & Jensen 2005); needs --thickness MM\n"
             "  --thickness MM       slab thickness, (0, 1e4]; --pairs N dipole pairs, default 20\n"
-            "  --radial-gaussians N Gaussians representing --dipole/--multipole, default 12; 2..32\n"
+            "  --burley A/MFP       Burley normalized diffusion (Christensen & Burley 2015) as in dermis-fit-profile:\n"
+            "                       albedo and mean free path (mm), 1 or 3 numbers each, e.g. 0.8,0.6,0.4/1,0.5,0.25\n"
+            "  --radial-gaussians N Gaussians representing --dipole/--multipole/--burley, default 12; 2..32\n"
             "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
             "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
             "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"
@@ -67,7 +69,7 @@ static void usage(FILE *f)
 
 typedef struct args {
     const char *pack, *out, *irradiance, *medium;
-    bool multipole;
+    bool multipole, burley; /* burley: medium is "ALBEDO/MFP" */
     double thickness_mm;
     int pairs, radial_gaussians;
     const char *merge[MERGE_MAX];
@@ -129,9 +131,10 @@ static int parse(int argc, char **argv, args *a)
                 fprintf(stderr, "error: --merge needs the tile files\n");
                 return DM_EXIT_USAGE;
             }
-        } else if (!strcmp(s, "--dipole") || !strcmp(s, "--multipole")) {
+        } else if (!strcmp(s, "--dipole") || !strcmp(s, "--multipole") || !strcmp(s, "--burley")) {
             if (!(a->medium = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
             a->multipole = !strcmp(s, "--multipole");
+            a->burley = !strcmp(s, "--burley");
         } else if (!strcmp(s, "--thickness")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1e-9, DM_THICKNESS_MAX_MM, &a->thickness_mm))
                 return DM_EXIT_USAGE;
@@ -281,10 +284,17 @@ static int make_kernel(const args *a, const dm_profile *profile, dm_reference_ke
         fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
         return DM_EXIT_PROCESS;
     }
-    dm_profile_source src = {.kind = DM_SOURCE_MEDIUM};
+    dm_profile_source src = {.kind = a->burley ? DM_SOURCE_BURLEY : DM_SOURCE_MEDIUM};
     double e[3];
-    const char *opt = a->multipole ? "--multipole" : "--dipole";
-    if (dm_medium_parse(a->medium, a->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, a->thickness_mm, a->pairs, opt,
+    const char *opt = a->burley ? "--burley" : a->multipole ? "--multipole" : "--dipole";
+    char albedo[256];
+    const char *slash = strchr(a->medium, '/');
+    snprintf(albedo, sizeof albedo, "%.*s", slash ? (int)(slash - a->medium) : 0, a->medium);
+    if (a->burley && (!slash || dm_burley_parse(albedo, slash + 1, opt, &src.burley, &err) != DM_OK)) {
+        fprintf(stderr, "error: %s\n", slash ? err.detail : "--burley: expected ALBEDO/MFP, e.g. 0.8,0.6,0.4/1,0.5,0.25");
+        return DM_EXIT_USAGE;
+    }
+    if (!a->burley && dm_medium_parse(a->medium, a->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, a->thickness_mm, a->pairs, opt,
                         &src.medium, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         return DM_EXIT_USAGE;
@@ -293,7 +303,7 @@ static int make_kernel(const args *a, const dm_profile *profile, dm_reference_ke
         fprintf(stderr, "error: %s\n", err.detail);
         return DM_EXIT_PROCESS;
     }
-    snprintf(name, name_size, "%s:%s", a->multipole ? "multipole" : "dipole", a->medium);
+    snprintf(name, name_size, "%s:%s", opt + 2, a->medium);
     if (!a->quiet)
         printf("%s %s in %d Gaussians (sigma %.3g..%.3g mm): relative L2 error %.2e %.2e %.2e\n", opt, a->medium, k->count,
                sqrt(k->variance_mm2[0]), sqrt(k->variance_mm2[k->count - 1]), e[0], e[1], e[2]);
@@ -311,7 +321,7 @@ static void base_provenance(const args *a, const char *mode, dm_provenance *prov
     dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.3);
     dm_prov_add_double(prov, "wide_texels", a->ropt.wide_texels != 0.0 ? a->ropt.wide_texels : 4.0);
     if (a->medium) {
-        dm_prov_add_string(prov, a->multipole ? "multipole" : "dipole", a->medium);
+        dm_prov_add_string(prov, a->burley ? "burley" : a->multipole ? "multipole" : "dipole", a->medium);
         if (a->multipole) dm_prov_add_double(prov, "thickness_mm", a->thickness_mm);
         if (a->multipole) dm_prov_add_int(prov, "pairs", a->pairs ? a->pairs : DM_MULTIPOLE_PAIRS_DEFAULT);
         dm_prov_add_int(prov, "radial_gaussians", a->radial_gaussians);

@@ -10,6 +10,7 @@
 #include "../common/tmpdir.h"
 #include "core/dm_profile.h"
 
+#include "bake/dm_exr.h"
 #include "bake/dm_profile_fit.h"
 #include "core/dm_diffusion.h"
 #include "core/dm_math.h"
@@ -214,5 +215,34 @@ Test(burley, fit_profile_tool)
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         snprintf(cmd, sizeof cmd, "cd %s && " FIT " %s 2>/dev/null", dir, bad[i]);
         cr_assert_eq(test_run(cmd, NULL), 1, "%s", bad[i]);
+    }
+}
+
+/* dermis-reference --burley ALBEDO/MFP: the profile represented by 12 Gaussians (as --dipole). */
+Test(burley, reference_tool, .timeout = 180)
+{
+    char dir[64], cmd[2048], path[256];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s/p.dpk --quiet", dir);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(cmd, sizeof cmd,
+             DERMIS_BIN "/dermis-reference %s/p.dpk --texture-space 16 --burley 0.8,0.6,0.4/1,0.5,0.25 -o %s/b.exr --quiet",
+             dir, dir);
+    cr_assert_eq(test_run(cmd, NULL), 0);
+    snprintf(path, sizeof path, "%s/b.exr", dir);
+    dm_exr_image img;
+    dm_error err = {0};
+    cr_assert_eq(dm_exr_read(path, &img, &err), DM_OK, "%s", err.detail);
+    const dm_param *p = dm_prov_find(&img.prov, "profile");
+    cr_expect(p && !strcmp(p->s, "burley:0.8,0.6,0.4/1,0.5,0.25"), "profile %s", p ? p->s : "(none)");
+    p = dm_prov_find(&img.prov, "burley");
+    cr_expect(p && !strcmp(p->s, "0.8,0.6,0.4/1,0.5,0.25"));
+    for (int i = 0; i < 16 * 16; ++i) cr_expect(isfinite(dm_exr_find(&img, "R")[i]));
+    dm_exr_free(&img);
+    static const char *const bad[] = {"0.8,0.6,0.4", "0.8/0", "2/1", "0.5/1,2"};
+    for (size_t k = 0; k < sizeof bad / sizeof *bad; ++k) {
+        snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-reference %s/p.dpk --texture-space 16 --burley %s -o %s/x.exr 2>/dev/null",
+                 dir, bad[k], dir);
+        cr_expect_eq(test_run(cmd, NULL), 1, "%s", bad[k]);
     }
 }
