@@ -24,6 +24,11 @@ void dm_render_provenance(dm_provenance *p, const char *tool, const char *source
     dm_prov_add_int(p, "height", h);
     dm_prov_add_int(p, "irradiance_size", irr);
     dm_prov_add_int(p, "blur_taps", s->blur_taps);
+    if (s->sss_technique != DM_SSS_TEXTURE_SPACE) { /* texture-space outputs keep their metadata as it was */
+        dm_prov_add_string(p, "technique", dm_sss_technique_name(s->sss_technique));
+        dm_prov_add_int(p, "screen_taps", s->screen_taps);
+    }
+    if (s->effects[DM_EFFECT_TRANSLUCENCY]) dm_prov_add_double(p, "translucency_intensity", s->translucency_intensity);
     dm_prov_add_string(p, "profile", s->profile.name);
     dm_prov_add_double(p, "mix", s->mix);
     dm_prov_add_double(p, "exposure", s->exposure);
