@@ -50,6 +50,7 @@ typedef struct result {
     char failures[MAX_FAILURES][1024];
     int notes;
     char note[16][256];
+    char made_by[160]; /* "TOOL VERSION" from the file's provenance, or "" */
 } result;
 
 static void fail(result *r, const char *fmt, ...)
@@ -95,6 +96,20 @@ static void check_prov(result *r, const dm_provenance *p, bool present, const ch
         return;
     }
     if (!p->tool[0] || !p->version[0]) fail(r, "%s: provenance without tool or version", where);
+    if (!r->made_by[0]) snprintf(r->made_by, sizeof r->made_by, "%s %s", p->tool, p->version);
+}
+
+/* A file of another dermis tool (an environment bake, the exact Beckmann table, a render,
+ * a reference): its provenance names the tool, and every value must be finite. */
+static void check_other(result *r, const char *file, const dm_provenance *p, bool present, float *const *planes,
+                        int plane_count, size_t plane_size)
+{
+    check_prov(r, p, present, file);
+    size_t bad = 0;
+    for (int c = 0; c < plane_count; ++c)
+        for (size_t i = 0; planes && i < plane_size; ++i) bad += !isfinite(planes[c][i]);
+    if (bad) fail(r, "%s: %zu NaN or infinite values, expected finite", file, bad);
+    if (present) note(r, "%s: %d channels, every value finite", file, plane_count);
 }
 
 static double prov_num(const dm_provenance *p, const char *name, double fallback)
@@ -256,9 +271,17 @@ static void check_beckmann_png(result *r, const char *file)
         dm_image_free(&img);
         return;
     }
+    const dm_param *table = img.has_provenance ? dm_prov_find(&img.prov, "table") : NULL;
+    if (img.has_provenance && strcmp(img.prov.tool, "dermis-bake-lut") != 0 && !table) {
+        /* a picture of dermis-render, dermis-view or dermis-reference: provenance only */
+        r->type = "picture";
+        check_prov(r, &img.prov, true, file);
+        dm_image_free(&img);
+        return;
+    }
     check_prov(r, &img.prov, img.has_provenance, file);
     if (img.has_provenance) {
-        const dm_param *t = dm_prov_find(&img.prov, "table");
+        const dm_param *t = table;
         if (!t || t->type != DM_PARAM_STRING || strcmp(t->s, "beckmann") != 0)
             fail(r, "%s: provenance table is \"%s\", expected \"beckmann\"", file, t ? t->s : "");
         if (prov_num(&img.prov, "width", img.width) != img.width || prov_num(&img.prov, "height", img.height) != img.height)
@@ -322,8 +345,15 @@ static void check_exr(result *r, const char *file)
     } else if (dm_exr_find(&img, "scale") && dm_exr_find(&img, "bias")) {
         r->type = "lut.env_brdf";
         check_directional_exr(r, file, &img, true);
+    } else if (img.has_provenance) {
+        r->type = !strcmp(img.prov.tool, "dermis-bake-env")   ? "env"
+                  : !strcmp(img.prov.tool, "dermis-bake-lut") ? "lut.beckmann.float"
+                                                              : "image";
+        check_other(r, file, &img.prov, true, img.planes, img.channel_count, (size_t)img.width * img.height);
     } else {
-        fail(r, "%s: channels neither stretch<k>.u/.v + mask, rho_dt, nor scale + bias: not a dermis EXR", file);
+        fail(r, "%s: no dermis provenance, and channels neither stretch<k>.u/.v + mask, rho_dt, nor scale + bias: "
+                "not a dermis EXR",
+             file);
     }
     dm_exr_free(&img);
 }
@@ -523,6 +553,7 @@ int main(int argc, char **argv)
             cJSON *o = cJSON_CreateObject();
             cJSON_AddStringToObject(o, "file", r->file);
             cJSON_AddStringToObject(o, "type", r->type ? r->type : "unknown");
+            if (r->made_by[0]) cJSON_AddStringToObject(o, "made_by", r->made_by);
             cJSON_AddBoolToObject(o, "ok", r->count == 0);
             cJSON *fl = cJSON_AddArrayToObject(o, "failures");
             for (int k = 0; k < r->count; ++k) cJSON_AddItemToArray(fl, cJSON_CreateString(r->failures[k]));
@@ -530,7 +561,12 @@ int main(int argc, char **argv)
             for (int k = 0; k < r->notes; ++k) cJSON_AddItemToArray(nt, cJSON_CreateString(r->note[k]));
             cJSON_AddItemToArray(files, o);
         } else if (r->count == 0) {
-            if (!quiet) printf("%s: ok\n", r->file);
+            if (!quiet) {
+                if (r->made_by[0])
+                    printf("%s: ok (%s, made by %s)\n", r->file, r->type ? r->type : "unknown", r->made_by);
+                else
+                    printf("%s: ok (%s)\n", r->file, r->type ? r->type : "unknown");
+            }
             if (verbose)
                 for (int k = 0; k < r->notes; ++k) printf("  %s\n", r->note[k]);
         } else {
