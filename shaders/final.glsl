@@ -130,7 +130,14 @@ void main()
         vec3 L = dm_light_dir(i, v_pos);
         float ndl = max(dot(N, L), 0.0);
         if (ndl <= 0.0) continue;
+#if defined(DM_SCREEN_SPACE) && defined(DM_SPECULAR)
+        // one shadow lookup for both terms (the texture-space and Lambert paths keep their two loops)
+        float sh = dm_shadow(i, v_pos, Ng);
+        float k = ndl * sh;
+        specular += u_light_color[i] * (sh * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
+#else
         float k = ndl * dm_shadow(i, v_pos, Ng);
+#endif
 #ifdef DM_ENERGY
         k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
 #endif
@@ -156,11 +163,13 @@ void main()
 #endif
 #endif
 #ifdef DM_SPECULAR
+#ifndef DM_SCREEN_SPACE /* screen space: summed in the diffuse loop above */
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         if (dot(N, L) <= 0.0) continue;
         specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
     }
+#endif
 #ifdef DM_ENV
     vec3 R = reflect(-V, N);
     vec2 scale_bias = texture(u_env_brdf, vec2(ndv, m)).rg;
