@@ -234,3 +234,33 @@ Test(translucency, light_exactly_behind_and_zero_thickness)
         close_fixture(&f);
     }
 }
+
+/* The plan of a screen-space scene: its passes only, in order; explain names the technique;
+ * texture-space views are refused naming it; translucency without a shadow map is noted. */
+Test(ssss_plan, passes_explain_and_refused_views)
+{
+    dm_scene s;
+    dm_synth_scene(&s, 4.5f);
+    s.sss_technique = DM_SSS_SCREEN_SPACE;
+    dm_render_plan p;
+    dm_error err = {0};
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, &err), DM_OK, "%s", err.detail);
+    char list[512] = "";
+    for (int i = 0; i < p.pass_count; ++i)
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? " " : "", p.passes[i].name);
+    cr_expect_str_eq(list, "shadow0 ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
+                           "glow_add tonemap");
+    char text[8192];
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(strstr(text, "subsurface technique: screen-space"), "%s", text);
+    cr_expect(!strstr(text, "blur_u1") && !strstr(text, "irradiance "), "texture-space passes listed:\n%s", text);
+    cr_expect_eq(dm_render_plan_build(&s, DM_VIEW_IRRADIANCE, 0, &p, &err), DM_ERR_INVALID_ARGUMENT);
+    cr_expect(strstr(err.detail, "screen-space"), "%s", err.detail);
+    cr_expect_eq(dm_render_plan_build(&s, DM_VIEW_UV_TEST, 0, &p, &err), DM_OK, "%s", err.detail);
+    s.effects[DM_EFFECT_TRANSLUCENCY] = true;
+    s.effects[DM_EFFECT_SHADOWS] = false;
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, &err), DM_OK, "%s", err.detail);
+    cr_expect(!p.translucency_active);
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(strstr(text, "translucency is inactive"), "%s", text);
+}
