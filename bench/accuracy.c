@@ -2,25 +2,28 @@
  * ground truth (DESIGN.md promise 1): the exact surface convolution of dermis-reference.
  *
  * Scene: assets/scenes/lps-sss.json (subsurface, shadows, tonemap; no glow), packed here.
- * One row per setting: irradiance size 256…1024 (2048 with DERMIS_BENCH_LARGE=1), blur taps,
- * 1…8 Gaussians fitted to the same profile (dermis-fit-profile --preset gems3-skin -n N,
- * one pack each), stretch correction off (the chain replaced by one constant texture of
- * the chart's median s_u, s_v), the dm_render_desc speed knobs. A technique added later is
- * one more row in add_rows. Columns:
+ * One row per setting (add_rows; a technique added later is one more row there):
+ * irradiance size 256…1024 (2048 with DERMIS_BENCH_LARGE=1), blur taps, 1…8 Gaussians
+ * fitted to one profile (the skin1 dipole when dermis-reference offers --dipole, else
+ * gems3-skin; one pack each) and compared with ONE reference of that profile, stretch
+ * correction off (the chain replaced by one constant texture of the chart's median s_u,
+ * s_v), the dm_render_desc speed knobs, screen-space SSS, translucency. Columns:
  *   - frame ms: median of DERMIS_BENCH_FRAMES (default 7, at least 5) final frames at
  *     1280x720 after one warm-up, every row's renderer alive and the frames run round
  *     robin so the shared machine's load hits every row alike;
  *   - texture-space error: the `diffusion` view at irradiance N against `dermis-reference
- *     PACK --texture-space N` of the true profile (gems3-skin's six Gaussians), area-weighted
- *     (dm_ref_regions.h: texel area in mm²), mean and p95 per channel, over the whole skin
- *     and per region (smooth, within 3 mm of a UV seam, thin parts and folds);
+ *     PACK --texture-space N`, area-weighted (dm_ref_regions.h: texel area in mm²), mean and
+ *     p95 per channel, over the whole skin and per region (smooth, within 3 mm of a UV
+ *     seam, thin parts and folds);
  *   - frame error: the final linear frame at 320x180 against `dermis-reference PACK --frame
- *     --size 320x180 --atlas 512` over the pixels that are skin in both (each pixel once).
+ *     --size 320x180 --atlas 512` over the interior skin pixels (each pixel once).
  * References are computed once by the dermis-reference tool and cached under
- * BUILD/cache/accuracy/ by pack hash and size, reused when their provenance matches.
+ * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
- * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot) and accuracy-frame.png
- * (reference | default render | error, the frame). */
+ * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot), accuracy-frame.png
+ * (reference | default render | error, the frame) and accuracy-regions.png (the labels)
+ * through common/accuracy_report.h. argv[2], optional: a pack of SCENE made earlier (its
+ * cached references are reused; the Gaussian-count packs are made from SCENE). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,52 +42,15 @@
 #include "render/dm_render_pack.h"
 #include "render/dm_render_refcmp.h"
 
-enum { W = 1280, H = 720, FW = 320, FH = 180, FRAME_ATLAS = 512, MAX_FRAMES = 64, MAX_ROWS = 40, MAX_G = 8 };
-enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
-static const char *SCENE = "assets/scenes/lps-sss.json";
+#include "common/accuracy_report.h"
 
-typedef struct setting {
-    char name[40], what[160];
-    int size, taps, gaussians; /* irradiance size; blur taps (0: the scene's); 0: the pack's profile */
-    bool flat_stretch;
-    dm_render_desc knobs;
-} setting;
-
-typedef struct sized {
-    int N;
-    dm_refcmp_ref ref;
-    uint8_t *label;
-    float *area;
-    long count[DM_REF_REGION_COUNT];
-    double area_mm2[DM_REF_REGION_COUNT];
-} sized;
-
-typedef struct packed {
-    bool open;
-    dm_pack pack;
-    dm_scene scene;
-    dm_profile profile;
-    dm_render_assets assets;
-} packed;
-
-typedef struct row {
-    setting s;
-    dm_scene scene;
-    dm_renderer *r;
-    double ms[MAX_FRAMES], frame_ms;
-    dm_ref_error_stats st[NREG], fst;
-    bool ok[NREG], fok;
-} row;
-
-static setting rows_s[MAX_ROWS];
-static int nrows;
-
-static void add(int size, int taps, int g, bool flat, dm_render_desc knobs, const char *name, const char *what)
+static setting *add(int size, int taps, int g, bool flat, dm_render_desc knobs, const char *name, const char *what)
 {
     setting *s = &rows_s[nrows++];
     *s = (setting){.size = size, .taps = taps, .gaussians = g, .flat_stretch = flat, .knobs = knobs};
     snprintf(s->name, sizeof s->name, "%s", name);
     snprintf(s->what, sizeof s->what, "%s", what);
+    return s;
 }
 
 /* The rows; B is the size the knobs are measured at. */
@@ -102,7 +68,8 @@ static void add_rows(bool quick, bool large, int B)
     for (int g = 1; g <= MAX_G; ++g) {
         if (quick && g != 1 && g != 3) continue;
         snprintf(n, sizeof n, "%d G%d", B, g);
-        snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", B, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
+        if (dipole) snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to the %s dipole", B, g, g > 1 ? "s" : "", dipole);
+        else snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", B, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
         add(B, 0, g, false, (dm_render_desc){0}, n, w);
     }
     snprintf(n, sizeof n, "%d no stretch", B), snprintf(w, sizeof w, "%d, stretch correction off (one median s_u, s_v)", B);
@@ -114,6 +81,17 @@ static void add_rows(bool quick, bool large, int B)
     snprintf(n, sizeof n, "%d reuse", B), snprintf(w, sizeof w, "%d, texture space reused (camera-only frames)", B);
     add(B, 0, 0, false, (dm_render_desc){.reuse_texture_space = true}, n, w);
     if (!quick) add(1024, 0, 0, false, (dm_render_desc){.reuse_texture_space = true}, "1024 reuse", "1024, texture space reused");
+    /* the other techniques: frame error only (no texture-space diffusion to compare) */
+    for (int t = 11; t <= 25; t += 7 - (t == 11)) {
+        snprintf(n, sizeof n, "screen %d", t), snprintf(w, sizeof w, "screen-space separable SSS, %d taps", t);
+        setting *s = add(B, 0, 0, false, (dm_render_desc){0}, n, w);
+        s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = t;
+    }
+    int T = quick ? 256 : 1024;
+    snprintf(n, sizeof n, "%d + transl.", T), snprintf(w, sizeof w, "irradiance %d + translucency", T);
+    add(T, 0, 0, false, (dm_render_desc){0}, n, w)->translucency = true;
+    setting *s = add(B, 0, 0, false, (dm_render_desc){0}, "screen 17 + transl.", "screen-space 17 taps + translucency");
+    s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = 17, s->translucency = true;
 }
 
 static int run(const char *cmd)
@@ -124,29 +102,31 @@ static int run(const char *cmd)
 
 /* The cached reference (texture space at N, or the frame when N = 0), computed by
  * dermis-reference when missing or stale. */
-static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, dm_refcmp_ref *ref)
+static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
+                     dm_refcmp_ref *ref)
 {
     const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
-    char path[2048], cmd[8192];
-    if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%d.exr", dir, hex, N);
-    else snprintf(path, sizeof path, "%s/frame-%.16s-%dx%d-%d.exr", dir, hex, FW, FH, FRAME_ATLAS);
+    char path[2048], cmd[8192], truth[64] = "", opt[80] = "";
+    if (dip) snprintf(truth, sizeof truth, "dipole-%s-", dip), snprintf(opt, sizeof opt, " --dipole %s", dip);
+    if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
+    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d.exr", dir, hex, truth, FW, FH, FRAME_ATLAS);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
             !strcmp(ref->prov.tool, "dermis-reference") && !strcmp(ref->prov.input_hash, hash) &&
             ref->mode == (N ? DM_REFCMP_TEXTURE_SPACE : DM_REFCMP_FRAME) &&
             (N ? ref->width == N : ref->width == FW && ref->height == FH)) {
-            const dm_param *tc = dm_prov_find(&ref->prov, "tile_count");
-            if (!tc || tc->i == 1) {
+            const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
+            if ((!tc || tc->i == 1) && (dip ? dp && !strcmp(dp->s, dip) : !dp)) {
                 fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
                 return 1;
             }
         }
         dm_refcmp_ref_free(ref);
         if (attempt) break;
-        if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d -o %s --quiet", bin, pack, N, path);
-        else snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d -o %s --quiet", bin,
-                      pack, FW, FH, FRAME_ATLAS, path);
+        if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d%s -o %s --quiet", bin, pack, N, opt, path);
+        else snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d%s -o %s --quiet", bin,
+                      pack, FW, FH, FRAME_ATLAS, opt, path);
         if (run(cmd) != 0) break;
     }
     fprintf(stderr, "error: no usable reference %s: %s\n", path, err.detail);
@@ -177,15 +157,19 @@ static int label_atlas(const dm_ref_regions *rg, const dm_mesh *m, sized *z)
 
 /* The pack of g Gaussians fitted to gems3-skin: the scene with its profile pointing at
  * the fit, written beside the original (so its relative paths hold) and removed again. */
-static int pack_fit(const char *bin, const char *dir, int g, char *pack_path, size_t size)
+static int pack_fit(const char *bin, const char *dir, const char *hash, int g, char *pack_path, size_t size)
 {
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
     char fit[4096], scene[1024], cmd[8192], absdir[3072], cwd[2048];
     if (dir[0] == '/') snprintf(absdir, sizeof absdir, "%s", dir);
     else if (getcwd(cwd, sizeof cwd)) snprintf(absdir, sizeof absdir, "%s/%s", cwd, dir);
     else return 0;
-    snprintf(fit, sizeof fit, "%s/fit-%d.json", absdir, g);
-    snprintf(pack_path, size, "%s/lps-sss-g%d.dpk", dir, g);
-    snprintf(cmd, sizeof cmd, "%s/bin/dermis-fit-profile --preset gems3-skin -n %d -o %s --quiet", bin, g, fit);
+    snprintf(fit, sizeof fit, "%s/fit-%s-%d.json", absdir, dipole ? dipole : "gems3", g);
+    /* cached by the base pack's hash (the scene) and the source (fits are deterministic) */
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-%s-g%d.dpk", dir, hex, dipole ? dipole : "gems3", g);
+    if (!access(pack_path, R_OK) && !access(fit, R_OK)) return 1;
+    snprintf(cmd, sizeof cmd, "%s/bin/dermis-fit-profile %s%s -n %d -o %s --quiet", bin, dipole ? "--dipole " : "--preset ",
+             dipole ? dipole : "gems3-skin", g, fit);
     if (run(cmd) != 0) return 0;
     FILE *f = fopen(SCENE, "rb");
     char text[16384];
@@ -256,136 +240,6 @@ static float *flat_stretch(const dm_render_assets *a, float med[2])
     return out;
 }
 
-static double mean3(const double v[3]) { return (v[0] + v[1] + v[2]) / 3; }
-
-static void plot(const char *outdir, const char *dir, const row *rows)
-{
-    if (system("command -v gnuplot >/dev/null 2>&1") != 0) return;
-    char dat[1100], front[1100], png[1100];
-    snprintf(dat, sizeof dat, "%s/pareto.dat", dir), snprintf(front, sizeof front, "%s/front.dat", dir);
-    snprintf(png, sizeof png, "%s/accuracy.png", outdir);
-    FILE *f = fopen(dat, "w"), *fr = fopen(front, "w");
-    if (!f || !fr) return;
-    int order[MAX_ROWS], n = 0;
-    for (int c = 0; c < nrows; ++c)
-        if (rows[c].ok[REG_ALL]) {
-            fprintf(f, "%.3f %.6f %.6f \"%s\"\n", rows[c].frame_ms, 100 * mean3(rows[c].st[REG_ALL].mean),
-                    rows[c].fok ? 100 * mean3(rows[c].fst.mean) : NAN, rows[c].s.name);
-            order[n++] = c;
-        }
-    for (int i = 1; i < n; ++i) /* by ms, then error: the non-dominated points form the front */
-        for (int j = i; j > 0 && (rows[order[j]].frame_ms < rows[order[j - 1]].frame_ms); --j) {
-            int k = order[j];
-            order[j] = order[j - 1], order[j - 1] = k;
-        }
-    double best = INFINITY;
-    for (int i = 0; i < n; ++i) {
-        double e = 100 * mean3(rows[order[i]].st[REG_ALL].mean);
-        if (rows[order[i]].s.knobs.reuse_texture_space) continue; /* not a full frame */
-        if (e < best) best = e, fprintf(fr, "%.3f %.6f\n", rows[order[i]].frame_ms, e);
-    }
-    fclose(f), fclose(fr);
-    FILE *g = popen("gnuplot", "w");
-    if (!g) return;
-    fprintf(g, "set terminal pngcairo size 1100,700 font ',11'\nset output '%s'\n"
-               "set title 'lps-sss: error against dermis-reference vs frame time, one point per setting'\n"
-               "set xlabel 'frame ms (median, 1280x720, llvmpipe on 2 cores; log scale)'\nset logscale x\n"
-               "set ylabel 'texture space: mean relative error, %% (R, G, B averaged; area-weighted)'\n"
-               "set y2label 'frame: mean relative error, %% (interior skin pixels)' tc rgb '#d62728'\n"
-               "set y2tics tc rgb '#d62728'\nset ytics nomirror\nset grid\nset key top right\n"
-               "set yrange [0:*]\nset y2range [0:*]\nset offsets graph 0.02, graph 0.25, graph 0.15, graph 0.05\n"
-               "plot '%s' using 1:2 with lines lw 2 lc rgb '#999999' title 'Pareto front of the texture-space error (full frames)', "
-               "'%s' using 1:2 with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N, whole skin', "
-               "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle, "
-               "'' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame 320x180 vs --frame (right axis)'\n",
-            png, front, dat);
-    if (pclose(g) == 0) printf("accuracy bench: wrote %s\n", png);
-}
-
-static void triple(FILE *md, const double v[3]) { fprintf(md, " %.2f / %.2f / %.2f |", 100 * v[0], 100 * v[1], 100 * v[2]); }
-
-static void report(const char *outdir, const row *rows, const sized *z, int nz, int frames, int tris,
-                   const dm_ref_regions_info *ri, const float med[2], int B)
-{
-    FILE *md = bench_open(outdir, "accuracy.md", "Renderer settings: accuracy against the ground truth, and time");
-    if (!md) return;
-    double load = -1;
-    FILE *la = fopen("/proc/loadavg", "r");
-    if (la) {
-        if (fscanf(la, "%lf", &load) != 1) load = -1;
-        fclose(la);
-    }
-    fprintf(md, "The Lee Perry-Smith head, `%s` (subsurface, shadows, tonemap, no glow), %d triangles. Frame ms: "
-                "median of %d final frames at %dx%d after one warm-up (llvmpipe, CPU clock around glFinish; every "
-                "row's renderer alive, frames round robin; load average %.2f at the end: compare rows, not runs).\n\n",
-            SCENE, tris, frames, W, H, load);
-    fprintf(md, "**Texture space (TSD)**: the renderer's `diffusion` view (Σ_k w_k L_k) at irradiance N against "
-                "`dermis-reference PACK --texture-space N`: the exact surface convolution, with 3-D distances over the "
-                "whole mesh, of the renderer's own level-0 irradiance by the *true* profile (gems3-skin's six "
-                "Gaussians; the Gaussian-count rows fit that profile with 1…8 and are compared with the same "
-                "reference, so they show their fitting cost). Per channel rel = |render − ref| / max(ref, 1 %% of "
-                "the reference's area-weighted mean over the region), over the texels covered in both; **area-"
-                "weighted**: each texel counts the skin area it stands for, (3-D area / UV area of its triangle) / "
-                "N² mm²; mean and p95 (the error below which 95 %% of the skin *area* lies), in %%, R / G / B.\n\n"
-                "**Frame**: the final linear frame at %dx%d (`dermis-render`'s picture before the tonemap) against "
-                "`dermis-reference PACK --frame --size %dx%d --atlas %d` (irradiance on the CPU with ray-cast "
-                "shadows, diffused exactly, the renderer's specular and tonemap) over the interior skin pixels (the "
-                "pixel and its four neighbours skin in both: silhouette pixels, where the rasterizer's and the rays' "
-                "coverage differ, are left out), each pixel once (weighted by screen area, not skin area). It adds what TSD's irradiance itself gets wrong "
-                "(shadow-map edges, the irradiance texel size) to the diffusion error.\n\n",
-            FW, FH, FW, FH, FRAME_ATLAS);
-    fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame mean %% | frame p95 %% |\n"
-                "|---|---:|---:|---:|---:|---:|\n");
-    for (int c = 0; c < nrows; ++c) {
-        fprintf(md, "| %s | **%.1f** |", rows[c].s.what, rows[c].frame_ms);
-        if (rows[c].ok[REG_ALL]) triple(md, rows[c].st[REG_ALL].mean), triple(md, rows[c].st[REG_ALL].p95);
-        else fprintf(md, " – | – |");
-        if (rows[c].fok) triple(md, rows[c].fst.mean), triple(md, rows[c].fst.p95);
-        else fprintf(md, " – | – |");
-        fprintf(md, "\n");
-    }
-    fprintf(md, "\n## Texture-space error by region\n\nLabels from the geometry (`lib/bake/dm_ref_regions.h`), per "
-                "texel at the reference's own surface point for it (`dm_reference_atlas_targets`), first match wins: "
-                "**seam**: within 3 mm (3-D) of a seam edge — an edge whose two triangles give it different UVs, or "
-                "a mesh boundary (the atlas ends there too), positions welded by exact value (%lld edges on this "
-                "head, %lld of them boundary); **thin** (thin parts and folds): some triangle facing the "
-                "opposite way (n_x · n_y < 0) lies within 5 mm — the back of an ear or a nostril wall, the other lip, "
-                "the eyelid over the eyeball; proximity rather than a ray along −n, because a ray finds only the "
-                "back of a thin part, not the facing side of a fold; 5 mm is 1.8 σ of the widest Gaussian (σ = 2.7 "
-                "mm); **smooth**: the rest. Skin area (%.0f cm² in all):",
-            (long long)ri->seam_edges, (long long)ri->boundary_edges, ri->surface_area_mm2 / 100);
-    for (int i = 0; i < nz; ++i) {
-        double tot = 0;
-        for (int g = 0; g < DM_REF_REGION_COUNT; ++g) tot += z[i].area_mm2[g];
-        fprintf(md, " at %d,", z[i].N);
-        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
-            fprintf(md, " %s %.1f %% (%ld texels)%s", dm_ref_region_name(g), 100 * z[i].area_mm2[g] / tot, z[i].count[g],
-                    g + 1 < DM_REF_REGION_COUNT ? "," : i + 1 < nz ? ";" : ".");
-    }
-    fprintf(md, " Each region's floor is 1 %% of the reference's area-weighted mean over that region.\n\n"
-                "| setting | smooth mean %% | smooth p95 %% | seam mean %% | seam p95 %% | thin mean %% | thin p95 %% |\n"
-                "|---|---:|---:|---:|---:|---:|---:|\n");
-    for (int c = 0; c < nrows; ++c) {
-        fprintf(md, "| %s |", rows[c].s.name);
-        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
-            if (rows[c].ok[g]) triple(md, rows[c].st[g].mean), triple(md, rows[c].st[g].p95);
-            else fprintf(md, " – | – |");
-        fprintf(md, "\n");
-    }
-    fprintf(md, "\nNotes. The half-float row's irradiance is itself rounded (its error includes that); reuse renders "
-                "the same texture space as its base row (its frame ms is a camera-only frame). Stretch off: one "
-                "constant stretch texture, the chart median s_u = %.4f, s_v = %.4f UV/mm, for every blur (the "
-                "renderer unchanged). Gaussian rows at %d: `dermis-fit-profile --preset gems3-skin -n N`, each packed "
-                "with its own stretch chain. References are cached under `BUILD/cache/accuracy/` by pack hash and "
-                "size (`DERMIS_BENCH_LARGE=1` adds 2048, whose reference takes 15+ min on 2 cores; "
-                "`DERMIS_BENCH_QUICK=1` runs the 256 rows only). Plot: `accuracy.png` (mean error against frame ms, "
-                "log scale, with the Pareto front of the texture-space points); `accuracy-frame.png`: the frame "
-                "reference, the default render (irradiance 1024) and the relative error (pixel-weighted legend).\n",
-            med[0], med[1], B);
-    fclose(md);
-    printf("accuracy bench: wrote %s/accuracy.md\n", outdir);
-}
-
 /* The frame at FW x FH of one setting: stats against the frame reference (and, for the
  * picture, the linear pixels into *keep when keep is not NULL). */
 static bool frame_error(const dm_render_assets *a, const setting *s, const dm_refcmp_ref *fref, dm_ref_error_stats *st,
@@ -419,26 +273,6 @@ static bool frame_error(const dm_render_assets *a, const setting *s, const dm_re
     return ok;
 }
 
-static void frame_picture(const char *outdir, const dm_refcmp_ref *fref, const float *px)
-{
-    dm_refcmp_stats st;
-    dm_error err = {0};
-    float *rel = malloc(sizeof *rel * FW * FH);
-    int ow = 3 * 2 * FW, oh = 2 * FH + dm_refcmp_legend_height(ow);
-    uint8_t *img = malloc((size_t)ow * oh * 4);
-    char path[1024];
-    snprintf(path, sizeof path, "%s/accuracy-frame.png", outdir);
-    if (rel && img && dm_refcmp_stats_compute(fref->rgba, px, FW, FH, &st, rel, &err) == DM_OK) {
-        dm_refcmp_compose(fref->rgba, px, rel, FW, FH, &st, &(dm_refcmp_view){.layout = DM_REFCMP_SIDE_BY_SIDE}, img, ow, oh);
-        dm_provenance prov;
-        dm_prov_init(&prov, "bench/accuracy");
-        dm_prov_add_string(&prov, "scene", SCENE);
-        if (dm_render_write_png(path, ow, oh, img, &prov, &err) == DM_OK) printf("accuracy bench: wrote %s\n", path);
-        else fprintf(stderr, "warning: %s\n", err.detail);
-    }
-    free(rel), free(img);
-}
-
 int main(int argc, char **argv)
 {
     const char *outdir = argc > 1 ? argv[1] : "bench/results";
@@ -448,14 +282,17 @@ int main(int argc, char **argv)
     int frames = getenv("DERMIS_BENCH_FRAMES") ? atoi(getenv("DERMIS_BENCH_FRAMES")) : quick ? 5 : 7;
     frames = frames < 5 ? 5 : frames > MAX_FRAMES ? MAX_FRAMES : frames;
     int B = quick ? 256 : 512;
-    add_rows(quick, large, B);
     char dir[1024], pack_path[2048], cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference --help 2>/dev/null | grep -q -- --dipole", bin);
+    dipole = system(cmd) == 0 ? "skin1" : NULL;
+    add_rows(quick, large, B);
     snprintf(dir, sizeof dir, "%s/cache/accuracy", bin);
     snprintf(cmd, sizeof cmd, "mkdir -p %s", dir);
     if (system(cmd) != 0) return 4;
     snprintf(pack_path, sizeof pack_path, "%s/lps-sss.dpk", dir);
     snprintf(cmd, sizeof cmd, "%s/bin/dermis-pack %s -o %s --quiet", bin, SCENE, pack_path);
-    if (run(cmd) != 0) {
+    if (argc > 2) snprintf(pack_path, sizeof pack_path, "%s", argv[2]); /* a pack of SCENE made before */
+    else if (run(cmd) != 0) {
         fprintf(stderr, "error: '%s' failed (run from the repository root)\n", cmd);
         return 3;
     }
@@ -469,7 +306,7 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         int g = rows_s[c].gaussians;
         char p[2048];
-        if (g && !packs[g].open && (!pack_fit(bin, dir, g, p, sizeof p) || !open_pack(p, &packs[g]))) return 3;
+        if (g && !packs[g].open && (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g]))) return 3;
     }
     /* regions from the pack's mesh; references, labels and areas per size */
     dm_scene scene;
@@ -489,15 +326,19 @@ int main(int argc, char **argv)
     sized z[4] = {{0}};
     int nz = 0;
     for (int c = 0; c < nrows; ++c) {
+        const char *truth = rows_s[c].gaussians ? dipole : NULL;
         int i = 0;
-        while (i < nz && z[i].N != rows_s[c].size) ++i;
+        if (rows_s[c].technique != DM_SSS_TEXTURE_SPACE) continue;
+        while (i < nz && !(z[i].N == rows_s[c].size && z[i].dipole == truth)) ++i;
         if (i < nz) continue;
-        z[nz].N = rows_s[c].size;
-        if (!reference(bin, pack_path, hash, dir, z[nz].N, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz])) return 3;
+        z[nz].N = rows_s[c].size, z[nz].dipole = truth;
+        if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz])) return 3;
         ++nz;
     }
-    dm_refcmp_ref fref;
-    if (!reference(bin, pack_path, hash, dir, 0, &fref)) return 3;
+    dm_refcmp_ref fref[2] = {{0}};
+    if (!reference(bin, pack_path, hash, dir, 0, NULL, &fref[0]) ||
+        (dipole && !reference(bin, pack_path, hash, dir, 0, dipole, &fref[1])))
+        return 3;
 
     dm_osmesa *ctx = NULL;
     if (dm_osmesa_create(&ctx, &err) != DM_OK) {
@@ -518,6 +359,10 @@ int main(int argc, char **argv)
         rows[c].scene = packs[s->gaussians].scene;
         if (s->taps) rows[c].scene.blur_taps = s->taps;
         rows[c].scene.effects[DM_EFFECT_GLOW] = false;
+        rows[c].scene.effects[DM_EFFECT_TRANSLUCENCY] = s->translucency;
+        rows[c].scene.sss_technique = s->technique;
+        if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
+        rows[c].fref = &fref[s->gaussians && dipole];
         as[c] = packs[s->gaussians].assets;
         as[c].scene = &rows[c].scene;
         if (s->flat_stretch) {
@@ -545,26 +390,29 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         rows[c].frame_ms = bench_median(rows[c].ms, frames);
         const sized *zz = z;
-        while (zz->N != rows[c].s.size) ++zz;
-        int w = 0, h = 0;
-        float *px = NULL;
-        if (dm_render_frame(rows[c].r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err) == DM_OK) {
-            dm_renderer_view_size(rows[c].r, &w, &h);
-            px = w == zz->N && h == zz->N ? malloc(sizeof *px * 4 * (size_t)w * h) : NULL;
-        }
-        if (!px || dm_renderer_read_view(rows[c].r, px, &err) != DM_OK) {
-            fprintf(stderr, "error: %s: the diffusion view (%dx%d): %s\n", rows[c].s.name, w, h, err.detail);
-            return 3;
+        while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == (rows[c].s.gaussians ? dipole : NULL))) ++zz;
+        if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE) {
+            int w = 0, h = 0;
+            float *px = NULL;
+            if (dm_render_frame(rows[c].r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err) == DM_OK) {
+                dm_renderer_view_size(rows[c].r, &w, &h);
+                px = w == zz->N && h == zz->N ? malloc(sizeof *px * 4 * (size_t)w * h) : NULL;
+            }
+            if (!px || dm_renderer_read_view(rows[c].r, px, &err) != DM_OK) {
+                fprintf(stderr, "error: %s: the diffusion view (%dx%d): %s\n", rows[c].s.name, w, h, err.detail);
+                return 3;
+            }
+            size_t n = (size_t)zz->N * zz->N;
+            rows[c].ok[REG_ALL] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, NULL, -1, n, &rows[c].st[REG_ALL], &err) == DM_OK;
+            for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
+                rows[c].ok[g] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, zz->label, g, n, &rows[c].st[g], &err) == DM_OK;
+            free(px);
         }
         dm_renderer_destroy(rows[c].r);
-        size_t n = (size_t)zz->N * zz->N;
-        rows[c].ok[REG_ALL] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, NULL, -1, n, &rows[c].st[REG_ALL], &err) == DM_OK;
-        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
-            rows[c].ok[g] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, zz->label, g, n, &rows[c].st[g], &err) == DM_OK;
-        free(px);
         bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
-                          !rows[c].s.gaussians && !rows[c].s.flat_stretch && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
-        rows[c].fok = frame_error(&as[c], &rows[c].s, &fref, &rows[c].fst, is_default ? &default_px : NULL);
+                          !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
+                          rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
+        rows[c].fok = frame_error(&as[c], &rows[c].s, rows[c].fref, &rows[c].fst, is_default ? &default_px : NULL);
         const dm_ref_error_stats *s = &rows[c].st[REG_ALL];
         printf("%-52s %7.1f ms  TSD mean %5.2f/%5.2f/%5.2f %%  p95 %5.2f/%5.2f/%5.2f %%  frame mean %5.2f/%5.2f/%5.2f %%\n",
                rows[c].s.what, rows[c].frame_ms, 100 * s->mean[0], 100 * s->mean[1], 100 * s->mean[2], 100 * s->p95[0],
@@ -572,10 +420,12 @@ int main(int argc, char **argv)
     }
     report(outdir, rows, z, nz, frames, packs[0].assets.index_count / 3, &ri, med, B);
     plot(outdir, dir, rows);
-    if (default_px) frame_picture(outdir, &fref, default_px);
+    if (default_px) frame_picture(outdir, &fref[0], default_px);
+    for (int i = 0; i < nz; ++i)
+        if (z[i].N == B && !z[i].dipole) regions_picture(outdir, &z[i]);
     free(default_px), free(flat);
     for (int i = 0; i < nz; ++i) dm_refcmp_ref_free(&z[i].ref), free(z[i].label), free(z[i].area);
-    dm_refcmp_ref_free(&fref);
+    dm_refcmp_ref_free(&fref[0]), dm_refcmp_ref_free(&fref[1]);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf);
     for (int g = 0; g <= MAX_G; ++g)
         if (packs[g].open) dm_pack_close(&packs[g].pack);

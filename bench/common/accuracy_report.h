@@ -1,0 +1,250 @@
+/* bench/common/accuracy_report.h — bench/accuracy's rows and what it writes from them: the
+ * Markdown report, the gnuplot Pareto plot, the frame comparison and the region map.
+ * Header-only like bench_util.h (benches are one .c each); included by bench/accuracy.c only. */
+#ifndef BENCH_ACCURACY_REPORT_H
+#define BENCH_ACCURACY_REPORT_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_ref_regions.h"
+#include "common/bench_util.h"
+#include "core/dm_pack.h"
+#include "core/dm_prov.h"
+#include "render/dm_render.h"
+#include "render/dm_render_image.h"
+#include "render/dm_render_refcmp.h"
+
+enum { W = 1280, H = 720, FW = 320, FH = 180, FRAME_ATLAS = 512, MAX_FRAMES = 64, MAX_ROWS = 40, MAX_G = 8 };
+enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
+static const char *SCENE = "assets/scenes/lps-sss.json";
+
+typedef struct setting {
+    char name[40], what[160];
+    int size, taps, gaussians; /* irradiance size; blur taps (0: the scene's); 0: the pack's profile */
+    bool flat_stretch;
+    dm_sss_technique technique; /* texture-space (0) or screen-space */
+    int screen_taps;            /* screen-space kernel taps */
+    bool translucency;
+    dm_render_desc knobs;
+} setting;
+
+/* The truth the Gaussian-count rows are fitted to and compared with: the skin1 dipole when
+ * dermis-reference can convolve it (--dipole), else gems3-skin itself. */
+static const char *dipole;
+
+typedef struct sized {
+    int N;
+    const char *dipole; /* NULL: the pack's profile */
+    dm_refcmp_ref ref;
+    uint8_t *label;
+    float *area;
+    long count[DM_REF_REGION_COUNT];
+    double area_mm2[DM_REF_REGION_COUNT];
+} sized;
+
+typedef struct packed {
+    bool open;
+    dm_pack pack;
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets assets;
+} packed;
+
+typedef struct row {
+    setting s;
+    dm_scene scene;
+    dm_renderer *r;
+    double ms[MAX_FRAMES], frame_ms;
+    dm_ref_error_stats st[NREG], fst;
+    bool ok[NREG], fok;
+    const dm_refcmp_ref *fref; /* the frame reference of its truth */
+} row;
+
+static setting rows_s[MAX_ROWS];
+static int nrows;
+
+static double mean3(const double v[3]) { return (v[0] + v[1] + v[2]) / 3; }
+
+static void plot(const char *outdir, const char *dir, const row *rows)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) return;
+    char dat[1100], front[1100], png[1100];
+    snprintf(dat, sizeof dat, "%s/pareto.dat", dir), snprintf(front, sizeof front, "%s/front.dat", dir);
+    snprintf(png, sizeof png, "%s/accuracy.png", outdir);
+    FILE *f = fopen(dat, "w"), *fr = fopen(front, "w");
+    if (!f || !fr) return;
+    int order[MAX_ROWS], n = 0;
+    for (int c = 0; c < nrows; ++c) {
+        if (!rows[c].ok[REG_ALL] && !rows[c].fok) continue;
+        char tsd[32] = "?", fr_[32] = "?";
+        if (rows[c].ok[REG_ALL]) snprintf(tsd, sizeof tsd, "%.6f", 100 * mean3(rows[c].st[REG_ALL].mean)), order[n++] = c;
+        if (rows[c].fok) snprintf(fr_, sizeof fr_, "%.6f", 100 * mean3(rows[c].fst.mean));
+        fprintf(f, "%.3f %s %s \"%s\" \"%s\"\n", rows[c].frame_ms, tsd, fr_, rows[c].ok[REG_ALL] ? rows[c].s.name : "",
+                rows[c].ok[REG_ALL] ? "" : rows[c].s.name);
+    }
+    for (int i = 1; i < n; ++i) /* by ms, then error: the non-dominated points form the front */
+        for (int j = i; j > 0 && (rows[order[j]].frame_ms < rows[order[j - 1]].frame_ms); --j) {
+            int k = order[j];
+            order[j] = order[j - 1], order[j - 1] = k;
+        }
+    double best = INFINITY;
+    for (int i = 0; i < n; ++i) {
+        double e = 100 * mean3(rows[order[i]].st[REG_ALL].mean);
+        if (rows[order[i]].s.knobs.reuse_texture_space) continue; /* not a full frame */
+        if (e < best) best = e, fprintf(fr, "%.3f %.6f\n", rows[order[i]].frame_ms, e);
+    }
+    fclose(f), fclose(fr);
+    FILE *g = popen("gnuplot", "w");
+    if (!g) return;
+    fprintf(g, "set terminal pngcairo size 1100,700 font ',11'\nset output '%s'\n"
+               "set title 'lps-sss: error against dermis-reference vs frame time, one point per setting'\n"
+               "set xlabel 'frame ms (median, 1280x720, llvmpipe on 2 cores; log scale)'\nset logscale x\n"
+               "set ylabel 'texture space: mean relative error, %% (R, G, B averaged; area-weighted)'\n"
+               "set y2label 'frame: mean relative error, %% (interior skin pixels)' tc rgb '#d62728'\n"
+               "set y2tics tc rgb '#d62728'\nset ytics nomirror\nset grid\nset key top right\n"
+               "set datafile missing '?'\nset yrange [0:*]\nset y2range [0:*]\nset offsets graph 0.02, graph 0.25, graph 0.15, graph 0.05\n"
+               "plot '%s' using 1:2 with lines lw 2 lc rgb '#999999' title 'Pareto front of the texture-space error (full frames)', "
+               "'%s' using 1:2 with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N, whole skin', "
+               "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle, "
+               "'' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame 320x180 vs --frame (right axis)', "
+               "'' using 1:3:5 axes x1y2 with labels offset 0.6,-0.4 left rotate by -30 font ',8' tc rgb '#d62728' notitle\n",
+            png, front, dat);
+    if (pclose(g) == 0) printf("accuracy bench: wrote %s\n", png);
+}
+
+static void triple(FILE *md, const double v[3]) { fprintf(md, " %.2f / %.2f / %.2f |", 100 * v[0], 100 * v[1], 100 * v[2]); }
+
+static void report(const char *outdir, const row *rows, const sized *z, int nz, int frames, int tris,
+                   const dm_ref_regions_info *ri, const float med[2], int B)
+{
+    FILE *md = bench_open(outdir, "accuracy.md", "Renderer settings: accuracy against the ground truth, and time");
+    if (!md) return;
+    double load = -1;
+    FILE *la = fopen("/proc/loadavg", "r");
+    if (la) {
+        if (fscanf(la, "%lf", &load) != 1) load = -1;
+        fclose(la);
+    }
+    fprintf(md, "The Lee Perry-Smith head, `%s` (subsurface, shadows, tonemap, no glow), %d triangles. Frame ms: "
+                "median of %d final frames at %dx%d after one warm-up (llvmpipe, CPU clock around glFinish; every "
+                "row's renderer alive, frames round robin; load average %.2f at the end: compare rows, not runs).\n\n",
+            SCENE, tris, frames, W, H, load);
+    fprintf(md, "**Texture space (TSD)**: the renderer's `diffusion` view (Σ_k w_k L_k) at irradiance N against "
+                "`dermis-reference PACK --texture-space N`: the exact surface convolution, with 3-D distances over the "
+                "whole mesh, of the renderer's own level-0 irradiance by the scene's profile (gems3-skin's six "
+                "Gaussians; the Gaussian-count rows: see the notes). Per channel rel = |render − ref| / max(ref, 1 %% of "
+                "the reference's area-weighted mean over the region), over the texels covered in both; **area-"
+                "weighted**: each texel counts the skin area it stands for, (3-D area / UV area of its triangle) / "
+                "N² mm²; mean and p95 (the error below which 95 %% of the skin *area* lies), in %%, R / G / B.\n\n"
+                "**Frame**: the final linear frame at %dx%d (`dermis-render`'s picture before the tonemap) against "
+                "`dermis-reference PACK --frame --size %dx%d --atlas %d` (irradiance on the CPU with ray-cast "
+                "shadows, diffused exactly, the renderer's specular and tonemap) over the interior skin pixels (the "
+                "pixel and its four neighbours skin in both: silhouette pixels, where the rasterizer's and the rays' "
+                "coverage differ, are left out), each pixel once (weighted by screen area, not skin area). It adds what TSD's irradiance itself gets wrong "
+                "(shadow-map edges, the irradiance texel size) to the diffusion error.\n\n",
+            FW, FH, FW, FH, FRAME_ATLAS);
+    fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame mean %% | frame p95 %% |\n"
+                "|---|---:|---:|---:|---:|---:|\n");
+    for (int c = 0; c < nrows; ++c) {
+        fprintf(md, "| %s | **%.1f** |", rows[c].s.what, rows[c].frame_ms);
+        if (rows[c].ok[REG_ALL]) triple(md, rows[c].st[REG_ALL].mean), triple(md, rows[c].st[REG_ALL].p95);
+        else fprintf(md, " – | – |");
+        if (rows[c].fok) triple(md, rows[c].fst.mean), triple(md, rows[c].fst.p95);
+        else fprintf(md, " – | – |");
+        fprintf(md, "\n");
+    }
+    fprintf(md, "\n## Texture-space error by region\n\nLabels from the geometry (`lib/bake/dm_ref_regions.h`), per "
+                "texel at the reference's own surface point for it (`dm_reference_atlas_targets`), first match wins: "
+                "**seam**: within 3 mm (3-D) of a seam edge — an edge whose two triangles give it different UVs, or "
+                "a mesh boundary (the atlas ends there too), positions welded by exact value (%lld edges on this "
+                "head, %lld of them boundary); **thin** (thin parts and folds): some triangle facing the "
+                "opposite way (n_x · n_y < 0) lies within 5 mm — the back of an ear or a nostril wall, the other lip, "
+                "the eyelid over the eyeball; proximity rather than a ray along −n, because a ray finds only the "
+                "back of a thin part, not the facing side of a fold; 5 mm is 1.8 σ of the widest Gaussian (σ = 2.7 "
+                "mm); **smooth**: the rest. Skin area (%.0f cm² in all):",
+            (long long)ri->seam_edges, (long long)ri->boundary_edges, ri->surface_area_mm2 / 100);
+    for (int i = 0; i < nz; ++i) {
+        double tot = 0;
+        for (int g = 0; g < DM_REF_REGION_COUNT; ++g) tot += z[i].area_mm2[g];
+        fprintf(md, " at %d,", z[i].N);
+        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
+            fprintf(md, " %s %.1f %% (%ld texels)%s", dm_ref_region_name(g), 100 * z[i].area_mm2[g] / tot, z[i].count[g],
+                    g + 1 < DM_REF_REGION_COUNT ? "," : i + 1 < nz ? ";" : ".");
+    }
+    fprintf(md, " Each region's floor is 1 %% of the reference's area-weighted mean over that region.\n\n"
+                "| setting | smooth mean %% | smooth p95 %% | seam mean %% | seam p95 %% | thin mean %% | thin p95 %% |\n"
+                "|---|---:|---:|---:|---:|---:|---:|\n");
+    for (int c = 0; c < nrows; ++c) {
+        if (!rows[c].ok[REG_ALL]) continue;
+        fprintf(md, "| %s |", rows[c].s.name);
+        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
+            if (rows[c].ok[g]) triple(md, rows[c].st[g].mean), triple(md, rows[c].st[g].p95);
+            else fprintf(md, " – | – |");
+        fprintf(md, "\n");
+    }
+    fprintf(md, "\nNotes. The half-float row's irradiance is itself rounded (its error includes that); reuse renders "
+                "the same texture space as its base row (its frame ms is a camera-only frame). Stretch off: one "
+                "constant stretch texture, the chart median s_u = %.4f, s_v = %.4f UV/mm, for every blur (the "
+                "renderer unchanged). Gaussian rows at %d: `dermis-fit-profile %s -n N`, each packed with its own "
+                "stretch chain, all compared with one reference of the profile they fit (%s), texture space and "
+                "frame: they show each N's fitting cost on top of the diffusion's. Screen-space rows (Jimenez's "
+                "separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
+                "frame error only, against the same frame reference (it does not depend on the technique). "
+                "Translucency rows add light through thin parts that the reference carries by its 3-D convolution; "
+                "their texture-space error is their base row's (translucency is added in the final pass). References are cached under `BUILD/cache/accuracy/` by pack hash and "
+                "size (`DERMIS_BENCH_LARGE=1` adds 2048, whose reference takes 15+ min on 2 cores; "
+                "`DERMIS_BENCH_QUICK=1` runs the 256 rows only). Plot: `accuracy.png` (mean error against frame ms, "
+                "log scale, with the Pareto front of the texture-space points); `accuracy-frame.png`: the frame "
+                "reference, the default render (irradiance 1024) and the relative error (pixel-weighted legend).\n",
+            med[0], med[1], B, dipole ? "--dipole skin1" : "--preset gems3-skin",
+            dipole ? "`dermis-reference --dipole skin1`, the dipole represented by 12 Gaussians" : "gems3-skin's six Gaussians");
+    fclose(md);
+    printf("accuracy bench: wrote %s/accuracy.md\n", outdir);
+}
+
+static void frame_picture(const char *outdir, const dm_refcmp_ref *fref, const float *px)
+{
+    dm_refcmp_stats st;
+    dm_error err = {0};
+    float *rel = malloc(sizeof *rel * FW * FH);
+    int ow = 3 * 2 * FW, oh = 2 * FH + dm_refcmp_legend_height(ow);
+    uint8_t *img = malloc((size_t)ow * oh * 4);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/accuracy-frame.png", outdir);
+    if (rel && img && dm_refcmp_stats_compute(fref->rgba, px, FW, FH, &st, rel, &err) == DM_OK) {
+        dm_refcmp_compose(fref->rgba, px, rel, FW, FH, &st, &(dm_refcmp_view){.layout = DM_REFCMP_SIDE_BY_SIDE}, img, ow, oh);
+        dm_provenance prov;
+        dm_prov_init(&prov, "bench/accuracy");
+        dm_prov_add_string(&prov, "scene", SCENE);
+        if (dm_render_write_png(path, ow, oh, img, &prov, &err) == DM_OK) printf("accuracy bench: wrote %s\n", path);
+        else fprintf(stderr, "warning: %s\n", err.detail);
+    }
+    free(rel), free(img);
+}
+
+/* The labels of one atlas as a picture: smooth grey, seam blue, thin orange, uncovered black. */
+static void regions_picture(const char *outdir, const sized *z)
+{
+    static const uint8_t col[DM_REF_REGION_COUNT][3] = {{150, 150, 150}, {40, 90, 230}, {245, 140, 20}};
+    size_t n = (size_t)z->N * z->N;
+    uint8_t *img = calloc(n, 4);
+    char path[1100];
+    dm_error err = {0};
+    if (!img) return;
+    for (size_t i = 0; i < n; ++i) {
+        if (z->area[i] > 0) memcpy(img + 4 * i, col[z->label[i] % DM_REF_REGION_COUNT], 3);
+        img[4 * i + 3] = 255;
+    }
+    dm_provenance prov;
+    dm_prov_init(&prov, "bench/accuracy");
+    dm_prov_add_string(&prov, "legend", "smooth grey, seam (3 mm) blue, thin/fold (5 mm) orange");
+    snprintf(path, sizeof path, "%s/accuracy-regions.png", outdir);
+    if (dm_render_write_png(path, z->N, z->N, img, &prov, &err) == DM_OK) printf("accuracy bench: wrote %s\n", path);
+    free(img);
+}
+
+
+#endif
