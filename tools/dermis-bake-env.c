@@ -161,6 +161,12 @@ static int parse(int argc, char **argv, args *a)
         return 0;
     }
     a->opt.check_texels = a->check_texels > 0 ? a->check_texels : -1;
+    if (a->opt.rotate_deg != 0.0)
+        fprintf(stderr,
+                "warning: --rotate %g: dermis-pack takes only unrotated bakes (a scene turns its environment at "
+                "render time with environment.rotation_deg); for a pack, bake without --rotate and set "
+                "rotation_deg %g in the scene\n",
+                a->opt.rotate_deg, a->opt.rotate_deg);
     return 1;
 }
 

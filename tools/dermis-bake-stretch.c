@@ -6,6 +6,7 @@
 
 #include "bake/dm_exr.h"
 #include "bake/dm_mesh.h"
+#include "bake/dm_mesh_plausible.h"
 #include "bake/dm_stretch.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
@@ -177,6 +178,8 @@ int main(int argc, char **argv)
         return DM_EXIT_LOAD;
     }
     double load_ms = dm_now_ms() - t0;
+    char plausible[1024];
+    if (dm_mesh_plausible(&mesh, a.mm_per_unit, a.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
     if (a.verbose)
         fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.mesh, mesh.triangle_count, load_ms);
 

@@ -12,6 +12,7 @@
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
 #include "bake/dm_mesh.h"
+#include "bake/dm_mesh_plausible.h"
 #include "bake/dm_stretch.h"
 #include "bake/dm_pack_env.h"
 #include "bake/dm_pack_write.h"
@@ -416,6 +417,9 @@ static dm_result ensure_mesh(job *j, dm_error *err)
     dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
     if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
     j->mesh_loaded = r == DM_OK;
+    char plausible[1024];
+    if (r == DM_OK && dm_mesh_plausible(&j->mesh, j->scene.mm_per_unit, j->scene.mesh, plausible, sizeof plausible))
+        fputs(plausible, stderr);
     return r;
 }
 
@@ -860,6 +864,11 @@ int main(int argc, char **argv)
         free(j);
         return DM_EXIT_LOAD;
     }
+    if (j->scene.light_count == 0 && !j->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
+        fprintf(stderr,
+                "warning: %s: no light and no environment lighting: every picture of this pack will be black; add a "
+                "light to $.lights or turn on $.effects.environment_lighting with an $.environment.path\n",
+                opt.scene);
     if (opt.explain) {
         explain(&j->scene);
         free(j);

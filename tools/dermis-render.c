@@ -253,6 +253,17 @@ static int load(const options *o, source *src, dm_error *err)
 {
     memset(src, 0, sizeof *src);
     if (o->pack) {
+        size_t len = strlen(o->pack);
+        if (len >= 5 && strcmp(o->pack + len - 5, ".json") == 0) { /* a scene: say how to pack it */
+            const char *slash = strrchr(o->pack, '/');
+            const char *base = slash ? slash + 1 : o->pack;
+            int stem = (int)(len - 5 - (size_t)(base - o->pack));
+            dm_fail(err, DM_ERR_FORMAT,
+                    "%s: a scene file, not a pack: pack it first: dermis-pack %s -o %.*s.dpk, then dermis-render "
+                    "%.*s.dpk",
+                    o->pack, o->pack, stem, base, stem, base);
+            return DM_EXIT_LOAD;
+        }
         if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK || dm_pack_open(o->pack, &src->pack, err) != DM_OK)
             return DM_EXIT_LOAD;
         src->pack_open = true;
@@ -260,6 +271,9 @@ static int load(const options *o, source *src, dm_error *err)
             return DM_EXIT_LOAD;
         src->assets = &src->pack_assets;
         src->s = &src->scene;
+        if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
+            fprintf(stderr, "warning: %s: the scene has no light and no environment lighting: the picture is black\n",
+                    o->pack);
         return 0;
     }
     dm_synth_options so = {.shape = strcmp(o->synthetic, "quad") ? DM_SYNTH_SPHERE : DM_SYNTH_QUAD};

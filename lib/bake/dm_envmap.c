@@ -1,6 +1,8 @@
 #include "bake/dm_envmap.h"
 
 #include <assert.h>
+#include <stdbool.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -113,10 +115,30 @@ dm_result dm_envmap_from_pixels(const float *pixels, int width, int height, int 
     return DM_OK;
 }
 
+/* True when path names an 8-bit display format (its values are sRGB-encoded, not radiance). */
+static bool is_ldr_format(const char *path)
+{
+    static const char *const ext[] = {".png", ".jpg", ".jpeg", ".bmp", ".tga", ".gif", ".webp"};
+    const char *dot = strrchr(path, '.');
+    if (!dot || strchr(dot, '/')) return false;
+    for (size_t k = 0; k < sizeof ext / sizeof ext[0]; ++k) {
+        const char *a = dot, *b = ext[k];
+        while (*a && *b && tolower((unsigned char)*a) == *b) ++a, ++b;
+        if (!*a && !*b) return true;
+    }
+    return false;
+}
+
 dm_result dm_envmap_load(const char *path, double negative_tolerance, dm_envmap *out, dm_error *err)
 {
     assert(path && out);
     memset(out, 0, sizeof *out);
+    if (is_ldr_format(path))
+        return dm_fail(err, DM_ERR_UNSUPPORTED,
+                       "%s: an 8-bit image holds display (sRGB) values, not radiance, expected an HDR environment "
+                       "(.hdr or .exr); to use it anyway, convert it to linear float (its brightness is then only "
+                       "relative): oiiotool %s --colorconvert sRGB linear -d float -o ENV.exr",
+                       path, path);
     dm_image img;
     dm_result r = dm_image_read(path, DM_PIXEL_F32, &img, err);
     if (r != DM_OK) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <strings.h>
 #include <exception>
 #include <string>
 #include <vector>
@@ -132,10 +133,17 @@ dm_result read_openmesh(const char *path, const dm_mesh_load_options &o, dm_mesh
                                path, pm.n_vertices());
             return dm_fail(err, DM_ERR_EMPTY, "%s: no vertices and no faces, expected a mesh", path);
         }
-        const bool face_uvs = ropt.face_has_texcoord();
-        const bool vertex_uvs = !face_uvs && ropt.vertex_has_texcoord();
+        // STL has no texture coordinates, but OpenMesh's STL reader leaves the requested
+        // texcoord options set (the UVs then read as NaN): decide by the format.
+        const size_t len = std::strlen(path);
+        const bool stl = len >= 4 && strcasecmp(path + len - 4, ".stl") == 0;
+        const bool face_uvs = !stl && ropt.face_has_texcoord();
+        const bool vertex_uvs = !stl && !face_uvs && ropt.vertex_has_texcoord();
         if (!face_uvs && !vertex_uvs && !o.uvs_optional)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: no texture coordinates, expected a UV layout", path);
+            return dm_fail(err, DM_ERR_FORMAT,
+                           "%s: no texture coordinates%s, expected a UV layout (texture-space diffusion needs one): "
+                           "export the mesh with its UVs as OBJ (vt), PLY or glTF (TEXCOORD_0)",
+                           path, stl ? " (STL cannot hold them)" : "");
         const bool file_normals = ropt.vertex_has_normal() && !o.ignore_file_normals;
         return convert(pm, face_uvs, vertex_uvs, file_normals, path, out, err);
     } catch (const std::bad_alloc &) {
