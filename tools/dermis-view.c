@@ -47,8 +47,8 @@ static void usage(FILE *f)
             "  --quiet              nothing on stdout\n"
             "  -h, --help           this text\n"
             "Keys: F1 in the window lists them (orbit: left drag, zoom: wheel, pan: right/middle drag).\n"
-            "Exit codes: 0 success, 1 usage error or corrupt pack (the validator's message, as\n"
-            "            dermis-check prints it), 2 cannot load the input (missing or unusable pack),\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load the input (missing, unusable or\n"
+            "            corrupt pack: the validator's message, as dermis-check prints it),\n"
             "            3 no display / no OpenGL 3.3 / rendering or a script event failed,\n"
             "            4 cannot save a screenshot.\n");
 }
@@ -406,14 +406,12 @@ int main(int argc, char **argv)
     }
     if (dm_viewer_load(&a->v, &o.v, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
-        /* a pack that exists but fails verification is corrupt: the validator's verdict
-         * and exit code (dermis-check: 1); a missing or unusable one cannot be loaded */
-        bool corrupt = err.code != DM_ERR_FILE_OPEN && err.code != DM_ERR_EMPTY && err.code != DM_ERR_OUT_OF_MEMORY &&
-                       o.v.pack;
+        /* missing, unusable or corrupt (the validator's message): cannot load the input,
+         * exit 2 as in dermis-render */
         dm_script_free(&a->script);
         dm_viewer_free(&a->v);
         free(a);
-        return corrupt ? DM_EXIT_USAGE : DM_EXIT_LOAD;
+        return DM_EXIT_LOAD;
     }
 
     if (o.reference && dm_viewer_compare_load(&a->v, o.reference, &err) != DM_OK) {

@@ -282,7 +282,7 @@ Test(view, env_command_switches_between_packed_environments, .timeout = 120)
 }
 
 /* The corrupt pack stops the viewer before any window: no display needed. */
-Test(view, corrupt_pack_gives_the_validators_message_and_exit_1)
+Test(view, corrupt_pack_gives_the_validators_message_and_exit_2)
 {
     char dir[64], pack[256], line[1024], log[256], check_log[256];
     cr_assert(test_tmpdir(dir, sizeof dir));
@@ -310,7 +310,7 @@ Test(view, corrupt_pack_gives_the_validators_message_and_exit_1)
     snprintf(line, sizeof line, VIEW " %s", pack);
     int rc = test_run(line, log);
     char *out = test_slurp(log);
-    cr_expect_eq(rc, 1, "exit %d, expected 1:\n%s", rc, out);
+    cr_expect_eq(rc, 2, "exit %d, expected 2 (cannot load the input, as dermis-render):\n%s", rc, out);
     cr_expect(strstr(out, msg) != NULL, "the viewer's message:\n%s\ndoes not carry the validator's:\n%s", out, msg);
     cr_expect(strncmp(out, "error: ", 7) == 0, "not an error: line: %s", out);
     free(check), free(out);
