@@ -330,7 +330,12 @@ int main(int argc, char **argv)
     char profile_hash[DM_HASH_HEX_SIZE] = "";
     if (o.want_preint && (code = load_profile(&o, &profile, profile_hash))) return code;
 
-    /* bake */
+    /* bake: a bar by stage (each table, then the files) when stderr is a terminal */
+    dm_progress bar;
+    dm_progress_begin(&bar, "bake-lut", o.quiet);
+    const double stages =
+        (o.want_beckmann ? 1 : 0) + (o.want_rho_dt || o.want_env_brdf ? 1 : 0) + (o.want_preint ? 1 : 0) + 1;
+    double stage = 0;
     dm_beckmann_lut bl = {0};
     dm_directional_lut dl = {0};
     if (o.want_beckmann &&
@@ -338,12 +343,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "error: %s\n", err.detail);
         return DM_EXIT_PROCESS;
     }
+    if (o.want_beckmann) dm_progress_update(&bar, ++stage / stages);
     if ((o.want_rho_dt || o.want_env_brdf) &&
         dm_lut_bake_directional(o.dir_w, o.dir_h, o.f0, o.nodes, o.threads, &dl, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         dm_beckmann_lut_free(&bl);
         return DM_EXIT_PROCESS;
     }
+    if (o.want_rho_dt || o.want_env_brdf) dm_progress_update(&bar, ++stage / stages);
     dm_preint_lut pl = {0};
     if (o.want_preint &&
         dm_preint_bake(&profile, o.preint_w, o.preint_h, o.curvature_max, o.threads, &pl, &err) != DM_OK) {
@@ -354,6 +361,8 @@ int main(int argc, char **argv)
     }
     double t_baked = dm_now_ms();
 
+    if (o.want_preint) dm_progress_update(&bar, ++stage / stages);
+    dm_progress_end(&bar);
     /* write */
     char b1[4200], b2[4200], b3[4200], b4[4200];
     dm_provenance prov;

@@ -884,12 +884,26 @@ int main(int argc, char **argv)
                     given[k].file, given[k].entry);
 
     dm_pack_writer_init(&j->w);
-    for (size_t s = 0; s < sizeof steps / sizeof steps[0]; ++s) {
-        bool run = false;
-        for (int e = 0; e < 3 && steps[s].entries[e]; ++e) run = run || wanted(j, steps[s].entries[e]);
-        if (!run) continue;
+    /* a bar by step (a step's own work is not split) when stderr is a terminal */
+    enum { STEP_COUNT = sizeof steps / sizeof steps[0] };
+    bool will_run[STEP_COUNT];
+    int run_count = 0, done = 0;
+    for (size_t s = 0; s < STEP_COUNT; ++s) {
+        will_run[s] = false;
+        for (int e = 0; e < 3 && steps[s].entries[e]; ++e) will_run[s] = will_run[s] || wanted(j, steps[s].entries[e]);
+        run_count += will_run[s];
+    }
+    dm_progress bar;
+    dm_progress_begin(&bar, "pack", opt.quiet);
+    for (size_t s = 0; s < STEP_COUNT; ++s) {
+        if (!will_run[s]) continue;
         j->step_t0 = dm_now_ms();
-        if (steps[s].run(j, &err) != DM_OK) {
+        dm_error step_err = {0};
+        dm_result step_r = steps[s].run(j, &step_err);
+        dm_progress_update(&bar, (double)++done / (run_count + 1));
+        if (step_r != DM_OK) {
+            dm_progress_end(&bar);
+            err = step_err;
             fprintf(stderr, "error: %s: %s\n", steps[s].name, err.detail);
             job_free(j);
             return err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT
@@ -897,6 +911,7 @@ int main(int argc, char **argv)
                        : DM_EXIT_PROCESS;
         }
     }
+    dm_progress_end(&bar);
     for (int f = 0; f < opt.env_file_count; ++f)
         if (!j->env_file_used[f] && !opt.quiet)
             fprintf(stderr, "warning: --env %s: baked from none of the scene's environment maps (or none is "
