@@ -234,6 +234,15 @@ static void provenance(const options *o, const dm_scene *s, const char *input_ha
 {
     dm_render_provenance(p, "dermis-render", o->pack ? o->pack : o->synthetic, input_hash, s, r, o->view_text,
                          o->light_azimuth, o->frames);
+    /* every speed/accuracy setting of dm_render_desc, defaults resolved, so a picture says
+     * which path made it */
+    const dm_render_desc *d = &o->speed;
+    dm_prov_add_int(p, "shadow_pcf_taps", d->shadow_pcf_taps ? d->shadow_pcf_taps : 4);
+    dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
+    dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
+    dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
+    dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
+    dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
 }
 
 /* What is rendered: a verified pack (mapped, nothing copied) or a synthetic scene. */
@@ -445,6 +454,14 @@ int main(int argc, char **argv)
         rc = DM_EXIT_PROCESS;
         goto done;
     }
+    /* --compare-exact times warm frames: one untimed frame on each renderer first (shader
+     * compilation on first use, first uploads), then the medians of o.frames frames */
+    if (exact && (dm_render_frame(r, &fo, &err) != DM_OK || dm_render_frame(exact, &fo, &err) != DM_OK)) {
+        fprintf(stderr, "error: warm-up frame: %s\n", err.detail);
+        rc = err.code == DM_ERR_INVALID_ARGUMENT ? DM_EXIT_USAGE : DM_EXIT_PROCESS;
+        free(ms);
+        goto done;
+    }
     dm_progress prog;
     dm_progress_begin(&prog, "rendering", o.quiet || o.frames < 4);
     for (int f = 0; f < o.frames; ++f) {
@@ -481,8 +498,9 @@ int main(int argc, char **argv)
         for (int f = 0; col && f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES];
         double mine = col ? median(col, o.frames) : 0.0, ref = median(exact_ms, o.frames);
         free(col);
-        printf("compare-exact: this setting %.1f ms, exact path %.1f ms per frame (median of %d)\n", mine, ref,
-               o.frames);
+        printf("compare-exact: this setting %.1f ms, exact path %.1f ms per frame (median of %d warm frames, after "
+               "one warm-up frame each)\n",
+               mine, ref, o.frames);
         printf("  output (linear, RGB): max |d| %.3e, mean %.3e (peak %.3g); display: %d steps of 255\n", d.out_max,
                d.out_mean, d.out_peak, d.display_steps);
         if (level)
