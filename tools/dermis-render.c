@@ -1,5 +1,6 @@
 /* dermis-render — headless (OSMesa) renderer: scene → PNG/EXR, per-pass timings.
  * Straight pipeline: parse → load (assets) → context + renderer → frames → write. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +39,8 @@ static void usage(FILE *f)
             "  --view NAME          final (default), irradiance, blurK (1..5), stretchK (0..5),\n"
             "                       shadowK, specular, diffuse, uv, wireframe, diffusion (the\n"
             "                       texture-space sum of every level as the final pass weights it)\n"
-            "  --view-scale X       multiplies debug texture views, default 1; (0, 1e6]\n"
+            "  --view-scale X       multiplies debug texture views, default 1 (stretchK: 1 / the level's\n"
+            "                       largest value, so the map fills [0, 1]); (0, 1e6]\n"
             "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
             "  --timings            print the median ms per pass over the frames and per frame\n"
             "  --explain            print the pass list and why each pass is there (renders only\n"
@@ -78,6 +80,7 @@ typedef struct options {
     int width, height, irradiance, frames, view_index;
     dm_view view;
     double view_scale, light_azimuth;
+    bool view_scale_given;
     bool timings, explain, verbose, quiet, compare_exact;
     dm_render_desc speed; /* the speed/accuracy fields only */
 } options;
@@ -153,6 +156,7 @@ static int parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--view-scale")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, 1e-12, 1e6, &d)) return 0;
             o->view_scale = d;
+            o->view_scale_given = true;
         } else if (!strcmp(a, "--light-azimuth")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(a, v, -360, 360, &d)) return 0;
             o->light_azimuth = d;
@@ -403,6 +407,28 @@ int main(int argc, char **argv)
         o.view = ts ? DM_VIEW_DIFFUSION : DM_VIEW_FINAL;
         o.view_index = 0;
         o.view_text = ts ? "diffusion" : "final";
+    }
+
+    /* a texture-space view is square: without --size, the scene's height on both sides
+     * (not the texture squashed into the scene's 16:9 frame) */
+    if (!o.width && dm_view_is_texture(o.view)) o.width = o.height = src.s->height;
+    /* the stretch (UV units per mm, ~0.005 on a head) would read as black: scaled so the
+     * level's largest value is 1 unless --view-scale says otherwise */
+    if (o.view == DM_VIEW_STRETCH && !o.view_scale_given && o.view_index >= 0 &&
+        o.view_index < src.assets->stretch_level_count) {
+        const dm_texture *t = &src.assets->stretch[o.view_index];
+        double top = 0.0;
+        if (t->texels && t->format == DM_TEX_RG32F)
+            for (size_t i = 0; i < (size_t)t->width * t->height * 2; ++i) {
+                double x = ((const float *)t->texels)[i];
+                if (isfinite(x) && x > top) top = x;
+            }
+        if (top > 0.0) {
+            o.view_scale = 1.0 / top;
+            if (!o.quiet)
+                printf("stretch%d scaled by %.4g: 1 = %.4g UV units per mm, the level's largest value\n", o.view_index,
+                       o.view_scale, top);
+        }
     }
 
     /* context + renderer */
