@@ -203,7 +203,7 @@ demo: deps
 # The head's texture-space ground truth in tiles through GNU parallel (REF_SIZE, REF_TILES).
 reference: deps
 	@$(MAKE) --no-print-directory -j$(NPROC) tools
-	@BUILD=$(BUILD) bash scripts/reference.sh
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/reference.sh
 
 # libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan.
 FUZZ_CC      ?= clang

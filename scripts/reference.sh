@@ -5,6 +5,8 @@
 # BUILD comes from the Makefile; REF_SIZE (1024), REF_TILES (16), REF_SCENE override.
 set -euo pipefail
 BUILD=${BUILD:-build/release}
+# Scenes look up lps/..., env/... in the asset folder (make ASSETS=DIR; dm_scene.h).
+export DERMIS_ASSETS=${ASSETS:-../shared/assets}
 size=${REF_SIZE:-1024}
 tiles=${REF_TILES:-16}
 scene=${REF_SCENE:-assets/scenes/lps-sss.json}

@@ -2,6 +2,8 @@
 # Runs each Criterion test binary given, then prints one synthesis line over all of them.
 # Exit 0 only when every binary ran and every test passed.
 set -u
+# Scenes look up lps/..., env/... in the asset folder (make ASSETS=DIR; dm_scene.h).
+export DERMIS_ASSETS=${ASSETS:-../shared/assets}
 tested=0 passing=0 failing=0 crashing=0 broken=0
 jobs=${DERMIS_TEST_JOBS:-2}
 # One scratch root per run for the tests' files (packs of tens of MiB among them):
