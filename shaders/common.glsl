@@ -215,7 +215,7 @@ uniform sampler2D u_tdepth1;
 uniform sampler2D u_tdepth2;
 uniform sampler2D u_tdepth3;
 uniform vec4 u_light_depth[DM_MAX_LIGHTS]; // near, far (mesh units), z = 1: orthographic
-uniform float u_trans_var[DM_TRANS_GAUSSIANS];   // mm^2
+uniform float u_trans_var[DM_TRANS_GAUSSIANS];   // -log2(e) / (2 v_k), v_k in mm^2: exp2(d^2 x) = exp(-d^2/2v_k)
 uniform vec3 u_trans_weight[DM_TRANS_GAUSSIANS]; // per channel, summing to 1
 uniform float u_mm_per_unit;
 uniform float u_translucency;
@@ -261,8 +261,7 @@ vec3 dm_translucency(vec3 P, vec3 Ng)
         float here = dm_light_distance(i, p.z);
         float d = max(here - first, 0.0) * u_mm_per_unit;
         vec3 t = vec3(0.0);
-        for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k)
-            t += u_trans_weight[k] * exp(-d * d / (2.0 * max(u_trans_var[k], 1e-12)));
+        for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k) t += u_trans_weight[k] * exp2(d * d * u_trans_var[k]);
         sum += u_light_color[i] * (back * t);
     }
     return u_translucency * sum;

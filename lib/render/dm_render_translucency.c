@@ -19,6 +19,8 @@
  * The shadow maps are depth-compare textures; a sampler object without compare mode reads
  * their raw depth on the units the blur and view passes use (never bound in shading passes).
  */
+#include <math.h>
+
 #include "render/dm_render_internal.h"
 
 void dmr_translucency_setup(dm_renderer *r)
@@ -42,7 +44,8 @@ void dmr_translucency_bind(const dm_renderer *r, GLuint p)
     glUniform4fv(loc(p, "u_light_depth"), r->scene.light_count, &r->light_depth[0][0]);
     glUniform1iv(loc(p, "u_trans_light"), r->plan.shadow_count, r->plan.shadow_light);
     float var[DM_PROFILE_MAX_GAUSSIANS];
-    for (int k = 0; k < r->profile.count; ++k) var[k] = (float)r->profile.variance_mm2[k];
+    for (int k = 0; k < r->profile.count; ++k) /* exp(−d²/2v) = exp2(d² · (−log2 e / 2v)); v ≥ 1e−12 mm² */
+        var[k] = (float)(-1.4426950408889634 / (2.0 * fmax(r->profile.variance_mm2[k], 1e-12)));
     glUniform1fv(loc(p, "u_trans_var"), r->profile.count, var);
     glUniform3fv(loc(p, "u_trans_weight"), r->profile.count, &r->level_weight[0][0]);
     u1f(p, "u_mm_per_unit", (float)r->scene.mm_per_unit);
