@@ -8,7 +8,8 @@
 // sum: o_color = diffuse irradiance x albedo^mix with alpha = eye depth (mesh units), o_aux =
 // post-scatter factor albedo^(1-mix) (x energy out), o_spec = specular. DM_TRANSLUCENCY: light
 // through thin parts joins the diffuse irradiance (without texture-space subsurface; with it,
-// the irradiance pass adds it).
+// the irradiance pass adds it). DM_PRE_INTEGRATED (lib/render/dm_render_preint.c): each light's
+// diffuse from the table D(N.L, curvature) per channel instead of N.L.
 uniform mat4 u_view_proj;
 #ifdef DM_VERTEX
 layout(location = 0) in vec3 a_position;
@@ -59,6 +60,13 @@ uniform float u_env_level_m[6];
 uniform sampler2D u_env_level[6];
 uniform sampler2DArray u_env_array; // the same levels as layers (DM_ENV_ARRAY: all one size)
 uniform float u_mix;
+#ifdef DM_PRE_INTEGRATED
+uniform sampler2D u_preint;    // D(N.L, curvature): s = (N.L + 1)/2 at texel centres
+uniform sampler2D u_curvature; // mean curvature, 1/mm (negative: concave)
+uniform float u_preint_kmax;   // curvature of the table's last row; row j = kmax j/(height-1)
+uniform float u_preint_height;
+uniform vec3 u_preint_blend;   // per channel: how far its normal bends from the map's to the geometric
+#endif
 vec3 env_level(int k, vec2 uv)
 {
     if (k == 0) return texture(u_env_level[0], uv).rgb;
@@ -126,9 +134,28 @@ void main()
     diffuse = dm_diffusion(v_uv) * pow(albedo, vec3(1.0 - u_mix)); // common.glsl
 #else
     vec3 e = vec3(0.0);
+#ifdef DM_PRE_INTEGRATED
+    float kappa = clamp(texture(u_curvature, v_uv).r, 0.0, u_preint_kmax);
+    float pt = (0.5 + (u_preint_height - 1.0) * kappa / u_preint_kmax) / u_preint_height;
+    vec3 NR = normalize(mix(N, Ng, u_preint_blend.r)), NG = normalize(mix(N, Ng, u_preint_blend.g)),
+         NB = normalize(mix(N, Ng, u_preint_blend.b));
+#endif
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         float ndl = max(dot(N, L), 0.0);
+#ifdef DM_PRE_INTEGRATED
+        vec3 d = vec3(texture(u_preint, vec2(0.5 * dot(NR, L) + 0.5, pt)).r,
+                      texture(u_preint, vec2(0.5 * dot(NG, L) + 0.5, pt)).g,
+                      texture(u_preint, vec2(0.5 * dot(NB, L) + 0.5, pt)).b);
+        // The shadow map shadows every point facing away from the light (the head itself is in
+        // front): faded out below Ng.L = 0.2 so the table's light past the terminator survives.
+        float sh = mix(1.0, dm_shadow(i, v_pos, Ng), smoothstep(0.0, 0.2, dot(Ng, L)));
+        vec3 kp = d * sh;
+#ifdef DM_ENERGY
+        kp *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
+#endif
+        e += u_light_color[i] * kp;
+#else
         if (ndl <= 0.0) continue;
 #if defined(DM_SCREEN_SPACE) && defined(DM_SPECULAR)
         // one shadow lookup for both terms (the texture-space and Lambert paths keep their two loops)
@@ -142,6 +169,7 @@ void main()
         k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
 #endif
         e += u_light_color[i] * k;
+#endif
     }
 #ifdef DM_TRANSLUCENCY
     e += dm_translucency(v_pos, Ng);

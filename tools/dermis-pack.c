@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/dm_curvature.h"
 #include "bake/dm_exr.h"
 #include "bake/dm_gltf_map.h"
 #include "bake/dm_image.h"
@@ -16,6 +17,7 @@
 #include "bake/dm_stretch.h"
 #include "bake/dm_pack_env.h"
 #include "bake/dm_pack_write.h"
+#include "bake/dm_preintegrated.h"
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
 #include "core/dm_file.h"
@@ -589,6 +591,71 @@ static dm_result step_stretch(job *j, dm_error *err)
     return r;
 }
 
+/* The pre-integrated technique's table (bake/dm_preintegrated.h) for the scene's profile:
+ * 128 N.L x 64 curvature texels over 0..1 /mm, RGBA32F with a = 1; layout in the provenance. */
+enum { PREINT_WIDTH = 128, PREINT_HEIGHT = 64 };
+static dm_result step_preintegrated(job *j, dm_error *err)
+{
+    dm_preint_lut lut;
+    dm_result r = dm_preint_bake(&j->scene.profile, PREINT_WIDTH, PREINT_HEIGHT, DM_PREINT_CURVATURE_MAX_DEFAULT,
+                                 j->opt->threads, &lut, err);
+    if (r != DM_OK) return r;
+    size_t texels = (size_t)lut.width * lut.height;
+    float *rgba = malloc(texels * 4 * sizeof *rgba);
+    if (!rgba) {
+        dm_preint_lut_free(&lut);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "pre-integrated table: out of memory");
+    }
+    for (size_t i = 0; i < texels; ++i) {
+        for (int c = 0; c < 3; ++c) rgba[4 * i + c] = lut.rgb[c * texels + i];
+        rgba[4 * i + 3] = 1.0f;
+    }
+    dm_provenance p;
+    dm_prov_init(&p, TOOL);
+    dm_prov_add_string(&p, "source", j->scene.profile_source);
+    dm_prov_add_string(&p, "product", "pre-integrated skin diffuse D(N.L, curvature) (Penner 2011), rgb");
+    dm_prov_add_string(&p, "s", "N.L = 2s-1 at texel centres");
+    dm_prov_add_string(&p, "t", "curvature = curvature_max*j/(height-1) on row j");
+    dm_prov_add_double(&p, "curvature_max_per_mm", lut.curvature_max_per_mm);
+    char src[160];
+    snprintf(src, sizeof src, "%dx%d, curvature 0..%g /mm, %.0f ms", lut.width, lut.height, lut.curvature_max_per_mm,
+             lut.bake_ms);
+    dm_pack_entry d = texture_desc("sss.preintegrated", DM_TEX_RGBA32F, lut.width, lut.height);
+    r = add(j, &d, rgba, texels * 4 * sizeof *rgba, &p, src, err);
+    free(rgba);
+    dm_preint_lut_free(&lut);
+    return r;
+}
+
+/* Mean curvature per texel at the irradiance size (bake/dm_curvature.h), smoothed over the
+ * profile's RMS radius. */
+static dm_result step_curvature(job *j, dm_error *err)
+{
+    dm_result r = ensure_mesh(j, err);
+    if (r != DM_OK) return r;
+    const int n = j->scene.irradiance_size;
+    double smooth_mm = dm_curvature_profile_scale_mm(&j->scene.profile);
+    dm_curvature_options o = {.width = n, .height = n, .mm_per_unit = j->scene.mm_per_unit, .smooth_mm = smooth_mm,
+                              .thread_count = j->opt->threads};
+    dm_curvature_map map;
+    if ((r = dm_curvature_bake(&j->mesh, &o, &map, err)) != DM_OK) {
+        dm_curvature_map_free(&map);
+        return r;
+    }
+    dm_provenance p;
+    mesh_prov(j, &p, "mean curvature, 1/mm, > 0 convex (cotangent Laplacian)");
+    dm_prov_add_int(&p, "size", n);
+    dm_prov_add_double(&p, "smooth_mm", smooth_mm);
+    dm_prov_add_string(&p, "profile", j->scene.profile.name);
+    char src[200];
+    snprintf(src, sizeof src, "baked from %.120s, median %.3g /mm, smoothing %.2f mm", base_name(j->scene.mesh),
+             map.stats.percentile[2], smooth_mm);
+    dm_pack_entry d = texture_desc("sss.curvature", DM_TEX_R32F, n, n);
+    r = add(j, &d, map.curvature, (size_t)n * n * sizeof(float), &p, src, err);
+    dm_curvature_map_free(&map);
+    return r;
+}
+
 /* One packed environment: k = 0 the main map (env.*), k > 0 alternative k (env<k>.*). */
 static dm_result bake_environment(job *j, int k, dm_error *err)
 {
@@ -679,6 +746,8 @@ static const step steps[] = {
     {"profile", {"profile"}, step_profile},
     {"stretch", {"stretch", "stretch.mask"}, step_stretch},
     {"screen-space kernel", {"sss.kernel"}, step_ss_kernel},
+    {"pre-integrated table", {"sss.preintegrated"}, step_preintegrated},
+    {"curvature", {"sss.curvature"}, step_curvature},
     {"environment", {"env.sh", "env.specular", "env.background"}, step_environment},
 };
 

@@ -31,6 +31,10 @@ static const dm_pack_need needs[] = {
      "chart coverage mask (gutter handling)"},
     {"sss.kernel", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_SCREEN_SPACE,
      "separable 1-D kernel fitted to the profile (taps x 1: rgb weights, a = offset mm)"},
+    {"sss.preintegrated", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,
+     "pre-integrated diffuse D(N.L, curvature) for the profile (Penner 2011; rgb, a = 1)"},
+    {"sss.curvature", DM_PACK_TEXTURE, DM_TEX_R32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,
+     "mean curvature per texel, 1/mm (cotangent Laplacian, smoothed over the profile's scale)"},
     {"env.sh", DM_PACK_ENV_SH, -1, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS,
      "diffuse environment light, 9 RGB SH coefficients"},
     {"env.specular", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_ENVIRONMENT_LIGHTING), DM_NEED_ALWAYS,
@@ -118,6 +122,7 @@ bool dm_pack_need_applies(const dm_pack_need *n, const dm_scene *s)
     case DM_NEED_IF_BACKGROUND: return s->environment[0] != '\0' && s->env_background;
     case DM_NEED_IF_TEXTURE_SPACE: return s->sss_technique == DM_SSS_TEXTURE_SPACE;
     case DM_NEED_IF_SCREEN_SPACE: return s->sss_technique == DM_SSS_SCREEN_SPACE;
+    case DM_NEED_IF_PRE_INTEGRATED: return s->sss_technique == DM_SSS_PRE_INTEGRATED;
     }
     return false;
 }
@@ -133,6 +138,7 @@ const char *dm_need_when_text(dm_need_when w)
     case DM_NEED_IF_BACKGROUND: return "environment with background";
     case DM_NEED_IF_TEXTURE_SPACE: return "technique texture-space";
     case DM_NEED_IF_SCREEN_SPACE: return "technique screen-space";
+    case DM_NEED_IF_PRE_INTEGRATED: return "technique pre-integrated";
     }
     return "";
 }

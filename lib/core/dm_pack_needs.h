@@ -32,7 +32,8 @@ typedef enum dm_need_when {
     DM_NEED_IF_ROUGHNESS_MAP, /* ... a roughness map */
     DM_NEED_IF_BACKGROUND,    /* ... an environment shown as background */
     DM_NEED_IF_TEXTURE_SPACE, /* ... subsurface by the texture-space technique */
-    DM_NEED_IF_SCREEN_SPACE   /* ... subsurface by the screen-space technique */
+    DM_NEED_IF_SCREEN_SPACE,  /* ... subsurface by the screen-space technique */
+    DM_NEED_IF_PRE_INTEGRATED /* ... subsurface by the pre-integrated technique */
 } dm_need_when;
 
 #define DM_FX(e) (1u << (e))

@@ -37,7 +37,7 @@ const char *dm_sss_technique_name(dm_sss_technique t)
 
 bool dm_sss_technique_available(dm_sss_technique t)
 {
-    return t == DM_SSS_TEXTURE_SPACE || t == DM_SSS_SCREEN_SPACE;
+    return t == DM_SSS_TEXTURE_SPACE || t == DM_SSS_SCREEN_SPACE || t == DM_SSS_PRE_INTEGRATED;
 }
 
 const char *dm_light_type_name(dm_light_type t)
@@ -562,7 +562,7 @@ static bool parse_technique(ctx *c, const cJSON *pm, dm_scene *s)
     const cJSON *v = get(pm, "technique");
     if (v) {
         const char *p = "$.effects.subsurface.technique";
-        const char *want = "\"texture-space\" or \"screen-space\" (\"pre-integrated\" is not implemented yet)";
+        const char *want = "\"texture-space\", \"screen-space\" or \"pre-integrated\"";
         if (!cJSON_IsString(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
         int t = -1;
         for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)

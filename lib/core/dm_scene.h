@@ -47,7 +47,7 @@ int dm_effect_from_name(const char *name);
 typedef enum dm_sss_technique {
     DM_SSS_TEXTURE_SPACE = 0, /* "texture-space": d'Eon & Luebke, the default */
     DM_SSS_SCREEN_SPACE,      /* "screen-space": Jimenez et al. 2015 separable SSS */
-    DM_SSS_PRE_INTEGRATED,    /* "pre-integrated": Penner; named, refused until implemented */
+    DM_SSS_PRE_INTEGRATED,    /* "pre-integrated": Penner 2011, one pass through a baked table */
     DM_SSS_TECHNIQUE_COUNT
 } dm_sss_technique;
 
@@ -136,7 +136,7 @@ typedef struct dm_scene {
  *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
  *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
  *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1],
- *        "technique" "texture-space" | "screen-space" ("pre-integrated" is refused: not yet),
+ *        "technique" "texture-space" | "screen-space" | "pre-integrated",
  *        "screen_taps" 11 | 17 | 25;
  *        translucency: "intensity" [0, 100] (off unless listed, also in dm_scene_defaults);
  *        glow: "threshold" [0, 1e6], "intensity" [0, 100]; tonemap: "exposure" [-20, 20].

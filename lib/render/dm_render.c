@@ -51,6 +51,7 @@ static dm_result check_assets(const dm_render_assets *a, const dm_render_plan *p
         rc = dmr_need_texture(&a->env_background, "the environment background", "environment_lighting", err);
     if (rc == DM_OK && p->texture_space) rc = dmr_tsd_check(a, prof, err);
     if (rc == DM_OK && (p->screen_space || p->translucency_active)) rc = dm_profile_validate(prof, "assets: profile", err);
+    if (rc == DM_OK && p->pre_integrated) rc = dmr_preint_check(a, err);
     return rc;
 }
 
@@ -91,6 +92,7 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
 #undef UP
     if (rc == DM_OK) rc = dmr_env_upload(r, a, err);
     if (rc == DM_OK && p->texture_space) rc = dmr_tsd_upload(r, a, err);
+    if (rc == DM_OK && p->pre_integrated) rc = dmr_preint_upload(r, a, err);
     r->has_normal_map = a->normal_map.texels != NULL;
     r->has_roughness_map = a->roughness_map.texels != NULL;
     r->has_mask = a->stretch_mask.texels != NULL;
@@ -199,7 +201,7 @@ void dm_renderer_destroy(dm_renderer *r)
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
                     r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex, r->view_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex, r->ss_diff_tex, r->ss_aux_tex, r->ss_spec_tex,
-                    r->ss_tmp_tex};
+                    r->ss_tmp_tex, r->tex_preint, r->tex_curvature};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {

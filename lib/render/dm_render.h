@@ -107,6 +107,15 @@ typedef struct dm_render_assets {
     const float *ss_kernel;
     int ss_kernel_taps;
 
+    /* pre-integrated subsurface (Penner 2011; bake/dm_preintegrated.h layout): the table
+     * D(N.L, curvature), RGBA32F/16F (rgb), s = N.L at texel centres, row j = curvature
+     * preint_curvature_max_per_mm·j/(height − 1); and the mean curvature per texel of the
+     * mesh (R32F, 1/mm, bake/dm_curvature.h; negative = concave, read as flat). Both needed by
+     * the technique; preint_curvature_max_per_mm 0 = 1. */
+    dm_texture preintegrated;
+    dm_texture curvature;
+    float preint_curvature_max_per_mm;
+
     /* environment (mesh space; equirect: u = 0.5 + atan2(d.x, −d.z)/2π, v = 0.5 + asin(d.y)/π,
      * so v = 1 is straight up; scene->env_rotation_deg turns it about +Y) */
     bool has_env_sh;

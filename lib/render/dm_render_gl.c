@@ -147,7 +147,7 @@ static void set_sampler_units(GLuint p)
                  {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
                  {"u_env_array", UNIT_ENV_ARRAY}, {"u_aux", UNIT_SS_AUX},   {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
-                 {"u_tdepth3", UNIT_TDEPTH0 + 3}};
+                 {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
@@ -184,6 +184,7 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_er
     if (p->screen_space)
         n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n",
                               r->ss_taps);
+    if (p->pre_integrated) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_PRE_INTEGRATED 1\n");
     if (p->translucency_active)
         snprintf(defines + n, sizeof defines - n, "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n",
                  r->profile.count);

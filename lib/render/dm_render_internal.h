@@ -55,7 +55,10 @@ enum {
      * pass (u_aux, u_spec) and translucency's raw shadow depths (u_tdepth0..3, sampler object) */
     UNIT_SS_AUX = UNIT_STRETCH,
     UNIT_SS_SPEC = UNIT_MASK,
-    UNIT_TDEPTH0 = UNIT_SRC /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
+    UNIT_TDEPTH0 = UNIT_SRC, /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
+    /* the pre-integrated technique has no blur levels: its table and curvature take the last two */
+    UNIT_PREINT = UNIT_LEVEL0 + 6,
+    UNIT_CURVATURE = UNIT_LEVEL0 + 7
 };
 
 typedef struct target {
@@ -94,6 +97,10 @@ struct dm_renderer {
     int ss_taps;
     float ss_kernel[DM_SSSS_MAX_TAPS][4];       /* rgb weight, a = offset mm */
     GLuint ss_diff_tex, ss_aux_tex, ss_spec_tex, ss_fbo, ss_tmp_tex, ss_tmp_fbo;
+    /* pre-integrated technique (dm_render_preint.c) */
+    GLuint tex_preint, tex_curvature;
+    int preint_height;
+    float preint_kmax, preint_blend[3];
     /* translucency (dm_render_translucency.c) */
     GLuint tdepth_sampler;                      /* raw depth reads of the shadow maps */
     float light_depth[DM_SCENE_MAX_LIGHTS][4];  /* near, far (mesh units), 1 = orthographic */
@@ -233,6 +240,12 @@ dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *er
 dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err);
 void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_ss_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
+
+/* ---- dm_render_preint.c ---- */
+dm_result dmr_preint_check(const dm_render_assets *a, dm_error *err);
+dm_result dmr_preint_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
+/* Table, curvature and their uniforms for the final pass; no-op without the technique. */
+void dmr_preint_bind(const dm_renderer *r, GLuint p);
 
 /* ---- dm_render_translucency.c ---- */
 void dmr_translucency_setup(dm_renderer *r);

@@ -201,5 +201,13 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
         assets->ss_kernel = (const float *)k->data;
         assets->ss_kernel_taps = k->width;
     }
+    if ((r = texture(pack, "sss.preintegrated", &assets->preintegrated, err)) != DM_OK) return r;
+    if ((r = texture(pack, "sss.curvature", &assets->curvature, err)) != DM_OK) return r;
+    const dm_pack_entry *pi = dm_pack_find(pack, "sss.preintegrated");
+    dm_provenance pp;
+    if (pi && pi->provenance_json && dm_prov_from_json(&pp, pi->provenance_json, pack->what, NULL) == DM_OK) {
+        const dm_param *km = dm_prov_find(&pp, "curvature_max_per_mm");
+        if (km && km->type != DM_PARAM_STRING) assets->preint_curvature_max_per_mm = (float)km->d;
+    }
     return environment(pack, env, assets, err);
 }

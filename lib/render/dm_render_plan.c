@@ -74,6 +74,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     p->technique = s->sss_technique;
     p->texture_space = sss;
     p->screen_space = ssss;
+    p->pre_integrated = sss_on && s->sss_technique == DM_SSS_PRE_INTEGRATED;
+    const bool pre = p->pre_integrated;
     p->view = view;
     if (view == DM_VIEW_BLUR && view_index < 0) view_index = p->blur_levels - 1;
     p->view_index = view_index;
@@ -90,7 +92,9 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH || view == DM_VIEW_DIFFUSION) &&
         !sss)
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect with the texture-space technique%s",
-                       vname, ssss ? " (this scene uses screen-space)" : ", which this scene turns off");
+                       vname, ssss  ? " (this scene uses screen-space)"
+                              : pre ? " (this scene uses pre-integrated)"
+                                    : ", which this scene turns off");
     if (view == DM_VIEW_BLUR && (view_index < 1 || view_index >= p->blur_levels))
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view blur%d: blur levels are 1..%d", view_index,
                        p->blur_levels - 1);
@@ -178,7 +182,10 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             "subsurface [screen-space]: the same along y, x post-scatter albedo, + specular");
     } else if (shaded_view)
         add(p, DM_PASS_FINAL, 0, "final", "always: %s diffuse%s%s%s%s%s%s",
-            sss ? "6-level weighted sum x post-scatter albedo^(1-mix)" : "Lambert (subsurface off) x albedo",
+            sss   ? "6-level weighted sum x post-scatter albedo^(1-mix)"
+            : pre ? "pre-integrated (Penner): lights x table(N.L per channel, curvature) x shadow, x albedo "
+                    "[subsurface, pre-integrated]"
+                  : "Lambert (subsurface off) x albedo",
             spec ? " + KS specular (Beckmann LUT, Schlick F0 0.028, spec map) [specular]" : "",
             p->energy_conservation_active ? " x (1 - rho_s rho_dt(N.V)) [energy_conservation]" : "",
             p->env_specular_active ? " + env split-sum specular [environment_lighting]" : "",

@@ -8,7 +8,8 @@
  *                    DM_PLAN_MAX_SHADOWS = 4 casting lights; explain notes any beyond)
  *   irradiance       subsurface on (texture space: lights, shadow, env SH, albedo^mix)
  *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
- *   final            always (draws the head: diffuse, specular, environment terms); with
+ *   final            always (draws the head: diffuse, specular, environment terms; with the
+ *                    pre-integrated technique its diffuse comes from the table); with
  *                    the screen-space technique only for the uv and wireframe views
  *   ss_shade         subsurface on, technique screen-space: the head into three screen
  *                    targets (pre-scatter diffuse + eye depth, post-scatter factor, specular)
@@ -103,6 +104,7 @@ typedef struct dm_render_plan {
     dm_sss_technique technique;      /* the scene's subsurface technique */
     bool texture_space;              /* subsurface on with the texture-space technique */
     bool screen_space;               /* subsurface on with the screen-space technique */
+    bool pre_integrated;             /* subsurface on with the pre-integrated technique (final pass only) */
     bool translucency_active;        /* translucency on and at least one shadow map */
     dm_view view;
     int view_index;

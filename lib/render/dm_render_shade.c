@@ -1,5 +1,5 @@
 /* dm_render_shade.c — the final pass: the head on screen with the diffuse term of the active
- * technique (texture-space levels, or Lambert without subsurface), KS specular, environment
+ * technique (texture-space levels, the pre-integrated table, or Lambert without subsurface), KS specular, environment
  * specular; the specular/diffuse/uv/wireframe debug modes. Screen-space subsurface shades the
  * head in its own pass (dm_render_ssss.c) from the same shader file. */
 #include "render/dm_render_internal.h"
@@ -15,6 +15,7 @@ void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
     dmr_bind_surface(r);
     glUniform1fv(loc(p, "u_env_level_m"), DM_RENDER_ENV_LEVELS_MAX, r->env_level_m);
     dmr_bind_levels(r, p);
+    dmr_preint_bind(r, p); /* after the levels: it takes two of their units */
     if (r->plan.screen_space) glUniform3fv(loc(p, "u_cam_forward"), 1, r->cam_fwd);
     dmr_translucency_bind(r, p);
     dmr_draw_mesh(r);

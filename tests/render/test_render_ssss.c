@@ -81,7 +81,7 @@ Test(ssss_scene, bad_values_name_the_key)
 {
     expect_scene_error("\"subsurface\": {\"technique\": \"screen\"}", "$.effects.subsurface.technique");
     expect_scene_error("\"subsurface\": {\"technique\": 3}", "$.effects.subsurface.technique");
-    expect_scene_error("\"subsurface\": {\"technique\": \"pre-integrated\"}", "not implemented");
+    expect_scene_error("\"subsurface\": {\"technique\": \"pre\"}", "\"pre-integrated\"");
     expect_scene_error("\"subsurface\": {\"screen_taps\": 13}", "$.effects.subsurface.screen_taps");
     expect_scene_error("\"subsurface\": {\"screen_taps\": 17.5}", "one of 11, 17, 25");
     expect_scene_error("\"translucency\": {\"intensity\": -1}", "$.effects.translucency.intensity");

@@ -20,8 +20,7 @@ bool dm_viewer_set_technique(dm_viewer *v, const char *name)
     for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)
         if (!strcmp(name, dm_sss_technique_name((dm_sss_technique)k))) t = k;
     if (t < 0 || !dm_sss_technique_available((dm_sss_technique)t)) {
-        dm_viewer_set_status(v, true, "technique '%s': expected texture-space or screen-space%s", name,
-                             t >= 0 ? " (pre-integrated is not implemented yet)" : "");
+        dm_viewer_set_status(v, true, "technique '%s': expected texture-space, screen-space or pre-integrated", name);
         return false;
     }
     if (v->scene.sss_technique == (dm_sss_technique)t) return true;

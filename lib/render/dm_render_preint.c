@@ -1,0 +1,57 @@
+/* dm_render_preint.c — the pre-integrated technique (Penner, "Pre-Integrated Skin Shading",
+ * GPU Pro 2, 2011): no pass of its own. The final pass (final.glsl with DM_PRE_INTEGRATED)
+ * looks each light's diffuse up in the baked table D(N.L, curvature) per channel
+ * (bake/dm_preintegrated.h), with the curvature of the texel (bake/dm_curvature.h; concave
+ * reads as flat, beyond the table's range as its last row), and a normal per channel between
+ * the normal map's and the geometric one: channel c bends toward the geometric normal by
+ * 1 − (its narrowest Gaussian's share of the profile), so the widely scattered red loses
+ * the map's detail most (Penner's "blurred normals per channel", as a blend). Shadows multiply
+ * the looked-up light (the table's penumbra dimension is not baked: a hard shadow edge
+ * stays uncoloured). Specular, environment and SH diffuse are the Lambert path's. */
+#include <math.h>
+
+#include "render/dm_render_internal.h"
+
+static dm_result need(const dm_texture *t, const char *what, dm_error *err)
+{
+    if (t->texels) return DM_OK;
+    return dm_fail(err, DM_ERR_MISMATCH, "assets: %s is missing, and subsurface (pre-integrated) needs it", what);
+}
+
+dm_result dmr_preint_check(const dm_render_assets *a, dm_error *err)
+{
+    dm_result rc = need(&a->preintegrated, "the pre-integrated table (sss.preintegrated)", err);
+    if (rc == DM_OK) rc = need(&a->curvature, "the curvature map (sss.curvature)", err);
+    if (rc == DM_OK && a->preintegrated.height < 2)
+        rc = dm_fail(err, DM_ERR_RANGE, "assets: pre-integrated table of height %d, expected 2 or more",
+                     a->preintegrated.height);
+    if (rc == DM_OK && !(a->preint_curvature_max_per_mm >= 0.0f && a->preint_curvature_max_per_mm <= 1e3f))
+        rc = dm_fail(err, DM_ERR_RANGE, "assets: preint_curvature_max_per_mm = %g, expected 0 (default 1) or (0, 1000]",
+                     (double)a->preint_curvature_max_per_mm);
+    return rc;
+}
+
+dm_result dmr_preint_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    dm_result rc = dmr_upload(&a->preintegrated, "preintegrated", false, GL_LINEAR, &r->tex_preint, err);
+    if (rc == DM_OK) rc = dmr_upload(&a->curvature, "curvature", false, GL_LINEAR, &r->tex_curvature, err);
+    r->preint_height = a->preintegrated.height;
+    r->preint_kmax = a->preint_curvature_max_per_mm > 0.0f ? a->preint_curvature_max_per_mm : 1.0f;
+    const dm_profile *p = a->profile ? a->profile : &a->scene->profile;
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        for (int k = 0; k < p->count; ++k) sum += p->weight[k][c];
+        r->preint_blend[c] = sum > 0.0 ? (float)(1.0 - p->weight[0][c] / sum) : 0.0f;
+    }
+    return rc;
+}
+
+void dmr_preint_bind(const dm_renderer *r, GLuint p)
+{
+    if (!r->plan.pre_integrated) return;
+    dmr_bind(UNIT_PREINT, GL_TEXTURE_2D, r->tex_preint);
+    dmr_bind(UNIT_CURVATURE, GL_TEXTURE_2D, r->tex_curvature);
+    u1f(p, "u_preint_kmax", r->preint_kmax);
+    u1f(p, "u_preint_height", (float)r->preint_height);
+    glUniform3fv(loc(p, "u_preint_blend"), 1, r->preint_blend);
+}
