@@ -147,6 +147,7 @@ Test(head, golden_lps_sss, .timeout = 120) { golden_scene("lps-sss"); }
 Test(head, golden_lps_env, .timeout = 120) { golden_scene("lps-env"); }
 Test(head, golden_lps_screen_space, .timeout = 120) { golden_scene("lps-screen-space"); }
 Test(head, golden_lps_backlit, .timeout = 120) { golden_scene("lps-backlit"); }
+Test(head, golden_lps_pre_integrated, .timeout = 120) { golden_scene("lps-pre-integrated"); }
 
 /* The ear seen from the side, lit from behind (lps-backlit), with and without translucency. */
 static void ear_camera(dm_scene *s)
