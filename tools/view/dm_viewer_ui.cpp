@@ -175,6 +175,9 @@ static void panel(dm_viewer *v, float w, float h)
     const float pw = 330.0f;
     ImGui::SetNextWindowPos(ImVec2(w - pw - 8.0f, 8.0f), ImGuiCond_Once);
     ImGui::SetNextWindowSize(ImVec2(pw, h - 16.0f), ImGuiCond_Once);
+    /* a window under three panel widths would be mostly panel: start collapsed to its
+     * title bar there (click it, or H hides it), so the head is seen first */
+    ImGui::SetNextWindowCollapsed(w < 3.0f * pw, ImGuiCond_Once);
     ImGui::SetNextWindowBgAlpha(0.82f);
     if (!ImGui::Begin("dermis-view", NULL, 0)) {
         ImGui::End();
