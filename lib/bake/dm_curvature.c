@@ -24,13 +24,15 @@ double dm_curvature_profile_scale_mm(const dm_profile *p)
 
 /* ---- welding ------------------------------------------------------------------------- */
 
-static const float *g_pos; /* qsort context (welding runs on one thread) */
+typedef struct x_index {
+    float x;
+    int32_t index;
+} x_index;
 
 static int cmp_x(const void *a, const void *b)
 {
-    int32_t i = *(const int32_t *)a, j = *(const int32_t *)b;
-    float x = g_pos[3 * (size_t)i], y = g_pos[3 * (size_t)j];
-    return x != y ? (x > y) - (x < y) : (i > j) - (i < j);
+    const x_index *p = a, *q = b;
+    return p->x != q->x ? (p->x > q->x) - (p->x < q->x) : (p->index > q->index) - (p->index < q->index);
 }
 
 static int32_t root(int32_t *parent, int32_t v)
@@ -42,13 +44,13 @@ static int32_t root(int32_t *parent, int32_t v)
 /* weld[v] = the lowest index of the vertices within eps (mm-free: 1e-6 of the bounding box's
  * diagonal, in mesh units) of v, transitively: exporters write seam copies that differ in
  * the last bit (sin 2π ≠ sin 0). */
-static void weld_vertices(const dm_mesh *m, int32_t *order, int32_t *weld, int32_t *count)
+static void weld_vertices(const dm_mesh *m, x_index *order, int32_t *weld, int32_t *count)
 {
     int32_t n = m->vertex_count;
     const float *p = m->positions;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int32_t v = 0; v < n; ++v) {
-        order[v] = v;
+        order[v] = (x_index){m->positions[3 * (size_t)v], v};
         weld[v] = v;
         for (int d = 0; d < 3; ++d) lo[d] = fmin(lo[d], p[3 * v + d]), hi[d] = fmax(hi[d], p[3 * v + d]);
     }
@@ -56,12 +58,11 @@ static void weld_vertices(const dm_mesh *m, int32_t *order, int32_t *weld, int32
                            (hi[2] - lo[2]) * (hi[2] - lo[2]))
                     : 0.0;
     double eps = 1e-6 * diag, eps2 = eps * eps;
-    g_pos = p;
     qsort(order, (size_t)n, sizeof *order, cmp_x);
     for (int32_t a = 0; a < n; ++a) {
-        int32_t i = order[a];
-        for (int32_t b = a + 1; b < n && p[3 * order[b]] - p[3 * i] <= eps; ++b) {
-            int32_t j = order[b];
+        int32_t i = order[a].index;
+        for (int32_t b = a + 1; b < n && order[b].x - order[a].x <= eps; ++b) {
+            int32_t j = order[b].index;
             double dy = p[3 * j + 1] - p[3 * i + 1], dz = p[3 * j + 2] - p[3 * i + 2], dx = p[3 * j] - p[3 * i];
             if (dx * dx + dy * dy + dz * dz > eps2) continue;
             int32_t ri = root(weld, i), rj = root(weld, j);
@@ -353,7 +354,8 @@ dm_result dm_curvature_vertices(const dm_mesh *m, double mm_per_unit, double smo
         return dm_fail(err, isfinite(smooth_mm) ? DM_ERR_RANGE : DM_ERR_NON_FINITE,
                        "curvature: smooth_mm = %g, expected [0, %g]", smooth_mm, DM_CURVATURE_SMOOTH_MAX_MM);
     size_t nv = (size_t)m->vertex_count, nt = (size_t)m->triangle_count;
-    int32_t *order = malloc(nv * sizeof *order), *weld = malloc(nv * sizeof *weld);
+    x_index *order = malloc(nv * sizeof *order);
+    int32_t *weld = malloc(nv * sizeof *weld);
     double *area = calloc(nv, sizeof *area);
     uint8_t *skip = calloc(nt + 1, 1), *boundary = calloc(nv, 1);
     dm_result r = DM_OK;
