@@ -12,8 +12,8 @@
 #     it under Xvfb with --script);
 #   - `make test` (this script is part of it); `make demo` runs as scripts/demo.sh, which is
 #     what make demo does once the tools are built;
-#   - `--texture-space 256` runs at 64 (the ground truth at 256² takes ~1 min on 2 cores;
-#     the same code path, 16x fewer texels).
+#   - `--texture-space 256` runs at 64 and `--atlas 256` at 128 (the ground truth at 256²
+#     takes ~1 min on 2 cores, the frame's atlas ~20 s; the same code paths, fewer texels).
 # In a block whose lines start with "$ " (a command followed by its output), only those
 # lines run.
 set -uo pipefail
@@ -49,6 +49,7 @@ script="$work/examples.sh"
             if (c ~ /^make test/) continue
             sub(/^make demo/, "BUILD=build/release ASSETS=../shared/assets bash scripts/demo.sh", c)
             gsub(/--texture-space 256/, "--texture-space 64", c)
+            gsub(/--atlas 256/, "--atlas 128", c)
             shown = c; gsub(Q, "", shown)
             printf "where=%s%s:%d%s cmd=%s%s%s; echo \"+ $cmd   ($where)\" >&2; s=$SECONDS\n", Q, F, where[k], Q, Q, shown, Q
             printf "%s\n", c
