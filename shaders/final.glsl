@@ -147,10 +147,11 @@ void main()
         vec3 d = vec3(texture(u_preint, vec2(0.5 * dot(NR, L) + 0.5, pt)).r,
                       texture(u_preint, vec2(0.5 * dot(NG, L) + 0.5, pt)).g,
                       texture(u_preint, vec2(0.5 * dot(NB, L) + 0.5, pt)).b);
-        // The shadow map shadows every point facing away from the light (the head itself is in
-        // front): faded out below Ng.L = 0.2 so the table's light past the terminator survives.
-        float sh = mix(1.0, dm_shadow(i, v_pos, Ng), smoothstep(0.0, 0.2, dot(Ng, L)));
-        vec3 kp = d * sh;
+        // Lambert's part takes the shadow; what the blur moves past the terminator (d - lam) only
+        // where Ng.L > 0.2, since a shadow map shadows every point facing away from its light.
+        vec3 lam = max(vec3(dot(NR, L), dot(NG, L), dot(NB, L)), 0.0);
+        float sh = dm_shadow(i, v_pos, Ng);
+        vec3 kp = max(lam * sh + (d - lam) * mix(1.0, sh, smoothstep(0.0, 0.2, dot(Ng, L))), 0.0);
 #ifdef DM_ENERGY
         kp *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
 #endif
