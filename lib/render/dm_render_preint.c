@@ -6,8 +6,10 @@
  * the normal map's and the geometric one: channel c bends toward the geometric normal by
  * 1 − (its narrowest Gaussian's share of the profile), so the widely scattered red loses
  * the map's detail most (Penner's "blurred normals per channel", as a blend). Shadows multiply
- * the looked-up light (the table's penumbra dimension is not baked: a hard shadow edge
- * stays uncoloured). Specular, environment and SH diffuse are the Lambert path's. */
+ * Lambert's part of the looked-up light; the light the blur moved past the terminator is
+ * shadowed only where Ng.L > 0.2 (a shadow map darkens every back-facing point). The table's
+ * penumbra dimension is not baked: a hard shadow edge stays uncoloured. Specular, environment
+ * and SH diffuse are the Lambert path's. */
 #include <math.h>
 
 #include "render/dm_render_internal.h"
