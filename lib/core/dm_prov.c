@@ -2,6 +2,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -122,6 +123,21 @@ dm_result dm_prov_from_json(dm_provenance *p, const char *json, const char *what
     const cJSON *it;
     cJSON_ArrayForEach(it, params) {
         if (p->param_count >= DM_PROV_PARAM_MAX) break;
+        /* names are [a-z0-9_], shorter than DM_PROV_NAME_SIZE (what the writers make, and
+         * what prints back as JSON without escaping) */
+        size_t len = it->string ? strlen(it->string) : 0;
+        bool ok = len > 0 && len < DM_PROV_NAME_SIZE;
+        for (size_t i = 0; ok && i < len; ++i) {
+            char c = it->string[i];
+            ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+        }
+        if (!ok) {
+            dm_result r = dm_fail(err, DM_ERR_FORMAT, "%s: provenance parameter name \"%.64s\": expected [a-z0-9_], 1..%d characters",
+                                  what, it->string ? it->string : "", DM_PROV_NAME_SIZE - 1);
+            cJSON_Delete(root);
+            memset(p, 0, sizeof *p);
+            return r;
+        }
         if (cJSON_IsString(it)) {
             dm_prov_add_string(p, it->string, it->valuestring);
         } else if (cJSON_IsNumber(it)) {
