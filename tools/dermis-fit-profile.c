@@ -63,6 +63,7 @@ static void help(void)
            "  --burley               Christensen & Burley 2015 normalized diffusion,\n"
            "                         R(r) = A s (exp(-s r) + exp(-s r/3)) / (8 pi r), s = S(A) / mfp,\n"
            "                         S(A) = 1.85 - A + 7|A - 0.8|^3 (their searchlight fit for the mfp)\n"
+           "                         (R ~ 1/r at 0: its fit and errors weigh by r^2, not r)\n"
            "  --albedo A|R,G,B       Burley albedo A per channel, [0, 1]; required with --burley\n"
            "  --mfp MM|R,G,B         Burley mean free path per channel, (0, %g] mm; required there\n\n"
            "Fit:\n"
