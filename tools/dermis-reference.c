@@ -45,6 +45,8 @@ static void usage(FILE *f)
             "                       and OUT.png through the scene's tonemap\n"
             "  --size WxH           frame size, default the scene's; 1..16384 per side\n"
             "  --atlas N            frame: CPU irradiance atlas size, default 1024; 16..8192\n"
+            "  --atlas-samples K    frame: KxK irradiance samples per atlas texel, default 4; 1..8\n"
+            "  --pixel-samples K    frame: KxK sub-pixel rays for the surface terms, default 3; 1..8\n"
             "  --dipole SPEC        diffuse by a dipole (Jensen 2001) instead of the pack's Gaussians: a medium\n"
             "                       (skin1, skin2, marble, ...) or 'sa,ss,eta' / 7 numbers (mm^-1), as in\n"
             "                       dermis-fit-profile; represented by dense Gaussians (error reported)\n"
@@ -74,7 +76,7 @@ typedef struct args {
     int pairs, radial_gaussians;
     const char *merge[MERGE_MAX];
     int merge_count;
-    int size, width, height, atlas, tile_index, tile_count, threads;
+    int size, width, height, atlas, tile_index, tile_count, threads, atlas_samples, pixel_samples;
     bool frame, levels, verbose, quiet;
     dm_reference_options ropt;
 } args;
@@ -99,6 +101,9 @@ static int parse(int argc, char **argv, args *a)
         } else if (!strcmp(s, "--atlas")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 16, 8192, &n)) return DM_EXIT_USAGE;
             a->atlas = (int)n;
+        } else if (!strcmp(s, "--atlas-samples") || !strcmp(s, "--pixel-samples")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 1, 8, &n)) return DM_EXIT_USAGE;
+            *(!strcmp(s, "--atlas-samples") ? &a->atlas_samples : &a->pixel_samples) = (int)n;
         } else if (!strcmp(s, "--irradiance")) {
             if (!(a->irradiance = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--frame")) {
@@ -179,7 +184,8 @@ static int parse(int argc, char **argv, args *a)
                       : !a->frame == !a->size                     ? "give one of --texture-space N or --frame"
                       : a->frame && (a->irradiance || a->levels || a->tile_count > 1)
                           ? "--irradiance, --levels and --tile are texture-space options"
-                      : !a->frame && (a->width || a->atlas) ? "--size and --atlas are --frame options"
+                      : !a->frame && (a->width || a->atlas || a->atlas_samples || a->pixel_samples)
+                          ? "--size, --atlas and the samples are --frame options"
                       : a->quiet && a->verbose             ? "--quiet conflicts with -v"
                                                            : NULL;
     if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
@@ -489,6 +495,7 @@ static int frame(const args *a, const dm_pack *pack)
     dm_progress_begin(&bar, "frame", a->quiet);
     dm_ref_frame_stats st = {0};
     dm_ref_frame_options fo = {.width = W, .height = H, .atlas_size = a->atlas, .thread_count = a->threads,
+                               .atlas_samples = a->atlas_samples, .pixel_samples = a->pixel_samples,
                                .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
                                .stats = &st};
     dm_result r = dm_ref_frame_render(pack, &scene, &fo, rgba, &err);
@@ -509,6 +516,8 @@ static int frame(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "width", W);
         dm_prov_add_int(&prov, "height", H);
         dm_prov_add_int(&prov, "atlas", a->atlas ? a->atlas : 1024);
+        dm_prov_add_int(&prov, "atlas_samples", a->atlas_samples ? a->atlas_samples : 4);
+        dm_prov_add_int(&prov, "pixel_samples", a->pixel_samples ? a->pixel_samples : 3);
         dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
         dm_prov_add_string(&prov, "profile", kernel_name);
         dm_exr_channel ch[4] = {{"R", planes, DM_EXR_FLOAT}, {"G", planes + n, DM_EXR_FLOAT},

@@ -13,7 +13,10 @@
 
 #define PI 3.14159265358979323846
 
-enum { BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = 1024, ATLAS_MIN = 16, ATLAS_MAX = 8192 };
+enum {
+    BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = 1024, ATLAS_MIN = 16, ATLAS_MAX = 8192,
+    ATLAS_SAMPLES_DEFAULT = 4, PIXEL_SAMPLES_DEFAULT = 3, SAMPLES_MAX = 8
+};
 
 static double now_ms(void)
 {
@@ -80,6 +83,13 @@ static void make_camera(const dm_scene *sc, const dm_raycast *rays, double mm, i
     cam->t_far = d + 2.0 * rad;
 }
 
+/* The ray through the point (x + fx, y + fy) of the pixel grid (0.5, 0.5: the centre). */
+static void pixel_dir_at(const camera *cam, int x, int y, double fx, double fy, int width, int height, double dir[3])
+{
+    double nx = 2.0 * (x + fx) / width - 1.0, ny = 2.0 * (y + fy) / height - 1.0;
+    for (int c = 0; c < 3; ++c) dir[c] = cam->fwd[c] + nx * cam->right[c] + ny * cam->up[c];
+}
+
 static void pixel_dir(const camera *cam, int x, int y, int width, int height, double dir[3])
 {
     double nx = 2.0 * (x + 0.5) / width - 1.0, ny = 2.0 * (y + 0.5) / height - 1.0;
@@ -94,6 +104,7 @@ typedef struct frame_job {
     const int64_t *target_of;  /* per pixel: index into D, or −1 */
     const float *D;            /* per target, rgb */
     float *rgba;
+    int samples;               /* per axis per pixel, for the surface terms */
 } frame_job;
 
 static void ray_rows(void *ctx, size_t begin, size_t end)
@@ -121,29 +132,16 @@ static float finite_out(double v)
     return (float)(v > 3.0e38 ? 3.0e38 : v < -3.0e38 ? -3.0e38 : v);
 }
 
-static void shade_pixel(const frame_job *j, size_t at, float *o)
+/* Radiance leaving hit t towards the eye, D the convolved irradiance to use there. */
+static void shade_hit(const frame_job *j, const dm_reference_target *t, const float *D, double out[3])
 {
     const dm_ref_surface *s = j->s;
-    const dm_reference_target *t = &j->hit[at];
-    if (t->triangle < 0) {
-        double rgb[3] = {0, 0, 0}, dir[3];
-        if (s->terms.background) {
-            pixel_dir(j->cam, (int)(at % (size_t)j->width), (int)(at / (size_t)j->width), j->width, j->height, dir);
-            norm3(dir);
-            dm_ref_shade_env_lookup(s, &s->desc.env_background, dir, rgb);
-            for (int c = 0; c < 3; ++c) rgb[c] *= s->scene.env_intensity;
-        }
-        for (int c = 0; c < 3; ++c) o[c] = finite_out(rgb[c]);
-        o[3] = 0.0f;
-        return;
-    }
     dm_ref_point p;
     dm_ref_surface_point(s, t->triangle, t->b1, t->b2, &p);
     double V[3], diffuse[3], spec[3];
     for (int c = 0; c < 3; ++c) V[c] = j->cam->eye[c] - p.p_mm[c];
     if (!(norm3(V) > 0)) V[0] = 0, V[1] = 0, V[2] = 1;
     if (s->terms.subsurface) {
-        const float *D = j->D + (size_t)j->target_of[at] * 3;
         for (int c = 0; c < 3; ++c) diffuse[c] = D[c] * pow(p.albedo[c], 1.0 - s->scene.mix);
     } else {
         dm_ref_shade_irradiance(s, &p, diffuse);
@@ -154,7 +152,50 @@ static void shade_pixel(const frame_job *j, size_t at, float *o)
         for (int c = 0; c < 3; ++c) diffuse[c] *= f > 0 ? f : 0.0;
     }
     dm_ref_shade_specular(s, &p, V, spec);
-    for (int c = 0; c < 3; ++c) o[c] = finite_out(diffuse[c] + spec[c]);
+    for (int c = 0; c < 3; ++c) out[c] = diffuse[c] + spec[c];
+}
+
+/* A pixel: background where its centre's ray misses; else the mean over the samples ×
+ * samples sub-pixel rays that hit the head of the surface terms (albedo, normal map,
+ * specular: what the renderer's mipmaps filter), each with the convolution D at the
+ * centre's hit (D varies over millimetres, not over a pixel's texture detail). */
+static void shade_pixel(const frame_job *j, size_t at, float *o)
+{
+    const dm_ref_surface *s = j->s;
+    const dm_reference_target *t = &j->hit[at];
+    int x = (int)(at % (size_t)j->width), y = (int)(at / (size_t)j->width);
+    if (t->triangle < 0) {
+        double rgb[3] = {0, 0, 0}, dir[3];
+        if (s->terms.background) {
+            pixel_dir(j->cam, x, y, j->width, j->height, dir);
+            norm3(dir);
+            dm_ref_shade_env_lookup(s, &s->desc.env_background, dir, rgb);
+            for (int c = 0; c < 3; ++c) rgb[c] *= s->scene.env_intensity;
+        }
+        for (int c = 0; c < 3; ++c) o[c] = finite_out(rgb[c]);
+        o[3] = 0.0f;
+        return;
+    }
+    static const float no_D[3] = {0, 0, 0};
+    const float *D = s->terms.subsurface ? j->D + (size_t)j->target_of[at] * 3 : no_D;
+    double sum[3] = {0, 0, 0};
+    int n = 0, k = j->samples > 1 ? j->samples : 1;
+    for (int b = 0; b < k && k > 1; ++b)
+        for (int a = 0; a < k; ++a) {
+            double dir[3], rgb[3];
+            pixel_dir_at(j->cam, x, y, (a + 0.5) / k, (b + 0.5) / k, j->width, j->height, dir);
+            dm_ray_hit h;
+            if (!dm_raycast_closest(s->rays, j->cam->eye, dir, j->cam->t_near, j->cam->t_far, true, &h)) continue;
+            dm_reference_target sub = {h.triangle, h.b1, h.b2};
+            shade_hit(j, &sub, D, rgb);
+            for (int c = 0; c < 3; ++c) sum[c] += rgb[c];
+            ++n;
+        }
+    if (n == 0) {
+        shade_hit(j, t, D, sum);
+        n = 1;
+    }
+    for (int c = 0; c < 3; ++c) o[c] = finite_out(sum[c] / n);
     o[3] = 1.0f;
 }
 
@@ -213,17 +254,50 @@ static void free_state(frame_state *st)
     free(st->D);
 }
 
+/* The atlas texel as the mean irradiance over its area: k × k sub-texels shaded, those a
+ * triangle covers averaged (alpha 1 when any is covered). covered receives the count. */
+static void box_down(const float *hi, int size, int k, float *out, int64_t *covered)
+{
+    size_t W = (size_t)size * (size_t)k;
+    *covered = 0;
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) {
+            double sum[3] = {0, 0, 0};
+            int n = 0;
+            for (int b = 0; b < k; ++b)
+                for (int a = 0; a < k; ++a) {
+                    const float *t = hi + 4 * (((size_t)j * k + (size_t)b) * W + (size_t)i * k + (size_t)a);
+                    if (!(t[3] > 0.0f)) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
+                    ++n;
+                }
+            float *o = out + 4 * ((size_t)j * (size_t)size + (size_t)i);
+            for (int c = 0; c < 3; ++c) o[c] = n ? (float)(sum[c] / n) : 0.0f;
+            o[3] = n ? 1.0f : 0.0f;
+            *covered += n > 0;
+        }
+}
+
 /* Stages 2 and 4: the atlas, the convolution at every hit. */
 static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, int atlas_size, size_t npx,
                                size_t *count, dm_ref_frame_stats *stats, dm_error *err)
 {
     size_t n = (size_t)atlas_size * (size_t)atlas_size;
+    int k = o->atlas_samples ? o->atlas_samples : ATLAS_SAMPLES_DEFAULT;
+    while (k > 1 && atlas_size * k > ATLAS_MAX) --k;
+    size_t fine = n * (size_t)k * (size_t)k;
     st->atlas = malloc(n * 4 * sizeof *st->atlas);
-    if (!st->atlas) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the atlas");
+    float *hi = k > 1 ? malloc(fine * 4 * sizeof *hi) : st->atlas;
+    if (!st->atlas || !hi) {
+        if (hi != st->atlas) free(hi);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the atlas");
+    }
     double t0 = now_ms();
     stage_progress sp = {o, "irradiance"};
     dm_ref_atlas_stats as;
-    dm_result r = dm_ref_shade_atlas(st->s, atlas_size, o->thread_count, st->atlas, &as, forward_progress, &sp, err);
+    dm_result r = dm_ref_shade_atlas(st->s, atlas_size * k, o->thread_count, hi, &as, forward_progress, &sp, err);
+    if (r == DM_OK && k > 1) box_down(hi, atlas_size, k, st->atlas, &as.covered_texels);
+    if (hi != st->atlas) free(hi);
     if (r != DM_OK) return r;
     stats->covered_texels = as.covered_texels;
     stats->atlas_ms = now_ms() - t0;
@@ -280,6 +354,9 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     if (width < 1 || height < 1 || width > SIZE_MAX_PX || height > SIZE_MAX_PX)
         return dm_fail(err, DM_ERR_RANGE, "reference frame: size %dx%d, expected 1..%d per side", width, height,
                        SIZE_MAX_PX);
+    if (o->pixel_samples < 0 || o->pixel_samples > SAMPLES_MAX || o->atlas_samples < 0 || o->atlas_samples > SAMPLES_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: %d pixel and %d atlas samples per axis, expected 1..%d",
+                       o->pixel_samples, o->atlas_samples, SAMPLES_MAX);
     if (atlas_size < ATLAS_MIN || atlas_size > ATLAS_MAX)
         return dm_fail(err, DM_ERR_RANGE, "reference frame: atlas size %d, expected %d..%d", atlas_size, ATLAS_MIN,
                        ATLAS_MAX);
@@ -299,7 +376,8 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     frame_job j = {0};
     if (r == DM_OK) {
         make_camera(&st.s->scene, st.s->rays, st.s->mm_per_unit, width, height, &cam);
-        j = (frame_job){st.s, &cam, width, height, 0, st.hit, st.target_of, NULL, rgba_out};
+        j = (frame_job){st.s, &cam, width, height, 0, st.hit, st.target_of, NULL, rgba_out,
+                        o->pixel_samples ? o->pixel_samples : PIXEL_SAMPLES_DEFAULT};
         double t0 = now_ms();
         by_bands(&j, ray_rows, o->thread_count, o, "rays");
         stats.rays_ms = now_ms() - t0;

@@ -69,6 +69,13 @@ typedef struct dm_ref_frame_options {
     int width, height; /* 0: the scene's output size; [1, 16384] */
     int atlas_size;    /* CPU irradiance atlas, texels per side; 0 = 1024; [16, 8192] */
     int thread_count;  /* 0 = all cores */
+    /* Anti-aliasing, per axis (1..8): the atlas texel is the mean irradiance over its area,
+     * atlas_samples² points (0 = 4, reduced until atlas_size × it ≤ 8192); a skin pixel is
+     * the mean of the surface terms (albedo, normal, specular) over pixel_samples² sub-pixel
+     * rays that hit (0 = 3), D taken at the centre's hit. The renderer's mipmaps filter the
+     * same detail; one point sample per pixel instead leaves ~10 % per-pixel noise against
+     * it at 320×180 (the means agree to 0.5 %). */
+    int atlas_samples, pixel_samples;
     /* quadrature of the convolution (cut, spacing, wide_texels); NULL = its defaults.
      * Its thread_count and progress are replaced by these options'. */
     const dm_reference_options *reference;

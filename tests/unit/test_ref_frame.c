@@ -20,7 +20,9 @@ enum { W = 64, H = 48 };
 static float *frame_of(const dm_ref_surface_desc *d, int w, int h, int threads, int atlas, dm_ref_frame_stats *st)
 {
     float *rgba = malloc((size_t)w * h * 4 * sizeof *rgba);
-    dm_ref_frame_options o = {.width = w, .height = h, .atlas_size = atlas, .thread_count = threads, .stats = st};
+    /* one point sample per pixel and atlas texel: the closed forms below are per point */
+    dm_ref_frame_options o = {.width = w, .height = h, .atlas_size = atlas, .thread_count = threads, .stats = st,
+                              .pixel_samples = 1, .atlas_samples = 1};
     dm_error err = {0};
     cr_assert_eq(dm_ref_frame_render_desc(d, &o, rgba, &err), DM_OK, "%s", err.detail);
     return rgba;
@@ -307,4 +309,42 @@ Test(ref_frame, head_agrees_with_the_renderer, .timeout = 600)
     dm_exr_free(&img);
     free(ref);
     dm_pack_close(&pack);
+}
+
+/* Anti-aliasing: with 2×2 pixel samples (subsurface off, so D plays no part) a skin pixel is
+ * the mean of the four point samples at its quarter positions, which are the pixel centres
+ * of the frame twice as large; compared where all four hit, to float rounding. */
+Test(ref_frame, pixel_samples_average_sub_pixel_points)
+{
+    synth sy;
+    synth_init(&sy);
+    synth_sphere(&sy, (double[3]){0, 0, 0}, 10, 48, 24, (double[4]){0, 0, 1, 1});
+    synth_light(&sy, 0.3, 0.4, 0.866, 1.0, false);
+    sy.scene.effects[DM_EFFECT_SUBSURFACE] = false;
+    dm_ref_surface_desc d;
+    synth_desc(&sy, &d);
+    float *fine = frame_of(&d, 2 * W, 2 * H, 0, 64, NULL);
+    float *aa = malloc((size_t)W * H * 4 * sizeof *aa);
+    dm_ref_frame_options o = {.width = W, .height = H, .atlas_size = 64, .pixel_samples = 2, .atlas_samples = 1};
+    dm_error err = {0};
+    cr_assert_eq(dm_ref_frame_render_desc(&d, &o, aa, &err), DM_OK, "%s", err.detail);
+    int judged = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const float *p = aa + 4 * ((size_t)y * W + x);
+            double mean = 0.0;
+            int hits = 0;
+            for (int b = 0; b < 2; ++b)
+                for (int a = 0; a < 2; ++a) {
+                    const float *q = fine + 4 * ((size_t)(2 * y + b) * 2 * W + 2 * x + a);
+                    hits += q[3] == 1.0f;
+                    mean += q[0] / 4.0;
+                }
+            if (hits != 4 || p[3] != 1.0f) continue;
+            cr_assert(fabs(p[0] - mean) <= 1e-5 * (1.0 + mean), "pixel %d,%d: %g, mean of its points %g", x, y, p[0], mean);
+            ++judged;
+        }
+    cr_assert(judged > 50, "%d pixels judged", judged);
+    free(aa);
+    free(fine);
 }
