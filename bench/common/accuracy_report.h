@@ -110,8 +110,8 @@ static void plot(const char *outdir, const char *dir, const row *rows)
                "set y2tics tc rgb '#d62728'\nset ytics nomirror\nset grid\nset key top right\n"
                "set datafile missing '?'\nset yrange [0:*]\nset y2range [0:%g]\nset offsets graph 0.02, graph 0.25, graph 0.15, graph 0.05\n"
                "plot '%s' using 1:2 with lines lw 2 lc rgb '#999999' title 'Pareto front of the texture-space error (full frames)', "
-               "'%s' using 1:($6 ? 1/0 : $2) with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N (gems3-skin), whole skin', "
-               "'' using 1:($6 ? $2 : 1/0) with points pt 9 ps 1.4 lc rgb '#2ca02c' title 'N Gaussians fitted to the skin1 dipole, vs its reference', "
+               "'%s' using 1:($6 == 1 ? 1/0 : $2) with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N (gems3-skin), whole skin', "
+               "'' using 1:($6 == 1 ? $2 : 1/0) with points pt 9 ps 1.4 lc rgb '#2ca02c' title 'N Gaussians fitted to the skin1 dipole, vs its reference', "
                "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle, "
                "'' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame 320x180 vs --frame (right axis)', "
                "'' using 1:3:5 axes x1y2 with labels offset 0.6,-0.4 left rotate by -30 font ',8' tc rgb '#d62728' notitle\n",
