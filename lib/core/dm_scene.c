@@ -1,5 +1,7 @@
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "core/dm_scene.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -293,7 +295,11 @@ static bool try_dir(void *user, const char *dir, const char *origin)
     char cand[DM_SCENE_PATH_SIZE];
     if (!join_path(cand, dir, st->value)) return false;
     if (is_file(cand)) {
-        memcpy(st->out, cand, strlen(cand) + 1);
+        /* absolute: an asset folder given relative to the working directory (DERMIS_ASSETS=
+         * ../shared/assets) must not make the path relative to it in a stored scene */
+        char abs[PATH_MAX];
+        const char *use = realpath(cand, abs) && strlen(abs) < DM_SCENE_PATH_SIZE ? abs : cand;
+        memcpy(st->out, use, strlen(use) + 1);
         return true;
     }
     size_t n = strlen(st->looked);

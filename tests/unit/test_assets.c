@@ -158,3 +158,19 @@ Test(assets, stale_temporaries_of_dead_processes_removed, .init = setup)
     cr_expect_eq(access(live, F_OK), 0, "a live process's file removed");
     cr_expect_eq(access(other, F_OK), 0, "another target's file removed");
 }
+
+/* A relative asset folder (DERMIS_ASSETS=../shared/assets, as make test exports it) gives
+ * an absolute path: the scene is stored in packs and copied to other folders. */
+Test(assets, relative_asset_folder_gives_an_absolute_path, .init = setup)
+{
+    char sp[512];
+    write_scene(sp, sizeof sp);
+    make_asset("e");
+    cr_assert_eq(chdir(dir), 0);
+    setenv("DERMIS_ASSETS", "e", 1);
+    dm_error err = {0};
+    cr_assert_eq(dm_scene_read(sp, &scene, &err), DM_OK, "%s", err.detail);
+    unsetenv("DERMIS_ASSETS");
+    cr_expect_eq(scene.mesh[0], '/', "%s", scene.mesh);
+    cr_expect(strstr(scene.mesh, "/e/lib/m.obj"), "%s", scene.mesh);
+}
