@@ -117,7 +117,8 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             ref->mode == (N ? DM_REFCMP_TEXTURE_SPACE : DM_REFCMP_FRAME) &&
             (N ? ref->width == N : ref->width == FW && ref->height == FH)) {
             const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
-            if ((!tc || tc->i == 1) && (dip ? dp && !strcmp(dp->s, dip) : !dp)) {
+            const dm_param *ps = dm_prov_find(&ref->prov, "pixel_samples"); /* frames: anti-aliased */
+            if ((!tc || tc->i == 1) && (dip ? dp && !strcmp(dp->s, dip) : !dp) && (N || (ps && ps->i > 1))) {
                 fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
                 return 1;
             }

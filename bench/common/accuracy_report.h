@@ -145,7 +145,8 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "N² mm²; mean and p95 (the error below which 95 %% of the skin *area* lies), in %%, R / G / B.\n\n"
                 "**Frame**: the final linear frame at %dx%d (`dermis-render`'s picture before the tonemap) against "
                 "`dermis-reference PACK --frame --size %dx%d --atlas %d` (irradiance on the CPU with ray-cast "
-                "shadows, diffused exactly, the renderer's specular and tonemap) over the interior skin pixels (the "
+                "shadows, 4x4 samples per atlas texel, diffused exactly; the surface terms over 3x3 sub-pixel rays, "
+                "as the renderer's mipmaps filter them; its specular and tonemap) over the interior skin pixels (the "
                 "pixel and its four neighbours skin in both: silhouette pixels, where the rasterizer's and the rays' "
                 "coverage differ, are left out), each pixel once (weighted by screen area, not skin area). It adds what TSD's irradiance itself gets wrong "
                 "(shadow-map edges, the irradiance texel size) to the diffusion error.\n\n",
