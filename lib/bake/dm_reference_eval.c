@@ -23,6 +23,7 @@ typedef struct eval_ctx {
     const dm_reference_target *targets;
     float *rgb, *levels;
     gauss g[DM_REFERENCE_GAUSSIANS_MAX];
+    volatile int out_of_memory; /* set by a worker that could not get its scratch */
 } eval_ctx;
 
 typedef struct scratch {
@@ -217,10 +218,14 @@ static void narrow_group(const eval_ctx *ctx, const dm_ref_group *grp, const dou
 
 static void eval_range(void *vctx, size_t begin, size_t end)
 {
-    const eval_ctx *ctx = vctx;
+    eval_ctx *ctx = vctx;
     const dm_reference *ref = ctx->ref;
     const dm_reference_kernel *K = &ref->kernel;
     scratch sc = {calloc((size_t)ref->mesh->triangle_count, sizeof(uint32_t)), 0};
+    if (!sc.stamp) { /* no partial answer: the call fails */
+        ctx->out_of_memory = 1;
+        return;
+    }
     for (size_t i = begin; i < end; ++i) {
         double S[DM_REFERENCE_GAUSSIANS_MAX][3] = {{0}};
         double p[3], uv[2], Ix[3];
@@ -229,7 +234,7 @@ static void eval_range(void *vctx, size_t begin, size_t end)
         for (int gi = 0; gi < ref->group_count; ++gi) {
             const dm_ref_group *grp = &ref->group[gi];
             if (gi == ref->wide_group) wide_group(ctx, grp, p, S);
-            else if (sc.stamp) narrow_group(ctx, grp, p, &sc, S);
+            else narrow_group(ctx, grp, p, &sc, S);
         }
         double D[3] = {0, 0, 0};
         for (int k = 0; k < K->count; ++k)
@@ -270,6 +275,9 @@ dm_result dm_reference_eval(const dm_reference *ref, const dm_reference_target *
         sub.rgb = rgb + 3 * b;
         sub.levels = levels ? levels + 3 * b * (size_t)ref->kernel.count : NULL;
         dm_parallel_for(n, 16, ref->opt.thread_count, eval_range, &sub);
+        if (sub.out_of_memory)
+            return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference: no scratch for %d triangles",
+                           ref->mesh->triangle_count);
         if (ref->opt.progress) ref->opt.progress(ref->opt.progress_user, (double)(b + n) / (double)target_count);
     }
     return DM_OK;
