@@ -17,13 +17,10 @@ enum { RHO_C_INTERVALS = 1024, RHO_M_INTERVALS = 64, RHO_NODES = 48 };
 static dm_result tex_entry(const dm_pack *pack, const char *name, dm_ref_texture *out, dm_error *err)
 {
     memset(out, 0, sizeof *out);
-    const dm_pack_entry *e = dm_pack_find(pack, name);
-    if (!e) return DM_OK;
-    if (e->kind != DM_PACK_TEXTURE || e->levels != 1 || e->layers != 1)
-        return dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\": expected a texture of 1 level and 1 layer", pack->what,
-                       name);
-    *out = (dm_ref_texture){e->format, e->width, e->height, e->data, false};
-    return DM_OK;
+    const dm_pack_entry *e;
+    dm_result r = dm_pack_find_texture(pack, name, &e, err);
+    if (r == DM_OK && e) *out = (dm_ref_texture){e->format, e->width, e->height, e->data, false};
+    return r;
 }
 
 static dm_result pack_env(const dm_pack *pack, dm_ref_surface_desc *d, dm_error *err)
@@ -42,21 +39,12 @@ static dm_result pack_env(const dm_pack *pack, dm_ref_surface_desc *d, dm_error 
             spec->layers > DM_REF_ENV_LEVELS_MAX || !dm_tex_format_get(spec->format)->is_float)
             return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular has %d layers, expected 1..%d float layers",
                            pack->what, spec->layers, DM_REF_ENV_LEVELS_MAX);
-        dm_provenance p;
-        dm_result r = dm_prov_from_json(&p, spec->provenance_json, pack->what, err);
+        dm_result r = dm_pack_env_level_m(pack, spec, d->env_level_m, err);
         if (r != DM_OK) return r;
         size_t layer_size = dm_pack_texture_level_size(spec, 0) / (size_t)spec->layers;
-        for (int k = 0; k < spec->layers; ++k) {
-            char name[16];
-            snprintf(name, sizeof name, "m%d", k);
-            const dm_param *m = dm_prov_find(&p, name);
-            if (!m || m->type == DM_PARAM_STRING)
-                return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular layer %d has no roughness \"%s\" in its provenance",
-                               pack->what, k, name);
-            d->env_level_m[k] = (float)m->d;
+        for (int k = 0; k < spec->layers; ++k)
             d->env_levels[k] = (dm_ref_texture){spec->format, spec->width, spec->height,
                                                 (const uint8_t *)spec->data + layer_size * (size_t)k, true};
-        }
         d->env_level_count = spec->layers;
     }
     dm_result r = tex_entry(pack, "env.background", &d->env_background, err);

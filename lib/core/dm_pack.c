@@ -90,6 +90,35 @@ const dm_pack_entry *dm_pack_find(const dm_pack *pack, const char *name)
     return NULL;
 }
 
+dm_result dm_pack_find_texture(const dm_pack *pack, const char *name, const dm_pack_entry **out, dm_error *err)
+{
+    const dm_pack_entry *e = dm_pack_find(pack, name);
+    *out = NULL;
+    if (!e) return DM_OK;
+    if (e->kind != DM_PACK_TEXTURE || e->levels != 1 || e->layers != 1)
+        return dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\": expected a texture of 1 level and 1 layer", pack->what,
+                       name);
+    *out = e;
+    return DM_OK;
+}
+
+dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float *m, dm_error *err)
+{
+    dm_provenance p;
+    dm_result r = dm_prov_from_json(&p, e->provenance_json, pack->what, err);
+    if (r != DM_OK) return r;
+    for (int k = 0; k < e->layers; ++k) {
+        char name[16];
+        snprintf(name, sizeof name, "m%d", k);
+        const dm_param *q = dm_prov_find(&p, name);
+        if (!q || q->type == DM_PARAM_STRING)
+            return dm_fail(err, DM_ERR_FORMAT, "%s: %s layer %d has no roughness \"%s\" in its provenance", pack->what,
+                           e->name, k, name);
+        m[k] = (float)q->d;
+    }
+    return DM_OK;
+}
+
 dm_result dm_pack_scene(const dm_pack *pack, dm_scene *scene, dm_error *err)
 {
     const dm_pack_entry *e = dm_pack_find(pack, "scene");

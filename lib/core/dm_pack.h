@@ -204,6 +204,13 @@ void dm_pack_close(dm_pack *pack);
 
 /* The entry with that name, or NULL. */
 const dm_pack_entry *dm_pack_find(const dm_pack *pack, const char *name);
+/* The single-level, single-layer texture entry `name`: *out is the entry, or NULL when the
+ * pack has none (DM_OK); DM_ERR_FORMAT, naming the entry, for any other shape. */
+dm_result dm_pack_find_texture(const dm_pack *pack, const char *name, const dm_pack_entry **out, dm_error *err);
+/* The Beckmann roughness of each layer of a prefiltered environment entry (env*.specular),
+ * from its provenance "m0".."mK": m receives e->layers values. DM_ERR_FORMAT when one is
+ * missing. */
+dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float *m, dm_error *err);
 /* Parses the pack's "scene" entry. */
 dm_result dm_pack_scene(const dm_pack *pack, dm_scene *scene, dm_error *err);
 

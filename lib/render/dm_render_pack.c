@@ -12,13 +12,10 @@
 static dm_result texture(const dm_pack *pack, const char *name, dm_texture *out, dm_error *err)
 {
     memset(out, 0, sizeof *out);
-    const dm_pack_entry *e = dm_pack_find(pack, name);
-    if (!e) return DM_OK;
-    if (e->kind != DM_PACK_TEXTURE || e->levels != 1 || e->layers != 1)
-        return dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\": expected a texture of 1 level and 1 layer", pack->what,
-                       name);
-    *out = (dm_texture){e->format, e->width, e->height, e->data};
-    return DM_OK;
+    const dm_pack_entry *e;
+    dm_result r = dm_pack_find_texture(pack, name, &e, err);
+    if (r == DM_OK && e) *out = (dm_texture){e->format, e->width, e->height, e->data};
+    return r;
 }
 
 /* Layer k of a layered single-level texture entry. */
@@ -88,19 +85,9 @@ static dm_result environment(const dm_pack *pack, int env, dm_render_assets *a, 
         if (spec->levels != 1 || spec->layers < 1 || spec->layers > DM_RENDER_ENV_LEVELS_MAX)
             return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular has %d layers, expected 1..%d (one per m)",
                            pack->what, spec->layers, DM_RENDER_ENV_LEVELS_MAX);
-        dm_provenance p;
-        dm_result r = dm_prov_from_json(&p, spec->provenance_json, pack->what, err);
+        dm_result r = dm_pack_env_level_m(pack, spec, a->env_level_m, err);
         if (r != DM_OK) return r;
-        for (int k = 0; k < spec->layers; ++k) {
-            char name[16];
-            snprintf(name, sizeof name, "m%d", k);
-            const dm_param *m = dm_prov_find(&p, name);
-            if (!m || m->type == DM_PARAM_STRING)
-                return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular layer %d has no roughness \"%s\" in its provenance",
-                               pack->what, k, name);
-            a->env_level_m[k] = (float)m->d;
-            a->env_levels[k] = layer(spec, k);
-        }
+        for (int k = 0; k < spec->layers; ++k) a->env_levels[k] = layer(spec, k);
         a->env_level_count = spec->layers;
     }
     return texture(pack, env_entry(env, "background", name), &a->env_background, err);
