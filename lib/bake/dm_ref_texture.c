@@ -1,4 +1,5 @@
 #include "bake/dm_ref_texture.h"
+#include "core/dm_half.h"
 
 #include <assert.h>
 #include <math.h>
@@ -9,26 +10,6 @@
 double dm_ref_srgb_to_linear(double c)
 {
     return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-}
-
-float dm_ref_half_to_float(uint16_t h)
-{
-    uint32_t sign = (uint32_t)(h & 0x8000u) << 16, e = (h >> 10) & 0x1Fu, m = h & 0x3FFu, bits;
-    if (e == 0) {
-        if (m == 0) {
-            bits = sign;
-        } else { /* subnormal: m · 2^−24 */
-            float f = (float)m * 5.9604644775390625e-8f;
-            return sign ? -f : f;
-        }
-    } else if (e == 31) {
-        bits = sign | 0x7F800000u | (m << 13);
-    } else {
-        bits = sign | ((e + 112u) << 23) | (m << 13);
-    }
-    float f;
-    memcpy(&f, &bits, sizeof f);
-    return f;
 }
 
 /* sRGB 8-bit → linear: 256 entries of the exact curve, made once. */
@@ -60,7 +41,7 @@ void dm_ref_texel(const dm_ref_texture *t, int i, int j, double rgba[4])
         } else if (f->component_size == 2) {
             uint16_t h;
             memcpy(&h, (const uint8_t *)t->texels + (at + (size_t)k) * 2, sizeof h);
-            c[k] = dm_ref_half_to_float(h);
+            c[k] = dm_half_to_float(h);
         } else {
             float v;
             memcpy(&v, (const uint8_t *)t->texels + (at + (size_t)k) * 4, sizeof v);

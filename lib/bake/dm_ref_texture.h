@@ -38,9 +38,6 @@ void dm_ref_texture_sample(const dm_ref_texture *t, double u, double v, double r
 /* The exact sRGB decoding curve, c in [0, 1]. */
 double dm_ref_srgb_to_linear(double c);
 
-/* IEEE 754 half to float (every half, NaN and Inf included). */
-float dm_ref_half_to_float(uint16_t h);
-
 #ifdef __cplusplus
 }
 #endif

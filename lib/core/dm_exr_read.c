@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include "core/dm_file.h"
+#include "core/dm_half.h"
 
 /* ---- bounded little-endian cursor -------------------------------------------------------- */
 
@@ -62,13 +63,6 @@ static bool get_cstr(cursor *c, char *out, size_t max)
     }
     out[0] = 0;
     return false;
-}
-
-static float half_to_float(uint16_t h)
-{
-    int e = (h >> 10) & 31, m = h & 1023;
-    float v = e == 0 ? ldexpf((float)m, -24) : e == 31 ? (m ? NAN : INFINITY) : ldexpf((float)(m | 1024), e - 25);
-    return (h & 0x8000) ? -v : v;
 }
 
 /* ---- header ------------------------------------------------------------------------------ */
@@ -271,7 +265,7 @@ dm_result dm_exr_decode(const uint8_t *data, size_t size, const char *what, dm_e
                 for (int x = 0; x < w; ++x) {
                     float v;
                     if (f->types[ch] == 1) {
-                        v = half_to_float((uint16_t)(q[0] | q[1] << 8));
+                        v = dm_half_to_float((uint16_t)(q[0] | q[1] << 8));
                         q += 2;
                     } else {
                         uint32_t u = rd_u32(q);

@@ -9,6 +9,7 @@
 
 #include "../common/ref_synth.h"
 #include "bake/dm_ref_shade.h"
+#include "core/dm_half.h"
 #include "bake/dm_ref_texture.h"
 #include "core/dm_brdf.h"
 
@@ -43,11 +44,11 @@ Test(ref_texture, srgb_and_half)
     cr_assert_float_eq(c[0], 1.0, 1e-12);
     cr_assert_float_eq(c[1], pow((128 / 255.0 + 0.055) / 1.055, 2.4), 1e-12);
     cr_assert_float_eq(c[3], 7 / 255.0, 1e-12); /* alpha stays linear */
-    cr_assert_eq(dm_ref_half_to_float(0x3C00), 1.0f);
-    cr_assert_eq(dm_ref_half_to_float(0x7BFF), 65504.0f);
-    cr_assert_eq(dm_ref_half_to_float(0x0001), 5.9604644775390625e-8f);
-    cr_assert_eq(dm_ref_half_to_float(0xC000), -2.0f);
-    cr_assert(isinf(dm_ref_half_to_float(0x7C00)));
+    cr_assert_eq(dm_half_to_float(0x3C00), 1.0f);
+    cr_assert_eq(dm_half_to_float(0x7BFF), 65504.0f);
+    cr_assert_eq(dm_half_to_float(0x0001), 5.9604644775390625e-8f);
+    cr_assert_eq(dm_half_to_float(0xC000), -2.0f);
+    cr_assert(isinf(dm_half_to_float(0x7C00)));
 }
 
 /* ---- the exact ρdt ------------------------------------------------------------------ */
