@@ -6,9 +6,9 @@ dm_result dmr_glow_targets(dm_renderer *r, dm_error *err)
 {
     int gw = r->width / 2 > 0 ? r->width / 2 : 1, gh = r->height / 2 > 0 ? r->height / 2 : 1;
     dm_result rc =
-        dmr_color_target(r, "glow_a", gw, gh, GL_RGBA16F, GL_CLAMP_TO_EDGE, &r->glow_tex[0], &r->glow_fbo[0], err);
+        dmr_color_target(r, "glow_a", gw, gh, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->glow_tex[0], &r->glow_fbo[0], err);
     if (rc == DM_OK)
-        rc = dmr_color_target(r, "glow_b", gw, gh, GL_RGBA16F, GL_CLAMP_TO_EDGE, &r->glow_tex[1], &r->glow_fbo[1],
+        rc = dmr_color_target(r, "glow_b", gw, gh, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->glow_tex[1], &r->glow_fbo[1],
                               err);
     return rc;
 }
