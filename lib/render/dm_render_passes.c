@@ -37,7 +37,7 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
     switch (k) {
     case DM_PASS_FINAL:
     case DM_PASS_VIEW: return true; /* debug views need them whatever the effects */
-    case DM_PASS_SHADOW: return p->shadow_count > 0;
+    case DM_PASS_SHADOW: return true; /* also the final pass's depth pre-pass */
     case DM_PASS_IRRADIANCE:
     case DM_PASS_BLUR_U:
     case DM_PASS_BLUR_V: return p->texture_space;

@@ -42,7 +42,21 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }
+    /* depth first with the shadow maps' depth-only program (the same vertex transform, so the
+     * same depths): the shading below runs once per pixel, not once per overlapping surface
+     * (ears, nose, lips over the cheek), and the picture is identical */
+    if (mode != 4 && r->prog[DM_PASS_SHADOW]) {
+        GLuint z = r->prog[DM_PASS_SHADOW];
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glUseProgram(z);
+        glUniformMatrix4fv(loc(z, "u_matrix"), 1, GL_FALSE, r->view_proj);
+        dmr_draw_mesh(r);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+    }
     dmr_shade_head(r, p, mode);
+    glDepthMask(GL_TRUE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DEPTH_TEST);
