@@ -61,6 +61,13 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d", N), snprintf(w, sizeof w, "irradiance %d, 7 taps%s", N, N == 1024 ? " (the scene's default)" : "");
         add(N, 0, 0, false, (dm_render_desc){0}, n, w);
     }
+    /* the exact chain: every level at full resolution (the default's automatic resolution
+     * reduces the wide levels: dm_render_desc.blur_full_resolution) */
+    for (int N = quick ? 256 : 512; N <= 1024; N *= 2) {
+        snprintf(n, sizeof n, "%d full-res", N);
+        snprintf(w, sizeof w, "irradiance %d, every blur level at %d (--blur-full-res)", N, N);
+        add(N, 0, 0, false, (dm_render_desc){.blur_full_resolution = true}, n, w);
+    }
     for (int t = 5; t <= 9; t += 4) {
         snprintf(n, sizeof n, "%d taps %d", B, t), snprintf(w, sizeof w, "irradiance %d, %d taps", B, t);
         add(B, t, 0, false, (dm_render_desc){0}, n, w);
@@ -76,6 +83,8 @@ static void add_rows(bool quick, bool large, int B)
     add(B, 0, 0, true, (dm_render_desc){0}, n, w);
     snprintf(n, sizeof n, "%d reduce3", B), snprintf(w, sizeof w, "%d, --blur-reduce-from 3 (levels 3..5 at %d)", B, B / 2);
     add(B, 0, 0, false, (dm_render_desc){.blur_reduce_from = 3}, n, w);
+    snprintf(n, sizeof n, "%d pcf1", B), snprintf(w, sizeof w, "%d, --pcf-taps 1 (one bilinear shadow compare)", B);
+    add(B, 0, 0, false, (dm_render_desc){.shadow_pcf_taps = 1}, n, w);
     snprintf(n, sizeof n, "%d half", B), snprintf(w, sizeof w, "%d, --half-float (RGBA16F targets)", B);
     add(B, 0, 0, false, (dm_render_desc){.blur_half_float = true}, n, w);
     snprintf(n, sizeof n, "%d reuse", B), snprintf(w, sizeof w, "%d, texture space reused (camera-only frames)", B);
@@ -87,6 +96,8 @@ static void add_rows(bool quick, bool large, int B)
         setting *s = add(B, 0, 0, false, (dm_render_desc){0}, n, w);
         s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = t;
     }
+    add(B, 0, 0, false, (dm_render_desc){0}, "pre-integrated", "pre-integrated (Penner): the table by N.L and curvature")
+        ->technique = DM_SSS_PRE_INTEGRATED;
     int T = quick ? 256 : 1024;
     snprintf(n, sizeof n, "%d + transl.", T), snprintf(w, sizeof w, "irradiance %d + translucency", T);
     add(T, 0, 0, false, (dm_render_desc){0}, n, w)->translucency = true;
@@ -156,42 +167,61 @@ static int label_atlas(const dm_ref_regions *rg, const dm_mesh *m, sized *z)
     return 1;
 }
 
-/* The pack of g Gaussians fitted to gems3-skin: the scene with its profile pointing at
- * the fit, written beside the original (so its relative paths hold) and removed again. */
-static int pack_fit(const char *bin, const char *dir, const char *hash, int g, char *pack_path, size_t size)
+/* The pack of SCENE with `key` replaced by `value` (the scene written beside the original,
+ * so its relative paths hold, and removed again) at pack_path; tag names the scene file. */
+static int pack_variant(const char *bin, const char *key, const char *value, const char *tag, const char *pack_path)
 {
-    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
-    char fit[4096], scene[1024], cmd[8192], absdir[3072], cwd[2048];
-    if (dir[0] == '/') snprintf(absdir, sizeof absdir, "%s", dir);
-    else if (getcwd(cwd, sizeof cwd)) snprintf(absdir, sizeof absdir, "%s/%s", cwd, dir);
-    else return 0;
-    snprintf(fit, sizeof fit, "%s/fit-%s-%d.json", absdir, dipole ? dipole : "gems3", g);
-    /* cached by the base pack's hash (the scene) and the source (fits are deterministic) */
-    snprintf(pack_path, size, "%s/lps-sss-%.16s-%s-g%d.dpk", dir, hex, dipole ? dipole : "gems3", g);
-    if (!access(pack_path, R_OK) && !access(fit, R_OK)) return 1;
-    snprintf(cmd, sizeof cmd, "%s/bin/dermis-fit-profile %s%s -n %d -o %s --quiet", bin, dipole ? "--dipole " : "--preset ",
-             dipole ? dipole : "gems3-skin", g, fit);
-    if (run(cmd) != 0) return 0;
+    char scene[1024], cmd[8192];
     FILE *f = fopen(SCENE, "rb");
     char text[16384];
     size_t len = f ? fread(text, 1, sizeof text - 1, f) : 0;
     if (f) fclose(f);
     text[len] = 0;
-    const char *key = "\"profile\": \"gems3-skin\"";
     char *at = strstr(text, key);
     if (!at) {
         fprintf(stderr, "error: %s: no %s to replace\n", SCENE, key);
         return 0;
     }
-    snprintf(scene, sizeof scene, "assets/scenes/.accuracy-g%d-%ld.json", g, (long)getpid());
+    snprintf(scene, sizeof scene, "assets/scenes/.accuracy-%s-%ld.json", tag, (long)getpid());
     f = fopen(scene, "wb");
     if (!f) return 0;
-    fprintf(f, "%.*s\"profile\": \"%s\"%s", (int)(at - text), text, fit, at + strlen(key));
+    fprintf(f, "%.*s%s%s", (int)(at - text), text, value, at + strlen(key));
     fclose(f);
     snprintf(cmd, sizeof cmd, "%s/bin/dermis-pack %s -o %s --quiet", bin, scene, pack_path);
     int rc = run(cmd);
     remove(scene);
     return rc == 0;
+}
+
+/* The pack of g Gaussians fitted to gems3-skin (or the dipole): the scene's profile pointing
+ * at the fit. Cached by the base pack's hash (the scene) and the source (fits are
+ * deterministic). */
+static int pack_fit(const char *bin, const char *dir, const char *hash, int g, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    char fit[4096], cmd[8192], absdir[3072], cwd[2048], value[4200], tag[16];
+    if (dir[0] == '/') snprintf(absdir, sizeof absdir, "%s", dir);
+    else if (getcwd(cwd, sizeof cwd)) snprintf(absdir, sizeof absdir, "%s/%s", cwd, dir);
+    else return 0;
+    snprintf(fit, sizeof fit, "%s/fit-%s-%d.json", absdir, dipole ? dipole : "gems3", g);
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-%s-g%d.dpk", dir, hex, dipole ? dipole : "gems3", g);
+    if (!access(pack_path, R_OK) && !access(fit, R_OK)) return 1;
+    snprintf(cmd, sizeof cmd, "%s/bin/dermis-fit-profile %s%s -n %d -o %s --quiet", bin, dipole ? "--dipole " : "--preset ",
+             dipole ? dipole : "gems3-skin", g, fit);
+    if (run(cmd) != 0) return 0;
+    snprintf(value, sizeof value, "\"profile\": \"%s\"", fit);
+    snprintf(tag, sizeof tag, "g%d", g);
+    return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, tag, pack_path);
+}
+
+/* The scene as the pre-integrated technique packs it (its table and curvature map). */
+static int pack_preint(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-preint.dpk", dir, hex);
+    if (!access(pack_path, R_OK)) return 1;
+    return pack_variant(bin, "\"taps\": 7, \"irradiance_size\": 1024,", "\"technique\": \"pre-integrated\",", "preint",
+                        pack_path);
 }
 
 static int open_pack(const char *path, packed *p)
@@ -206,38 +236,15 @@ static int open_pack(const char *path, packed *p)
     return 1;
 }
 
-static float half_to_float(uint16_t h)
-{
-    int e = (h >> 10) & 31, m = h & 1023;
-    float v = e == 0 ? ldexpf((float)m, -24) : e == 31 ? INFINITY : ldexpf((float)(m | 1024), e - 25);
-    return h & 0x8000 ? -v : v;
-}
-
-static int cmp_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
 /* A constant RG32F stretch texture (malloc'd) at the chain's size: the median s_u, s_v
  * over the charts (mask > 0, else s_u > 0) of level 0. */
 static float *flat_stretch(const dm_render_assets *a, float med[2])
 {
     const dm_texture *t = &a->stretch[0];
-    size_t n = (size_t)t->width * t->height, k = 0;
-    float *u = malloc(sizeof *u * n), *v = malloc(sizeof *v * n), *out = malloc(sizeof *out * 2 * n);
-    if (!u || !v || !out || (t->format != DM_TEX_RG32F && t->format != DM_TEX_RG16F)) return free(u), free(v), free(out), NULL;
-    const uint8_t *mask = a->stretch_mask.texels && a->stretch_mask.width == t->width &&
-                                  a->stretch_mask.height == t->height ? a->stretch_mask.texels : NULL;
-    for (size_t i = 0; i < n; ++i) {
-        float su = t->format == DM_TEX_RG32F ? ((const float *)t->texels)[2 * i] : half_to_float(((const uint16_t *)t->texels)[2 * i]);
-        float sv = t->format == DM_TEX_RG32F ? ((const float *)t->texels)[2 * i + 1] : half_to_float(((const uint16_t *)t->texels)[2 * i + 1]);
-        if (mask ? mask[i] > 0 : su > 0) u[k] = su, v[k++] = sv;
-    }
-    qsort(u, k, sizeof *u, cmp_float), qsort(v, k, sizeof *v, cmp_float);
-    med[0] = k ? u[k / 2] : 1, med[1] = k ? v[k / 2] : 1;
+    size_t n = (size_t)t->width * t->height;
+    float *out = malloc(sizeof *out * 2 * n);
+    if (!out || !dm_render_stretch_median(a, med)) return free(out), NULL;
     for (size_t i = 0; i < n; ++i) out[2 * i] = med[0], out[2 * i + 1] = med[1];
-    free(u), free(v);
     return out;
 }
 
@@ -297,7 +304,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "error: '%s' failed (run from the repository root)\n", cmd);
         return 3;
     }
-    static packed packs[MAX_G + 1];
+    static packed packs[NPACKS];
     dm_error err = {0};
     char hash[DM_HASH_HEX_SIZE];
     if (dm_hash_file_hex(pack_path, hash, &err) != DM_OK || !open_pack(pack_path, &packs[0])) {
@@ -308,6 +315,9 @@ int main(int argc, char **argv)
         int g = rows_s[c].gaussians;
         char p[2048];
         if (g && !packs[g].open && (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g]))) return 3;
+        if (rows_s[c].technique == DM_SSS_PRE_INTEGRATED && !packs[PACK_PREINT].open &&
+            (!pack_preint(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_PREINT])))
+            return 3;
     }
     /* regions from the pack's mesh; references, labels and areas per size */
     dm_scene scene;
@@ -357,14 +367,15 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         const setting *s = &rows_s[c];
         rows[c].s = *s;
-        rows[c].scene = packs[s->gaussians].scene;
+        int pk = s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->gaussians;
+        rows[c].scene = packs[pk].scene;
         if (s->taps) rows[c].scene.blur_taps = s->taps;
         rows[c].scene.effects[DM_EFFECT_GLOW] = false;
         rows[c].scene.effects[DM_EFFECT_TRANSLUCENCY] = s->translucency;
         rows[c].scene.sss_technique = s->technique;
         if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
         rows[c].fref = &fref[s->gaussians && dipole];
-        as[c] = packs[s->gaussians].assets;
+        as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
         if (s->flat_stretch) {
             as[c].stretch_level_count = 1;
@@ -431,7 +442,7 @@ int main(int argc, char **argv)
     for (int i = 0; i < nz; ++i) dm_refcmp_ref_free(&z[i].ref), free(z[i].label), free(z[i].area);
     dm_refcmp_ref_free(&fref[0]), dm_refcmp_ref_free(&fref[1]);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf);
-    for (int g = 0; g <= MAX_G; ++g)
+    for (int g = 0; g < NPACKS; ++g)
         if (packs[g].open) dm_pack_close(&packs[g].pack);
     dm_osmesa_destroy(ctx);
     return 0;

@@ -58,10 +58,12 @@ static void usage(FILE *f)
             "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
             "  --pcf-taps N         shadow filter: 4 (default, the 3x3 PCF exactly), 9 (reference),\n"
             "                       1 (one bilinear compare: harder edges)\n"
-            "  --blur-reduce-from K blur levels K and wider at reduced resolution, default off;\n"
-            "                       1..7 (on the head, K = 3 at half resolution: -22 %% frame time,\n"
-            "                       up to 7 display steps)\n"
+            "  --blur-reduce-from K blur levels K and wider at reduced resolution, 1..7; default:\n"
+            "                       automatic, each level at the lowest resolution (down to 1/8)\n"
+            "                       where its Gaussian stays 1.2 texels wide (on the head at 1024:\n"
+            "                       level 4 at 1/2, level 5 at 1/4)\n"
             "  --blur-reduce-shift S  that resolution is irradiance >> S, default 1; 1..3\n"
+            "  --blur-full-res      every blur level at the irradiance size (the exact chain)\n"
             "  --half-float         RGBA16F irradiance and blur targets (slower on llvmpipe)\n"
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
@@ -138,6 +140,8 @@ static int parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--blur-reduce-shift")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 3, &n)) return 0;
             o->speed.blur_reduce_shift = (int)n;
+        } else if (!strcmp(a, "--blur-full-res")) {
+            o->speed.blur_full_resolution = true;
         } else if (!strcmp(a, "--half-float")) {
             o->speed.blur_half_float = true;
         } else if (!strcmp(a, "--compare-exact")) {
@@ -184,6 +188,10 @@ static int parse(int argc, char **argv, options *o)
             fprintf(stderr, "error: unexpected argument '%s' (one PACK only)\n", a);
             return 0;
         }
+    }
+    if (o->speed.blur_full_resolution && o->speed.blur_reduce_from) {
+        fprintf(stderr, "error: --blur-full-res and --blur-reduce-from contradict each other\n");
+        return 0;
     }
     if (o->speed.blur_reduce_shift && !o->speed.blur_reduce_from) {
         fprintf(stderr, "error: --blur-reduce-shift needs --blur-reduce-from\n");
@@ -245,6 +253,18 @@ static void provenance(const options *o, const dm_scene *s, const char *input_ha
     dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
     dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
     dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
+    dm_prov_add_string(p, "blur_resolution",
+                       d->blur_full_resolution ? "full" : d->blur_reduce_from ? "reduce_from" : "auto");
+    char sizes[96] = "", *end = sizes; /* each level's texels per side as rendered */
+    for (int i = 0; r && i < dm_renderer_target_count(r); ++i) {
+        dm_target_info ti;
+        dm_renderer_target_info(r, i, &ti);
+        bool level = !strcmp(ti.name, "irradiance") || (!strncmp(ti.name, "blur", 4) && ti.name[4] >= '1' &&
+                                                        ti.name[4] <= '9' && !ti.name[5]);
+        if (level && end < sizes + sizeof sizes - 8)
+            end += snprintf(end, (size_t)(sizes + sizeof sizes - end), "%s%d", end > sizes ? " " : "", ti.width);
+    }
+    if (*sizes) dm_prov_add_string(p, "blur_level_sizes", sizes);
     dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
     dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
 }

@@ -18,6 +18,7 @@
 #include "render/dm_render_refcmp.h"
 
 enum { W = 1280, H = 720, FW = 320, FH = 180, FRAME_ATLAS = 512, MAX_FRAMES = 64, MAX_ROWS = 40, MAX_G = 8 };
+enum { PACK_PREINT = MAX_G + 1, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
 
@@ -25,7 +26,8 @@ typedef struct setting {
     char name[40], what[160];
     int size, taps, gaussians; /* irradiance size; blur taps (0: the scene's); 0: the pack's profile */
     bool flat_stretch;
-    dm_sss_technique technique; /* texture-space (0) or screen-space */
+    dm_sss_technique technique; /* texture-space (0), screen-space or pre-integrated (its own pack:
+                                 * the table and curvature map, PACK_PREINT) */
     int screen_taps;            /* screen-space kernel taps */
     bool translucency;
     dm_render_desc knobs;

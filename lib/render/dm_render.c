@@ -199,7 +199,7 @@ void dm_renderer_destroy(dm_renderer *r)
     }
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black, r->tex_env_array,      r->tmp_tex,        r->screen_tex, r->tmp_small_tex, r->view_tex,
+                    r->tex_white,     r->tex_black, r->tex_env_array,      r->screen_tex, r->view_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex, r->ss_diff_tex, r->ss_aux_tex, r->ss_spec_tex,
                     r->ss_tmp_tex, r->tex_preint, r->tex_curvature};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
@@ -208,6 +208,10 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->tex_stretch[k]) glDeleteTextures(1, &r->tex_stretch[k]);
         if (r->irr_tex[k]) glDeleteTextures(1, &r->irr_tex[k]);
         if (r->irr_fbo[k]) glDeleteFramebuffers(1, &r->irr_fbo[k]);
+        bool first = true; /* the U targets are shared between levels of one size */
+        for (int j = 1; j < k; ++j) first = first && r->tmp_fbo[j] != r->tmp_fbo[k];
+        if (first && r->tmp_fbo[k]) glDeleteFramebuffers(1, &r->tmp_fbo[k]);
+        if (first && r->tmp_tex[k]) glDeleteTextures(1, &r->tmp_tex[k]);
     }
     for (int k = 0; k < DM_RENDER_ENV_LEVELS_MAX; ++k)
         if (r->tex_env_level[k]) glDeleteTextures(1, &r->tex_env_level[k]);
@@ -215,7 +219,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_fbo[k]) glDeleteFramebuffers(1, &r->shadow_fbo[k]);
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
-    GLuint fbo[] = {r->tmp_fbo,     r->tmp_small_fbo, r->screen_fbo, r->glow_fbo[0],
+    GLuint fbo[] = {r->screen_fbo, r->glow_fbo[0],
                     r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);

@@ -127,6 +127,10 @@ typedef struct dm_render_assets {
     dm_texture env_background;                       /* RGBA16F/32F equirect radiance */
 } dm_render_assets;
 
+/* Texels (of its reduced grid) a level's total Gaussian σ keeps under the automatic
+ * blur resolution (dm_render_desc.blur_full_resolution). */
+#define DM_BLUR_AUTO_SIGMA 1.2
+
 /* Options of the renderer itself; zero means default. */
 typedef struct dm_render_desc {
     const char *shader_dir; /* load shaders/<pass>.glsl from here; NULL = embedded copies */
@@ -148,6 +152,13 @@ typedef struct dm_render_desc {
                                * (the wide Gaussians span many texels; the final pass
                                * upsamples them bilinearly) */
     int blur_reduce_shift;    /* 0 = 1 (half resolution); 1..3 */
+    bool blur_full_resolution; /* every level at irradiance_size. Default (false, and
+                               * blur_reduce_from 0): each level k is stored at
+                               * irradiance_size >> j, the largest j <= 3 that keeps its total
+                               * Gaussian at least DM_BLUR_AUTO_SIGMA texels wide there (at the
+                               * stretch map's median, UV per mm), never finer than level k−1:
+                               * on the head at 1024, level 4 at 1/2 and 5 at 1/4 (error against
+                               * the ground truth: bench/results/accuracy.md) */
     bool blur_half_float;     /* irradiance and blur targets in RGBA16F instead of RGBA32F
                                * (11-bit mantissa: relative rounding 4.9e-4 per pass). Halves
                                * memory and bandwidth on GPUs; on llvmpipe it is slower (the
@@ -159,6 +170,10 @@ typedef struct dm_render_desc {
 } dm_render_desc;
 
 typedef struct dm_renderer dm_renderer;
+
+/* Median stretch over the charts (stretch mask > 0, else s_u > 0) of level 0: s_u and s_v in
+ * UV units per mm (the automatic blur resolution's texel density). False when there is none. */
+bool dm_render_stretch_median(const dm_render_assets *a, float med[2]);
 
 /* Builds the pass plan, checks the assets against it, compiles the shaders and uploads
  * everything. Needs a current GL 3.3+ core context. Free with dm_renderer_destroy. */

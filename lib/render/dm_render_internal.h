@@ -116,8 +116,9 @@ struct dm_renderer {
     GLuint tex_white, tex_black;
     GLuint tex_env_array; /* the env levels as one 2D array when they share size and format */
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
-    GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS], tmp_tex, tmp_fbo;
-    GLuint tmp_small_tex, tmp_small_fbo; /* the U pass target of the reduced levels */
+    GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS];
+    GLuint tmp_tex[DM_PROFILE_MAX_GAUSSIANS], tmp_fbo[DM_PROFILE_MAX_GAUSSIANS]; /* level k's U pass target
+                                                   (shared between levels of one size) */
     GLuint screen_tex, screen_depth, screen_fbo;
     GLuint view_tex, view_fbo; /* texture views at their own size, RGBA32F (resized on demand) */
     int view_target;           /* its index in targets */

@@ -6,8 +6,11 @@
 #include <assert.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "core/dm_half.h"
 #include "render/dm_render_internal.h"
 
 static double phi(double x) /* standard normal CDF */
@@ -56,12 +59,63 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
     return rc;
 }
 
+static int cmp_float(const void *x, const void *y)
+{
+    float a = *(const float *)x, b = *(const float *)y;
+    return (a > b) - (a < b);
+}
+
+static float stretch_at(const dm_texture *t, size_t i)
+{
+    return t->format == DM_TEX_RG32F ? ((const float *)t->texels)[i] : dm_half_to_float(((const uint16_t *)t->texels)[i]);
+}
+
+bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
+{
+    const dm_texture *t = &a->stretch[0];
+    med[0] = med[1] = 0.0f;
+    if (a->stretch_level_count < 1 || !t->texels || (t->format != DM_TEX_RG32F && t->format != DM_TEX_RG16F))
+        return false;
+    size_t n = (size_t)t->width * (size_t)t->height, k = 0;
+    const uint8_t *mask = a->stretch_mask.texels && a->stretch_mask.width == t->width &&
+                                  a->stretch_mask.height == t->height ? a->stretch_mask.texels : NULL;
+    float *u = malloc(sizeof *u * n), *v = malloc(sizeof *v * n);
+    for (size_t i = 0; u && v && i < n; ++i) {
+        float su = stretch_at(t, 2 * i), sv = stretch_at(t, 2 * i + 1);
+        if ((mask ? mask[i] > 0 : su > 0) && isfinite(su) && isfinite(sv)) u[k] = su, v[k++] = sv;
+    }
+    if (k) {
+        qsort(u, k, sizeof *u, cmp_float), qsort(v, k, sizeof *v, cmp_float);
+        med[0] = u[k / 2], med[1] = v[k / 2];
+    }
+    free(u), free(v);
+    return k > 0;
+}
+
+/* The automatic blur resolution (dm_render_desc.blur_full_resolution): level k at
+ * irr_size >> j, j the largest (<= 3, >= level k−1's, size >= 8) keeping its total σ at least
+ * DM_BLUR_AUTO_SIGMA texels of that grid at the median stretch along the coarser axis (the
+ * smaller of s_u, s_v). */
+static void auto_level_sizes(dm_renderer *r, double uv_per_mm)
+{
+    int j = 0;
+    for (int k = 1; k < r->profile.count && uv_per_mm > 0; ++k) {
+        double sigma_texels = sqrt(r->profile.variance_mm2[k]) * uv_per_mm * r->irr_size;
+        while (j < 3 && (r->irr_size >> (j + 1)) >= 8 && sigma_texels / (1 << (j + 1)) >= DM_BLUR_AUTO_SIGMA) ++j;
+        r->level_size[k] = r->irr_size >> j;
+    }
+}
+
 dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err)
 {
     dm_result rc = DM_OK;
     r->stretch_count = a->stretch_level_count;
     for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k)
         rc = dmr_upload(&a->stretch[k], "stretch", false, GL_LINEAR, &r->tex_stretch[k], err);
+    float med[2];
+    if (rc == DM_OK && !r->desc.blur_full_resolution && r->desc.blur_reduce_from == 0 &&
+        dm_render_stretch_median(a, med))
+        auto_level_sizes(r, fmin(med[0], med[1]));
     if (rc == DM_OK && a->stretch_mask.texels)
         rc = dmr_upload(&a->stretch_mask, "stretch_mask", false, GL_LINEAR, &r->tex_mask, err);
     return rc;
@@ -77,13 +131,19 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
         rc = dmr_color_target(r, name, r->level_size[k], r->level_size[k], r->level_format, GL_CLAMP_TO_BORDER,
                               &r->irr_tex[k], &r->irr_fbo[k], err);
     }
-    if (rc == DM_OK && p->blur_levels > 1)
-        rc = dmr_color_target(r, "blur_tmp", r->irr_size, r->irr_size, r->level_format, GL_CLAMP_TO_BORDER,
-                              &r->tmp_tex, &r->tmp_fbo, err);
-    int small = r->level_size[p->blur_levels > 0 ? p->blur_levels - 1 : 0];
-    if (rc == DM_OK && p->blur_levels > 1 && small != r->irr_size)
-        rc = dmr_color_target(r, "blur_tmp_small", small, small, r->level_format, GL_CLAMP_TO_BORDER,
-                              &r->tmp_small_tex, &r->tmp_small_fbo, err);
+    /* the U pass of level k writes at level k's width and level k−1's height: its input still
+     * holds detail along V that only the V pass may filter away. One target per size. */
+    for (int k = 1; k < p->blur_levels && rc == DM_OK; ++k) {
+        int w = r->level_size[k], h = r->level_size[k - 1], j = 1;
+        while (j < k && !(r->level_size[j] == w && r->level_size[j - 1] == h)) ++j;
+        if (j < k) {
+            r->tmp_tex[k] = r->tmp_tex[j], r->tmp_fbo[k] = r->tmp_fbo[j];
+            continue;
+        }
+        snprintf(name, sizeof name, "blur_tmp%d", k);
+        rc = dmr_color_target(r, name, w, h, r->level_format, GL_CLAMP_TO_BORDER, &r->tmp_tex[k], &r->tmp_fbo[k],
+                              err);
+    }
     return rc;
 }
 
@@ -135,15 +195,14 @@ void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     int k = ps->index;
     bool along_v = ps->kind == DM_PASS_BLUR_V;
     GLuint p = r->prog[DM_PASS_BLUR_U];
-    /* the U pass already writes at level k's size (the taps read level k−1 by UV) */
-    int n = r->level_size[k];
-    bool small = n != r->irr_size;
-    GLuint tmp_tex = small ? r->tmp_small_tex : r->tmp_tex, tmp_fbo = small ? r->tmp_small_fbo : r->tmp_fbo;
-    dmr_target_begin(along_v ? r->irr_fbo[k] : tmp_fbo, n, n);
+    /* the U pass writes at level k's width and level k−1's height (the taps read by UV) */
+    int n = r->level_size[k], h = r->level_size[k - 1];
+    if (along_v) dmr_target_begin(r->irr_fbo[k], n, n);
+    else dmr_target_begin(r->tmp_fbo[k], n, h);
     glDisable(GL_DEPTH_TEST);
     glUseProgram(p);
     int s = k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
-    dmr_bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? tmp_tex : r->irr_tex[k - 1]);
+    dmr_bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? r->tmp_tex[k] : r->irr_tex[k - 1]);
     dmr_bind(UNIT_STRETCH, GL_TEXTURE_2D, r->tex_stretch[s]);
     u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
     glUniform1fv(loc(p, "u_offset_mm"), r->taps, r->blur_offset[k]);

@@ -31,11 +31,15 @@ static void open_synth(fixture *f, dm_synth_options so)
     cr_assert_eq(dm_synth_create(&so, &f->synth, &err), DM_OK, "%s", err.detail);
 }
 
-static void open_renderer(fixture *f, int w, int h, int irr)
+static void open_renderer_desc(fixture *f, dm_render_desc d)
 {
     dm_error err = {0};
-    dm_render_desc d = {.width = w, .height = h, .irradiance_size = irr, .shadow_size = 256};
     cr_assert_eq(dm_renderer_create(&f->synth->assets, &d, &f->r, &err), DM_OK, "%s", err.detail);
+}
+
+static void open_renderer(fixture *f, int w, int h, int irr)
+{
+    open_renderer_desc(f, (dm_render_desc){.width = w, .height = h, .irradiance_size = irr, .shadow_size = 256});
 }
 
 static void close_fixture(fixture *f)
@@ -128,8 +132,12 @@ Test(render, degenerate_uvs_zero_tangents_huge_light_stay_finite)
 
 /* Uniform irradiance on a flat quad of constant stretch: every blur level equals level 0.
  * Tolerance 1e-3 (relative): half-float storage rounds to 2^-11 ≈ 4.9e-4 relative; the
- * weights sum to 1 to float precision and coverage is exactly 1 inside the chart. */
-static void constant_case(float inset)
+ * weights sum to 1 to float precision and coverage is exactly 1 inside the chart. Each level
+ * is read at its own size. With the automatic blur resolution (full = false, 1.2 texels):
+ * 64 mm side on 128 texels is 2 texels per mm, so σ_4 = 1.41 mm is 2.8 texels (1.4 at half
+ * size) and σ_5 = 2.72 mm is 5.4 (1.4 at a quarter): levels 4 and 5 at 1/2 and 1/4; with the
+ * chart inset by 0.25 (1 texel per mm) only level 5, at 1/2. */
+static void constant_case(float inset, bool full)
 {
     fixture f;
     open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_QUAD, .quad_uv_inset = inset, .stretch_size = 128});
@@ -140,23 +148,28 @@ static void constant_case(float inset)
     f.synth->scene.lights[0].intensity = 0.8f;
     static const uint8_t white[4] = {255, 255, 255, 255};
     f.synth->assets.albedo = (dm_texture){DM_TEX_RGBA8_SRGB, 1, 1, white};
-    open_renderer(&f, 64, 64, 128);
+    open_renderer_desc(&f, (dm_render_desc){.width = 64, .height = 64, .irradiance_size = 128, .shadow_size = 256,
+                                            .blur_full_resolution = full});
     frame(&f, DM_VIEW_FINAL, 0);
     dm_target_info info;
     float *l0 = read_target(&f, "irradiance", &info);
-    int n = info.width;
+    int n0 = info.width;
+    const float *a = l0 + ((size_t)(n0 / 2) * n0 + n0 / 2) * 4; /* level 0 is the constant everywhere inside */
     int inside = 0;
     for (int k = 1; k < 6; ++k) {
         char name[16];
         snprintf(name, sizeof name, "blur%d", k);
         float *lk = read_target(&f, name, &info);
+        int n = info.width;
+        int shift = full ? 0 : inset > 0 ? (int[]){0, 0, 0, 0, 0, 1}[k] : (int[]){0, 0, 0, 0, 1, 2}[k];
+        cr_expect_eq(n, n0 >> shift, "level %d stored at %d texels, expected %d", k, n, n0 >> shift);
         double worst = 0;
         inside = 0;
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 double u = (i + 0.5) / n, v = (j + 0.5) / n;
                 if (u <= inset || u >= 1 - inset || v <= inset || v >= 1 - inset) continue; /* gutter */
-                const float *a = l0 + ((size_t)j * n + i) * 4, *b = lk + ((size_t)j * n + i) * 4;
+                const float *b = lk + ((size_t)j * n + i) * 4;
                 cr_assert_gt(b[3], 0.0f, "level %d: no coverage inside the chart at (%d, %d)", k, i, j);
                 for (int c = 0; c < 3; ++c) {
                     double ref = a[c] / a[3], got = b[c] / b[3];
@@ -168,22 +181,28 @@ static void constant_case(float inset)
                       (double)inset);
         free(lk);
     }
-    cr_expect_gt(inside, n * n / 5);
-    cr_expect_float_eq(l0[((size_t)(n / 2) * n + n / 2) * 4] / l0[((size_t)(n / 2) * n + n / 2) * 4 + 3], 0.8f,
-                       5e-4f);
+    cr_expect_gt(inside, n0 * n0 / 5 / (full ? 1 : 16));
+    cr_expect_float_eq(a[0] / a[3], 0.8f, 5e-4f);
     free(l0);
     close_fixture(&f);
 }
 
 Test(render, blur_chain_preserves_a_constant)
 {
-    constant_case(0.0f);
+    constant_case(0.0f, true);
 }
 
 /* A chart surrounded by an empty gutter: the seam must not darken (coverage renormalises). */
 Test(render, blur_chain_preserves_a_constant_up_to_the_seam)
 {
-    constant_case(0.25f);
+    constant_case(0.25f, true);
+}
+
+/* The same with the automatic blur resolution: the reduced level keeps the constant too. */
+Test(render, reduced_blur_levels_preserve_a_constant_up_to_the_seam)
+{
+    constant_case(0.0f, false);
+    constant_case(0.25f, false);
 }
 
 /* A single lit texel spreads with the profile's variances, measured in mm through the
@@ -206,7 +225,8 @@ static void single_point_spread(float blur_scale)
     uint8_t *albedo = calloc((size_t)n * n * 4, 1);
     albedo[((size_t)(n / 2) * n + n / 2) * 4 + 0] = 255;
     f.synth->assets.albedo = (dm_texture){DM_TEX_RGBA8_SRGB, n, n, albedo};
-    open_renderer(&f, 32, 32, n);
+    open_renderer_desc(&f, (dm_render_desc){.width = 32, .height = 32, .irradiance_size = n, .shadow_size = 256,
+                                            .blur_full_resolution = true});
     dm_error err = {0};
     dm_frame_options fo = {.blur_scale = blur_scale};
     cr_assert_eq(dm_render_frame(f.r, &fo, &err), DM_OK, "%s", err.detail);
