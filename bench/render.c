@@ -118,12 +118,6 @@ typedef struct run_state {
     double cpu[MAX_FRAMES], cpu_ms; /* process CPU time (all llvmpipe threads) per frame */
 } run_state;
 
-static double cpu_now_ms(void)
-{
-    struct rusage u;
-    getrusage(RUSAGE_SELF, &u);
-    return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
-}
 
 static dm_renderer *make(bench_source *s, int irr, const dm_render_desc *knobs)
 {
@@ -148,9 +142,9 @@ static void one_frame(run_state *st, int f)
 {
     dm_error err = {0};
     dm_frame_options fo = {0};
-    double c0 = cpu_now_ms();
+    double c0 = dm_cpu_ms();
     if (dm_render_frame(st->r, &fo, &err) != DM_OK) fprintf(stderr, "error: %s\n", err.detail);
-    st->cpu[f] = cpu_now_ms() - c0;
+    st->cpu[f] = dm_cpu_ms() - c0;
     double *row = st->ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1);
     dm_renderer_last_timings(st->r, row, row + DM_PLAN_MAX_PASSES);
 }

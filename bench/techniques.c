@@ -22,6 +22,7 @@
 #include "core/dm_pack.h"
 #include "core/dm_ssss_kernel.h"
 #include "host/dm_osmesa.h"
+#include "core/dm_cli.h"
 #include "render/dm_render.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_refcmp.h"
@@ -60,12 +61,6 @@ static double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-static double cpu_now_ms(void)
-{
-    struct rusage u;
-    getrusage(RUSAGE_SELF, &u);
-    return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
 }
 
 static dm_renderer *make(dm_render_assets *a, row *rw, int w, int h, bool timings)
@@ -128,9 +123,9 @@ int main(int argc, char **argv)
     for (int f = 0; f < frames; ++f)
         for (int i = 0; i < NROWS; ++i) {
             row *rw = &rows[i];
-            double c0 = cpu_now_ms();
+            double c0 = dm_cpu_ms();
             if (dm_render_frame(rw->r, &(dm_frame_options){0}, &err) != DM_OK) fprintf(stderr, "error: %s\n", err.detail);
-            rw->cpu[f] = cpu_now_ms() - c0;
+            rw->cpu[f] = dm_cpu_ms() - c0;
             double pass[DM_PLAN_MAX_PASSES];
             dm_renderer_last_timings(rw->r, pass, &rw->frame[f]);
             const dm_render_plan *p = dm_renderer_plan(rw->r);

@@ -43,6 +43,8 @@ static void usage(FILE *f)
             "                       largest value, so the map fills [0, 1]); (0, 1e6]\n"
             "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
             "  --timings            print the median ms per pass over the frames and per frame\n"
+            "  --cpu-timings        the same in process CPU ms (every llvmpipe thread summed):\n"
+            "                       steadier than wall time on a shared machine\n"
             "  --explain            print the pass list and why each pass is there (renders only\n"
             "                       when -o is given)\n"
             "  --shader-dir DIR     load shaders from DIR/*.glsl instead of the embedded copies\n"
@@ -173,6 +175,8 @@ static int parse(int argc, char **argv, options *o)
             if (!(o->shader_dir = dm_cli_value(argc, argv, &i))) return 0;
         } else if (!strcmp(a, "--timings")) {
             o->timings = true;
+        } else if (!strcmp(a, "--cpu-timings")) {
+            o->timings = o->speed.timings_cpu = true;
         } else if (!strcmp(a, "--explain")) {
             o->explain = true;
         } else if (!strcmp(a, "-v")) {
@@ -557,7 +561,10 @@ int main(int argc, char **argv)
         const dm_render_plan *plan = dm_renderer_plan(r);
         double *col = malloc((size_t)o.frames * sizeof *col);
         printf("%-14s %10s   (median over %d frame%s; %s on %s)\n", "pass", "ms", o.frames, o.frames > 1 ? "s" : "",
-               dm_renderer_timing_on_cpu(r) ? "CPU clock around glFinish" : "GL timer queries", dm_renderer_gl_name(r));
+               !dm_renderer_timing_on_cpu(r) ? "GL timer queries"
+               : o.speed.timings_cpu        ? "process CPU time around glFinish, every thread"
+                                            : "wall clock around glFinish",
+               dm_renderer_gl_name(r));
         for (int i = 0; col && i <= plan->pass_count; ++i) {
             int slot = i < plan->pass_count ? i : DM_PLAN_MAX_PASSES;
             for (int f = 0; f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];

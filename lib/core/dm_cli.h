@@ -33,6 +33,9 @@ bool dm_cli_version(const char *arg, const char *tool);
 
 /* Monotonic clock in milliseconds. */
 double dm_now_ms(void);
+/* CPU time of the whole process (every thread, user + system), ms: a software renderer's
+ * work, less sensitive than wall time to other users of shared cores. */
+double dm_cpu_ms(void);
 
 /* A one-line progress bar on stderr, drawn only when stderr is a terminal and not quiet. */
 typedef struct dm_progress {

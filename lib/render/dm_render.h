@@ -137,6 +137,8 @@ typedef struct dm_render_desc {
     int width, height;      /* output size; 0 = scene's */
     int irradiance_size;    /* texture-space size; 0 = scene's irradiance_size */
     int shadow_size;        /* shadow map size; 0 = 1024 */
+    bool timings_cpu;       /* with timings on a software renderer: process CPU time (every
+                             * llvmpipe thread summed) instead of wall time per pass */
     bool timings;           /* time every pass (CPU clock around glFinish on software
                              * renderers, GL_TIME_ELAPSED queries elsewhere) */
 

@@ -1,15 +1,22 @@
-/* dm_render_timing.c — per-pass timing of a frame: the CPU clock around glFinish on software
- * renderers (llvmpipe's timer queries return implausible numbers), GL_TIME_ELAPSED queries
+/* dm_render_timing.c — per-pass timing of a frame: the clock around glFinish on software
+ * renderers (llvmpipe's timer queries return implausible numbers; wall time, or with
+ * timings_cpu the process CPU time of every llvmpipe thread), GL_TIME_ELAPSED queries
  * elsewhere. Off unless dm_render_desc.timings. */
 #include "core/dm_cli.h"
 #include "render/dm_render_internal.h"
+
+/* wall clock, or the process CPU clock with dm_render_desc.timings_cpu */
+static double now_ms(const dm_renderer *r)
+{
+    return r->desc.timings_cpu ? dm_cpu_ms() : now_ms(r);
+}
 
 void dmr_timing_frame_begin(dm_renderer *r, double *t_frame)
 {
     *t_frame = 0;
     if (!r->desc.timings) return;
     glFinish();
-    *t_frame = dm_now_ms();
+    *t_frame = now_ms(r);
 }
 
 void dmr_timing_pass_begin(dm_renderer *r, int i, double *t0)
@@ -18,7 +25,7 @@ void dmr_timing_pass_begin(dm_renderer *r, int i, double *t0)
     if (!r->desc.timings) return;
     if (r->timing_cpu) {
         glFinish();
-        *t0 = dm_now_ms();
+        *t0 = now_ms(r);
     } else {
         glBeginQuery(GL_TIME_ELAPSED, r->queries[i]);
     }
@@ -29,7 +36,7 @@ void dmr_timing_pass_end(dm_renderer *r, int i, double t0)
     if (!r->desc.timings) return;
     if (r->timing_cpu) {
         glFinish();
-        r->pass_ms[i] = dm_now_ms() - t0;
+        r->pass_ms[i] = now_ms(r) - t0;
     } else {
         glEndQuery(GL_TIME_ELAPSED);
     }
@@ -39,7 +46,7 @@ void dmr_timing_frame_end(dm_renderer *r, double t_frame, const bool *skipped)
 {
     if (!r->desc.timings) return;
     glFinish();
-    r->frame_ms = dm_now_ms() - t_frame;
+    r->frame_ms = now_ms(r) - t_frame;
     if (r->timing_cpu) return;
     double sum = 0;
     for (int i = 0; i < r->plan.pass_count; ++i) {
