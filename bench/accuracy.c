@@ -61,12 +61,11 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d", N), snprintf(w, sizeof w, "irradiance %d, 7 taps%s", N, N == 1024 ? " (the scene's default)" : "");
         add(N, 0, 0, false, (dm_render_desc){0}, n, w);
     }
-    /* the exact chain: every level at full resolution (the default's automatic resolution
-     * reduces the wide levels: dm_render_desc.blur_full_resolution) */
+    /* the automatic blur resolution (dm_render_desc.blur_auto_resolution) */
     for (int N = quick ? 256 : 512; N <= 1024; N *= 2) {
-        snprintf(n, sizeof n, "%d full-res", N);
-        snprintf(w, sizeof w, "irradiance %d, every blur level at %d (--blur-full-res)", N, N);
-        add(N, 0, 0, false, (dm_render_desc){.blur_full_resolution = true}, n, w);
+        snprintf(n, sizeof n, "%d auto", N);
+        snprintf(w, sizeof w, "irradiance %d, blur levels at the automatic resolution (--blur-auto)", N);
+        add(N, 0, 0, false, (dm_render_desc){.blur_auto_resolution = true}, n, w);
     }
     for (int t = 5; t <= 9; t += 4) {
         snprintf(n, sizeof n, "%d taps %d", B, t), snprintf(w, sizeof w, "irradiance %d, %d taps", B, t);

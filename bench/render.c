@@ -97,15 +97,15 @@ typedef struct setting {
 
 /* What each row changes from the default (row 1). Row 0 is the exact reference. */
 static const setting settings[] = {
-    {"exact", "reference: 9-tap PCF, RGBA32F, every level at full resolution", {.shadow_pcf_taps = 9, .blur_full_resolution = true}},
-    {"default", "4-tap PCF (same filter), RGBA32F, levels at the automatic resolution", {0}},
-    {"full-res", "default, every level at full resolution (the exact chain)", {.blur_full_resolution = true}},
+    {"exact", "reference: 9-tap PCF, RGBA32F, full-resolution levels", {.shadow_pcf_taps = 9}},
+    {"default", "4-tap PCF (same filter), RGBA32F, full-resolution levels", {0}},
     {"pcf1", "shadow: one bilinear compare", {.shadow_pcf_taps = 1}},
     {"half-float", "irradiance and blur targets RGBA16F", {.blur_half_float = true}},
     {"reduce4", "blur levels 4, 5 at 1/2 resolution", {.blur_reduce_from = 4}},
     {"reduce3", "blur levels 3..5 at 1/2 resolution", {.blur_reduce_from = 3}},
     {"reduce4q", "blur levels 4, 5 at 1/4 resolution", {.blur_reduce_from = 4, .blur_reduce_shift = 2}},
     {"fast", "reduce3 + half-float", {.blur_reduce_from = 3, .blur_half_float = true}},
+    {"auto", "blur levels at the automatic resolution (4, 5 at 1/2, 1/4 on the head)", {.blur_auto_resolution = true}},
     {"reuse", "default, light unchanged: texture space reused (camera-only frames)", {.reuse_texture_space = true}},
 };
 enum { NSET = sizeof settings / sizeof settings[0] };

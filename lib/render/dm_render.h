@@ -128,7 +128,7 @@ typedef struct dm_render_assets {
 } dm_render_assets;
 
 /* Texels (of its reduced grid) a level's total Gaussian σ keeps under the automatic
- * blur resolution (dm_render_desc.blur_full_resolution). */
+ * blur resolution (dm_render_desc.blur_auto_resolution). */
 #define DM_BLUR_AUTO_SIGMA 1.2
 
 /* Options of the renderer itself; zero means default. */
@@ -154,13 +154,14 @@ typedef struct dm_render_desc {
                                * (the wide Gaussians span many texels; the final pass
                                * upsamples them bilinearly) */
     int blur_reduce_shift;    /* 0 = 1 (half resolution); 1..3 */
-    bool blur_full_resolution; /* every level at irradiance_size. Default (false, and
-                               * blur_reduce_from 0): each level k is stored at
+    bool blur_auto_resolution; /* (without blur_reduce_from) each level k stored at
                                * irradiance_size >> j, the largest j <= 3 that keeps its total
                                * Gaussian at least DM_BLUR_AUTO_SIGMA texels wide there (at the
-                               * stretch map's median, UV per mm), never finer than level k−1:
-                               * on the head at 1024, level 4 at 1/2 and 5 at 1/4 (error against
-                               * the ground truth: bench/results/accuracy.md) */
+                               * stretch map's median along the coarser axis), never finer than
+                               * level k−1: on the head at 1024, levels 4, 5 at 1/2, 1/4. Not the
+                               * default: where the atlas is sparser than its median (back of the
+                               * head, neck, seams) the area-weighted error against the ground
+                               * truth grows (bench/results/accuracy.md) */
     bool blur_half_float;     /* irradiance and blur targets in RGBA16F instead of RGBA32F
                                * (11-bit mantissa: relative rounding 4.9e-4 per pass). Halves
                                * memory and bandwidth on GPUs; on llvmpipe it is slower (the

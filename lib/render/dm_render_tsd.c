@@ -92,7 +92,7 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
     return k > 0;
 }
 
-/* The automatic blur resolution (dm_render_desc.blur_full_resolution): level k at
+/* The automatic blur resolution (dm_render_desc.blur_auto_resolution): level k at
  * irr_size >> j, j the largest (<= 3, >= level k−1's, size >= 8) keeping its total σ at least
  * DM_BLUR_AUTO_SIGMA texels of that grid at the median stretch along the coarser axis (the
  * smaller of s_u, s_v). */
@@ -113,7 +113,7 @@ dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *er
     for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k)
         rc = dmr_upload(&a->stretch[k], "stretch", false, GL_LINEAR, &r->tex_stretch[k], err);
     float med[2];
-    if (rc == DM_OK && !r->desc.blur_full_resolution && r->desc.blur_reduce_from == 0 &&
+    if (rc == DM_OK && r->desc.blur_auto_resolution && r->desc.blur_reduce_from == 0 &&
         dm_render_stretch_median(a, med))
         auto_level_sizes(r, fmin(med[0], med[1]));
     if (rc == DM_OK && a->stretch_mask.texels)

@@ -133,7 +133,8 @@ Test(render, degenerate_uvs_zero_tangents_huge_light_stay_finite)
 /* Uniform irradiance on a flat quad of constant stretch: every blur level equals level 0.
  * Tolerance 1e-3 (relative): half-float storage rounds to 2^-11 ≈ 4.9e-4 relative; the
  * weights sum to 1 to float precision and coverage is exactly 1 inside the chart. Each level
- * is read at its own size. With the automatic blur resolution (full = false, 1.2 texels):
+ * is read at its own size. With the automatic blur resolution (full = false, 1.2 texels,
+ * dm_render_desc.blur_auto_resolution):
  * 64 mm side on 128 texels is 2 texels per mm, so σ_4 = 1.41 mm is 2.8 texels (1.4 at half
  * size) and σ_5 = 2.72 mm is 5.4 (1.4 at a quarter): levels 4 and 5 at 1/2 and 1/4; with the
  * chart inset by 0.25 (1 texel per mm) only level 5, at 1/2. */
@@ -149,7 +150,7 @@ static void constant_case(float inset, bool full)
     static const uint8_t white[4] = {255, 255, 255, 255};
     f.synth->assets.albedo = (dm_texture){DM_TEX_RGBA8_SRGB, 1, 1, white};
     open_renderer_desc(&f, (dm_render_desc){.width = 64, .height = 64, .irradiance_size = 128, .shadow_size = 256,
-                                            .blur_full_resolution = full});
+                                            .blur_auto_resolution = !full});
     frame(&f, DM_VIEW_FINAL, 0);
     dm_target_info info;
     float *l0 = read_target(&f, "irradiance", &info);
@@ -225,8 +226,7 @@ static void single_point_spread(float blur_scale)
     uint8_t *albedo = calloc((size_t)n * n * 4, 1);
     albedo[((size_t)(n / 2) * n + n / 2) * 4 + 0] = 255;
     f.synth->assets.albedo = (dm_texture){DM_TEX_RGBA8_SRGB, n, n, albedo};
-    open_renderer_desc(&f, (dm_render_desc){.width = 32, .height = 32, .irradiance_size = n, .shadow_size = 256,
-                                            .blur_full_resolution = true});
+    open_renderer(&f, 32, 32, n);
     dm_error err = {0};
     dm_frame_options fo = {.blur_scale = blur_scale};
     cr_assert_eq(dm_render_frame(f.r, &fo, &err), DM_OK, "%s", err.detail);
