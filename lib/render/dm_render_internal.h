@@ -258,6 +258,7 @@ void dmr_translucency_unbind(const dm_renderer *r);
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 /* The head drawn with program p (final.glsl) into the bound target: uniforms, bindings, mesh. */
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode);
+void dmr_depth_prepass(dm_renderer *r);
 dm_result dmr_env_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 dm_result dmr_glow_targets(dm_renderer *r, dm_error *err);

@@ -22,6 +22,22 @@ void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
     dmr_translucency_unbind(r);
 }
 
+/* Depth first with the shadow maps' depth-only program (the same vertex transform, so the
+ * same depths), then depth test LEQUAL without writes: the shading that follows runs once per
+ * pixel, not once per overlapping surface (ears, nose, lips over the cheek), and the picture
+ * is identical. Expects the depth test on and the target's depth cleared. */
+void dmr_depth_prepass(dm_renderer *r)
+{
+    GLuint z = r->prog[DM_PASS_SHADOW];
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glUseProgram(z);
+    glUniformMatrix4fv(loc(z, "u_matrix"), 1, GL_FALSE, r->view_proj);
+    dmr_draw_mesh(r);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+}
+
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
@@ -42,19 +58,7 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }
-    /* depth first with the shadow maps' depth-only program (the same vertex transform, so the
-     * same depths): the shading below runs once per pixel, not once per overlapping surface
-     * (ears, nose, lips over the cheek), and the picture is identical */
-    if (mode != 4 && r->prog[DM_PASS_SHADOW]) {
-        GLuint z = r->prog[DM_PASS_SHADOW];
-        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        glUseProgram(z);
-        glUniformMatrix4fv(loc(z, "u_matrix"), 1, GL_FALSE, r->view_proj);
-        dmr_draw_mesh(r);
-        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-        glDepthFunc(GL_LEQUAL);
-        glDepthMask(GL_FALSE);
-    }
+    if (mode != 4) dmr_depth_prepass(r);
     dmr_shade_head(r, p, mode);
     glDepthMask(GL_TRUE);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

@@ -83,7 +83,9 @@ void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options
     glDepthFunc(GL_LESS);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
+    dmr_depth_prepass(r);
     dmr_shade_head(r, r->prog[DM_PASS_SS_SHADE], 0);
+    glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DEPTH_TEST);
 }
