@@ -8,7 +8,7 @@
 /* wall clock, or the process CPU clock with dm_render_desc.timings_cpu */
 static double now_ms(const dm_renderer *r)
 {
-    return r->desc.timings_cpu ? dm_cpu_ms() : now_ms(r);
+    return r->desc.timings_cpu ? dm_cpu_ms() : dm_now_ms();
 }
 
 void dmr_timing_frame_begin(dm_renderer *r, double *t_frame)

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "bake/dm_exr.h"
+#include "core/dm_cli.h"
 #include "bake/dm_image.h"
 #include "dm_golden.h"
 #include "host/dm_osmesa.h"
@@ -548,4 +549,37 @@ Test(render, reuse_texture_space_is_exact_and_follows_every_change)
     free(pa), free(pb);
     dm_renderer_destroy(reuse);
     close_fixture(&f);
+}
+
+/* Timings measure the clock they name: a frame's wall-clock time fits inside the wall time
+ * around dm_render_frame, its CPU time (timings_cpu) inside the process CPU time around it.
+ * (Wall time reported as CPU time exceeds the wall time around the call whenever llvmpipe's
+ * threads run at once, as on an idle multi-core machine.) */
+static void timing_case(bool cpu)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE});
+    /* large enough that llvmpipe spreads it over its threads: wall and CPU time differ */
+    open_renderer_desc(&f, (dm_render_desc){.width = 640, .height = 360, .irradiance_size = 512, .shadow_size = 256,
+                                            .timings = true, .timings_cpu = cpu});
+    dm_error err = {0};
+    for (int i = 0; i < 3; ++i) {
+        double w0 = dm_now_ms(), c0 = dm_cpu_ms();
+        cr_assert_eq(dm_render_frame(f.r, &(dm_frame_options){0}, &err), DM_OK, "%s", err.detail);
+        double wall = dm_now_ms() - w0, used = dm_cpu_ms() - c0, frame_ms = -1;
+        dm_renderer_last_timings(f.r, NULL, &frame_ms);
+        cr_expect(frame_ms >= 0 && frame_ms <= (cpu ? used : wall) + 0.5, "%s frame %.2f ms, around it %.2f ms",
+                  cpu ? "CPU" : "wall", frame_ms, cpu ? used : wall);
+    }
+    close_fixture(&f);
+}
+
+Test(render, wall_timings_are_wall_time)
+{
+    timing_case(false);
+}
+
+Test(render, cpu_timings_are_process_cpu_time)
+{
+    timing_case(true);
 }
