@@ -12,6 +12,7 @@
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_legend.h"
 #include "render/dm_render_compare.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_prov.h"
@@ -38,9 +39,10 @@ static void usage(FILE *f)
             "  --frames N           frames to render, default 1; 1..100000 (timings: median)\n"
             "  --view NAME          final (default), irradiance, blurK (1..5), stretchK (0..5),\n"
             "                       shadowK, specular, diffuse, uv, wireframe, diffusion (the\n"
-            "                       texture-space sum of every level as the final pass weights it)\n"
-            "  --view-scale X       multiplies debug texture views, default 1 (stretchK: 1 / the level's\n"
-            "                       largest value, so the map fills [0, 1]); (0, 1e6]\n"
+            "                       texture-space sum of every level as the final pass weights it),\n"
+            "                       curvature (pre-integrated packs). PNGs of stretchK (as mm per\n"
+            "                       texel) and curvature (1/mm) use a colour scale with its legend\n"
+            "  --view-scale X       multiplies debug texture views' values, default 1; (0, 1e6]\n"
             "  --light-azimuth DEG  turns every light about +Y, default 0; [-360, 360]\n"
             "  --timings            print the median ms per pass over the frames and per frame\n"
             "  --cpu-timings        the same in process CPU ms (every llvmpipe thread summed):\n"
@@ -57,7 +59,8 @@ static void usage(FILE *f)
             "                       the texels/pixels where both alphas are 1\n"
             "  --error-scale X      relative error at the top of the colour scale, default 0.1;\n"
             "                       (0, 100]\n"
-            "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
+            );
+    fprintf(f, "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
             "  --pcf-taps N         shadow filter: 4 (default, the 3x3 PCF exactly), 9 (reference),\n"
             "                       1 (one bilinear compare: harder edges)\n"
             "  --blur-reduce-from K blur levels K and wider at reduced resolution, default off;\n"
@@ -259,6 +262,15 @@ static void provenance(const options *o, const dm_scene *s, const char *input_ha
     dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
     dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
     dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
+    if (r && o->view == DM_VIEW_SPECULAR) dm_prov_add_double(p, "view_gain", dm_renderer_view_gain(r));
+    float lo, hi;
+    const char *quantity = NULL;
+    if (r) dm_renderer_view_scale(r, &lo, &hi, &quantity);
+    if (quantity) {
+        dm_prov_add_string(p, "colour_scale", quantity);
+        dm_prov_add_double(p, "colour_scale_lo", lo);
+        dm_prov_add_double(p, "colour_scale_hi", hi);
+    }
     dm_prov_add_string(p, "blur_resolution",
                        d->blur_auto_resolution ? "auto" : d->blur_reduce_from ? "reduce_from" : "full");
     char sizes[96] = "", *end = sizes; /* each level's texels per side as rendered */
@@ -273,6 +285,25 @@ static void provenance(const options *o, const dm_scene *s, const char *input_ha
     if (*sizes) dm_prov_add_string(p, "blur_level_sizes", sizes);
     dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
     dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
+}
+
+/* A stretch or curvature view's PNG: its colour scale's legend in a strip below the picture
+ * (*px, RGBA8, grows by the strip; *h with it). Other views unchanged. */
+static dm_result with_legend(const dm_renderer *r, void **px, int w, int *h, dm_error *err)
+{
+    float lo, hi;
+    const char *quantity;
+    dm_renderer_view_scale(r, &lo, &hi, &quantity);
+    if (!quantity) return DM_OK;
+    int lh = dm_render_scalar_legend_height(w), nh = *h + lh;
+    uint8_t *out = malloc((size_t)w * nh * 4);
+    if (!out) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "cannot allocate the legend");
+    memset(out, 0, (size_t)w * lh * 4);
+    memcpy(out + (size_t)w * lh * 4, *px, (size_t)w * *h * 4); /* bottom-up: the strip is the first rows */
+    dm_render_scalar_legend(out, w, nh, lo, hi, quantity);
+    free(*px);
+    *px = out, *h = nh;
+    return DM_OK;
 }
 
 /* What is rendered: a verified pack (mapped, nothing copied) or a synthetic scene. */
@@ -438,25 +469,6 @@ int main(int argc, char **argv)
     /* a texture-space view is square: without --size, the scene's height on both sides
      * (not the texture squashed into the scene's 16:9 frame) */
     if (!o.width && dm_view_is_texture(o.view)) o.width = o.height = src.s->height;
-    /* the stretch (UV units per mm, ~0.005 on a head) would read as black: scaled so the
-     * level's largest value is 1 unless --view-scale says otherwise */
-    if (o.view == DM_VIEW_STRETCH && !o.view_scale_given && o.view_index >= 0 &&
-        o.view_index < src.assets->stretch_level_count) {
-        const dm_texture *t = &src.assets->stretch[o.view_index];
-        double top = 0.0;
-        if (t->texels && t->format == DM_TEX_RG32F)
-            for (size_t i = 0; i < (size_t)t->width * t->height * 2; ++i) {
-                double x = ((const float *)t->texels)[i];
-                if (isfinite(x) && x > top) top = x;
-            }
-        if (top > 0.0) {
-            o.view_scale = 1.0 / top;
-            if (!o.quiet)
-                printf("stretch%d scaled by %.4g: 1 = %.4g UV units per mm, the level's largest value\n", o.view_index,
-                       o.view_scale, top);
-        }
-    }
-
     /* context + renderer */
     dm_osmesa *ctx = NULL;
     dm_renderer *r = NULL, *exact = NULL;
@@ -600,10 +612,14 @@ int main(int argc, char **argv)
         if (res != DM_OK) {
             rc = DM_EXIT_PROCESS;
         } else {
-            res = exr ? dm_render_write_exr(o.out, w, h, px, &prov, &err)
-                      : dm_render_write_png(o.out, w, h, px, &prov, &err);
+            if (!exr) res = with_legend(r, &px, w, &h, &err);
+            if (res == DM_OK)
+                res = exr ? dm_render_write_exr(o.out, w, h, px, &prov, &err)
+                          : dm_render_write_png(o.out, w, h, px, &prov, &err);
             if (res != DM_OK) rc = DM_EXIT_SAVE;
             else if (!o.quiet) printf("wrote %s (%dx%d, view %s)\n", o.out, w, h, o.view_text);
+            if (res == DM_OK && !o.quiet && o.view == DM_VIEW_SPECULAR)
+                printf("specular view: the head x %.3g (its 99th percentile to near white)\n", dm_renderer_view_gain(r));
         }
         if (res != DM_OK) fprintf(stderr, "error: %s\n", err.detail);
         free(px);

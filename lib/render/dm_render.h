@@ -241,6 +241,14 @@ dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err);
  * one); shadowK: depth, alpha 1. Other views: the screen, as dm_renderer_read_linear.
  * dm_renderer_view_size gives the size the buffer needs (width*height*4 floats). */
 void dm_renderer_view_size(const dm_renderer *r, int *width, int *height);
+/* The colour scale of the last frame's stretch or curvature view (its picture maps lo..hi
+ * through the turbo colour scale, dm_render_turbo): the 1st and 99th percentiles of what it
+ * shows over the charts, and that quantity's name ("mm per texel": 1 / (map width ·
+ * sqrt(s_u s_v)); "mean curvature, 1/mm"). lo = hi = 0, quantity NULL for other views. */
+void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const char **quantity);
+/* The gain the last frame's specular view applied to the head (its 99th percentile to near
+ * display white; the background keeps the scene's exposure); 1 for other views. */
+float dm_renderer_view_gain(const dm_renderer *r);
 dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err);
 
 /* Every intermediate render target, for inspection (tests scan them for NaN/Inf). */

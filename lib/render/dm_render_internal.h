@@ -122,6 +122,9 @@ struct dm_renderer {
     GLuint screen_tex, screen_depth, screen_fbo;
     GLuint view_tex, view_fbo; /* texture views at their own size, RGBA32F (resized on demand) */
     int view_target;           /* its index in targets */
+    GLuint view_range_of;      /* the map view_lo, view_hi were measured on (stretch/curvature views) */
+    float view_lo, view_hi;    /* their colour scale: 1st and 99th percentile */
+    float view_gain;           /* the specular view's exposure gain (1 otherwise) */
     bool view_in_target;       /* the last frame was a texture view: read_view reads "view" */
     GLuint glow_tex[2], glow_fbo[2];
     GLuint display_tex, display_fbo;

@@ -6,7 +6,8 @@
 #include <string.h>
 
 static const char *view_names[DM_VIEW_COUNT] = {"final",    "irradiance", "blur", "stretch",  "shadow",
-                                                "specular", "diffuse",    "uv",   "wireframe", "diffusion"};
+                                                "specular", "diffuse",    "uv",   "wireframe", "diffusion",
+                                                "curvature"};
 
 const char *dm_view_name(dm_view v)
 {
@@ -16,7 +17,7 @@ const char *dm_view_name(dm_view v)
 bool dm_view_is_texture(dm_view v)
 {
     return v == DM_VIEW_IRRADIANCE || v == DM_VIEW_BLUR || v == DM_VIEW_STRETCH || v == DM_VIEW_SHADOW ||
-           v == DM_VIEW_DIFFUSION;
+           v == DM_VIEW_DIFFUSION || v == DM_VIEW_CURVATURE;
 }
 
 bool dm_view_parse(const char *text, dm_view *view, int *index)
@@ -101,6 +102,10 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     if (view == DM_VIEW_STRETCH && (view_index < 0 || view_index >= p->blur_levels))
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view stretch%d: stretch levels are 0..%d", view_index,
                        p->blur_levels - 1);
+    if (view == DM_VIEW_CURVATURE && !pre)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "view curvature: needs the pre-integrated technique's curvature map (this scene uses %s)",
+                       sss ? "texture-space" : ssss ? "screen-space" : "no subsurface");
     if (view == DM_VIEW_SHADOW && (view_index < 0 || view_index >= p->shadow_count))
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
                        "view shadow%d: this scene has %d shadow map(s) (shadows %s, casting lights)", view_index,
@@ -110,7 +115,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     char name[DM_PLAN_NAME_SIZE];
 
     /* shadows feed the irradiance pass and the final pass's lights */
-    const bool want_shadows = view != DM_VIEW_STRETCH && view != DM_VIEW_UV_TEST && view != DM_VIEW_WIREFRAME;
+    const bool want_shadows = view != DM_VIEW_STRETCH && view != DM_VIEW_CURVATURE && view != DM_VIEW_UV_TEST &&
+                              view != DM_VIEW_WIREFRAME;
     if (want_shadows)
         for (int i = 0; i < p->shadow_count; ++i) {
             if (view == DM_VIEW_SHADOW && i != view_index) continue;
@@ -123,8 +129,13 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
         return DM_OK;
     }
     if (view == DM_VIEW_STRETCH) {
-        add(p, DM_PASS_VIEW, view_index, "view", "debug view: stretch level %d (UV units per mm, u in red, v in green)",
+        add(p, DM_PASS_VIEW, view_index, "view",
+            "debug view: stretch level %d (values: UV units per mm, u, v; shown: mm per texel, colour scale)",
             view_index);
+        return DM_OK;
+    }
+    if (view == DM_VIEW_CURVATURE) {
+        add(p, DM_PASS_VIEW, 0, "view", "debug view: mean curvature, 1/mm (colour scale)");
         return DM_OK;
     }
 

@@ -52,11 +52,12 @@ typedef enum dm_view {
     DM_VIEW_DIFFUSION,  /* texture-space diffusion result: sum_k w_k L_k over every level,
                          * each level coverage-normalised and the weights normalised per
                          * channel, exactly as the final pass samples it */
+    DM_VIEW_CURVATURE,  /* the pre-integrated technique's mean curvature map (1/mm) */
     DM_VIEW_COUNT
 } dm_view;
 
 /* "final", "irradiance", "blur", "stretch", "shadow", "specular", "diffuse", "uv",
- * "wireframe", "diffusion"; NULL when out of range. */
+ * "wireframe", "diffusion", "curvature"; NULL when out of range. */
 const char *dm_view_name(dm_view v);
 /* Parses "final", "irradiance", "blur3", "stretch0", "shadow1", ... (index defaults 0,
  * blur defaults to the last level). Returns false for an unknown name. */

@@ -7,6 +7,7 @@
 
 #include "core/dm_exr_read.h"
 #include "render/dm_render_font.h"
+#include "render/dm_render_legend.h"
 
 /* ---- loading --------------------------------------------------------------------------- */
 
@@ -166,17 +167,6 @@ int dm_refcmp_legend_height(int out_width)
     return 6 * s + 12 * s + 3 * (DM_FONT_H + 4) * s + 4 * (DM_FONT_H + 4) * s + 4 * s;
 }
 
-/* Turbo colour map (Mikhailov 2019, polynomial fit), t in [0, 1]. */
-static void turbo(double t, uint8_t out[3])
-{
-    t = t < 0 ? 0 : t > 1 ? 1 : t;
-    double r = 0.13572138 + t * (4.61539260 + t * (-42.66032258 + t * (132.13108234 + t * (-152.94239396 + t * 59.28637943))));
-    double g = 0.09140261 + t * (2.19418839 + t * (4.84296658 + t * (-14.18503333 + t * (4.27729857 + t * 2.82956604))));
-    double b = 0.10667330 + t * (12.64194608 + t * (-60.58204836 + t * (110.36276771 + t * (-89.90310912 + t * 27.34824973))));
-    double v[3] = {r, g, b};
-    for (int c = 0; c < 3; ++c) out[c] = (uint8_t)lrint(255.0 * (v[c] < 0 ? 0 : v[c] > 1 ? 1 : v[c]));
-}
-
 static uint8_t srgb8(double c)
 {
     c = c > 0 ? (c < 1 ? c : 1) : 0;
@@ -230,7 +220,7 @@ static void draw_panel(uint8_t *out, int ow, int oh, int x0, int y0, int pw, int
             if (use == SRC_ERROR) {
                 if (rel[s] == -1.0f) memcpy(c, c_none, 3);
                 else if (rel[s] < 0) memcpy(c, c_mismatch, 3);
-                else turbo(rel[s] / scale, c);
+                else dm_render_turbo(rel[s] / scale, c);
             } else {
                 const float *p = (use == SRC_REF ? ref : render) + s * 4;
                 if (p[3] < 0.5f) memcpy(c, c_none, 3);
@@ -284,29 +274,12 @@ void dm_refcmp_compose(const float *ref, const float *render, const float *rel, 
     /* legend: colour bar with its numbers, then the definition and the statistics */
     int x = 8 * s, y = ph + 6 * s;
     int bar_w = lw / 2 - 16 * s > 64 ? lw / 2 - 16 * s : 64, bar_h = 12 * s;
-    for (int i = 0; i < bar_w; ++i) {
-        uint8_t c[3];
-        turbo((i + 0.5) / bar_w, c);
-        dm_font_fill(rgba, out_width, out_height, x + i, y, 1, bar_h, c);
-    }
     int tx = x + bar_w + 8 * s;
     dm_font_fill(rgba, out_width, out_height, tx, y, 5 * s, bar_h, c_mismatch);
     tx = dm_font_draw(rgba, out_width, out_height, tx + 8 * s, y + 2 * s, s, c_dim, "COVERAGE DIFFERS  ");
     dm_font_fill(rgba, out_width, out_height, tx, y, 5 * s, bar_h, c_none);
     dm_font_draw(rgba, out_width, out_height, tx + 8 * s, y + 2 * s, s, c_dim, "NOT COMPARED");
-    y += bar_h + 2 * s;
-    const int ticks = bar_w >= 240 * s ? 4 : bar_w >= 120 * s ? 2 : 1; /* labels never overlap */
-    for (int t = 0; t <= ticks; ++t) {
-        char num[32];
-        pct(num, sizeof num, scale * t / ticks);
-        if (t == ticks) snprintf(num + strlen(num), sizeof num - strlen(num), "+");
-        int px = x + (int)lrint((double)bar_w * t / ticks);
-        dm_font_fill(rgba, out_width, out_height, px, y - 2 * s, s, 3 * s, c_text);
-        int tw = dm_font_width(num, s);
-        int lx = t == 0 ? px : t == ticks ? px - tw : px - tw / 2;
-        dm_font_draw(rgba, out_width, out_height, lx, y + 2 * s, s, c_text, num);
-    }
-    y += (DM_FONT_H + 6) * s;
+    y = dm_render_colour_bar(rgba, out_width, out_height, x, y, bar_w, bar_h, s, 0.0, scale, pct, true);
     char line[256];
     snprintf(line, sizeof line, "ERROR = |RENDER - REF| / MAX(REF, FLOOR), FLOOR = %g%% OF MEAN REF", 100 * DM_REFCMP_FLOOR_FRACTION);
     dm_font_draw(rgba, out_width, out_height, x, y, s, c_dim, line);

@@ -2,6 +2,9 @@
  * technique (texture-space levels, the pre-integrated table, or Lambert without subsurface), KS specular, environment
  * specular; the specular/diffuse/uv/wireframe debug modes. Screen-space subsurface shades the
  * head in its own pass (dm_render_ssss.c) from the same shader file. */
+#include <math.h>
+#include <stdlib.h>
+
 #include "render/dm_render_internal.h"
 
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
@@ -38,6 +41,39 @@ void dmr_depth_prepass(dm_renderer *r)
     glDepthMask(GL_FALSE);
 }
 
+static int cmp_float(const void *x, const void *y)
+{
+    float a = *(const float *)x, b = *(const float *)y;
+    return (a > b) - (a < b);
+}
+
+/* The specular view exposed to be read: the head's specular is a few percent of its
+ * radiance, dark at the scene's exposure. Its pixels (alpha 1) are scaled so their 99th
+ * percentile (largest channel) lands near display white: tonemap input 4 (0.92 of white
+ * through the filmic curve) after the scene's exposure, or 0.9 without a tonemap. The
+ * background keeps its exposure; the gain is reported (dm_renderer_view_gain). */
+static void expose_specular(dm_renderer *r)
+{
+    size_t n = (size_t)r->width * r->height, k = 0;
+    float *px = malloc(n * 4 * sizeof *px), *v = malloc(n * sizeof *v);
+    if (px && v) {
+        glBindTexture(GL_TEXTURE_2D, r->screen_tex);
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, px);
+        for (size_t i = 0; i < n; ++i)
+            if (px[4 * i + 3] >= 0.5f) v[k++] = fmaxf(px[4 * i], fmaxf(px[4 * i + 1], px[4 * i + 2]));
+        if (k) {
+            qsort(v, k, sizeof *v, cmp_float);
+            float top = v[k - 1 - k / 100], white = r->plan.effects[DM_EFFECT_TONEMAP] ? 4.0f / exp2f(r->scene.exposure) : 0.9f;
+            r->view_gain = top > 1e-12f && isfinite(top) ? fminf(white / top, 1e6f) : 1.0f;
+            for (size_t i = 0; i < n; ++i)
+                if (px[4 * i + 3] >= 0.5f)
+                    for (int c = 0; c < 3; ++c) px[4 * i + c] *= r->view_gain;
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, r->width, r->height, GL_RGBA, GL_FLOAT, px);
+        }
+    }
+    free(px), free(v);
+}
+
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
@@ -64,4 +100,6 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DEPTH_TEST);
+    r->view_gain = 1.0f;
+    if (mode == 1) expose_specular(r);
 }

@@ -156,3 +156,46 @@ Test(preint_render, one_pass_plan_and_missing_assets)
     cr_expect_null(r);
     close_fixture(&f);
 }
+
+/* The curvature view: the map's values at full precision (EXR), its colour scale from the
+ * 1st to the 99th percentile (a constant map: lo = that constant), named in 1/mm. */
+Test(preint_render, curvature_view_shows_the_map)
+{
+    fixture f;
+    open_fixture(&f, DM_SYNTH_SPHERE, 0.0625f);
+    dm_error err = {0};
+    dm_renderer *r = NULL;
+    dm_render_desc d = {.width = 64, .height = 64, .shadow_size = 256};
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &r, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_CURVATURE}, &err), DM_OK, "%s", err.detail);
+    int w, h;
+    dm_renderer_view_size(r, &w, &h);
+    cr_assert_eq(w, 1);
+    float px[4];
+    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(px[0], 0.0625f);
+    float lo, hi;
+    const char *q = NULL;
+    dm_renderer_view_scale(r, &lo, &hi, &q);
+    cr_expect_eq(lo, 0.0625f);
+    cr_expect(hi > lo && hi - lo < 1e-5f, "hi %g", (double)hi);
+    cr_expect_str_eq(q, "mean curvature, 1/mm");
+    dm_renderer_destroy(r);
+    close_fixture(&f);
+}
+
+/* A texture-space scene has no curvature map: the view says what it needs. */
+Test(preint_render, curvature_view_needs_the_pre_integrated_technique)
+{
+    fixture f;
+    open_fixture(&f, DM_SYNTH_SPHERE, 0.0f);
+    f.synth->scene.sss_technique = DM_SSS_TEXTURE_SPACE;
+    dm_error err = {0};
+    dm_renderer *r = NULL;
+    dm_render_desc d = {.width = 64, .height = 64, .irradiance_size = 64, .shadow_size = 256};
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &r, &err), DM_OK, "%s", err.detail);
+    cr_expect_neq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_CURVATURE}, &err), DM_OK);
+    cr_expect(strstr(err.detail, "pre-integrated") != NULL, "%s", err.detail);
+    dm_renderer_destroy(r);
+    close_fixture(&f);
+}

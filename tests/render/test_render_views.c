@@ -12,6 +12,7 @@
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
 #include "render/dm_render_image.h"
+#include "render/dm_render_legend.h"
 #include "render/dm_render_refcmp.h"
 #include "render/dm_render_synth.h"
 
@@ -301,4 +302,91 @@ Test(views, tool_reference_round_trip, .timeout = 120)
     snprintf(cmd, sizeof cmd, "head -c 300 %s/d.exr > %s/cut.exr; " BIN " --synthetic sphere --reference %s/cut.exr",
              dir, dir, dir);
     cr_expect_eq(test_run(cmd, NULL), 2, "a truncated reference is a load error");
+}
+
+/* The stretch view's colour scale is the texel size in mm: a flat 64 mm quad whose UVs span
+ * [0, 1] has s_u = s_v = 1/64 UV per mm, so its 64-texel stretch map holds 1 mm per texel
+ * everywhere (lo = 1, hi just above). */
+Test(views, stretch_view_scale_is_mm_per_texel)
+{
+    dm_error err = {0};
+    dm_osmesa *ctx = NULL;
+    dm_synth *synth = NULL;
+    dm_renderer *r = NULL;
+    dm_synth_options so = {.shape = DM_SYNTH_QUAD, .quad_side_mm = 64, .stretch_size = 64};
+    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_synth_create(&so, &synth, &err), DM_OK, "%s", err.detail);
+    dm_render_desc d = {.width = 64, .height = 64, .irradiance_size = 64, .shadow_size = 256};
+    cr_assert_eq(dm_renderer_create(&synth->assets, &d, &r, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_STRETCH}, &err), DM_OK, "%s", err.detail);
+    float lo, hi;
+    const char *q = NULL;
+    dm_renderer_view_scale(r, &lo, &hi, &q);
+    cr_expect_float_eq(lo, 1.0f, 1e-5f);
+    cr_expect(hi >= lo && hi - lo < 1e-4f, "lo %g hi %g", (double)lo, (double)hi);
+    cr_expect_str_eq(q, "mm per texel");
+    /* the picture: every chart pixel the scale's low end (turbo(0), sRGB) */
+    uint8_t *px = malloc(64 * 64 * 4), c0[3];
+    cr_assert_eq(dm_renderer_read_display(r, px, &err), DM_OK, "%s", err.detail);
+    dm_render_turbo(0.0, c0);
+    const uint8_t *mid = px + (32 * 64 + 32) * 4;
+    for (int c = 0; c < 3; ++c) cr_expect(abs(mid[c] - c0[c]) <= 1, "channel %d: %d, turbo(0) %d", c, mid[c], c0[c]);
+    free(px);
+    dm_renderer_destroy(r);
+    dm_synth_free(synth);
+    dm_osmesa_destroy(ctx);
+}
+
+/* The specular view is exposed to be read: the head's 99th percentile near display white,
+ * the gain finite; with nothing specular (the effect off) the gain stays 1, no NaN. */
+static void specular_case(bool specular_on)
+{
+    fixture f;
+    open_fixture(&f, 0);
+    f.synth->scene.effects[DM_EFFECT_SPECULAR] = specular_on;
+    dm_error err = {0};
+    dm_renderer_destroy(f.r);
+    dm_render_desc d = {.width = 96, .height = 64, .irradiance_size = N, .shadow_size = 256};
+    cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &f.r, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(f.r, &(dm_frame_options){.view = DM_VIEW_SPECULAR}, &err), DM_OK, "%s", err.detail);
+    float gain = dm_renderer_view_gain(f.r);
+    cr_expect(isfinite(gain) && gain > 0, "gain %g", (double)gain);
+    float *lin = malloc(96 * 64 * 4 * sizeof *lin);
+    cr_assert_eq(dm_renderer_read_linear(f.r, lin, &err), DM_OK, "%s", err.detail);
+    float top = 0;
+    for (int i = 0; i < 96 * 64 * 4; ++i) cr_assert(isfinite(lin[i]));
+    for (int i = 0; i < 96 * 64; ++i)
+        if (lin[4 * i + 3] >= 0.5f) top = fmaxf(top, fmaxf(lin[4 * i], fmaxf(lin[4 * i + 1], lin[4 * i + 2])));
+    if (specular_on) {
+        cr_expect_gt(gain, 1.0f);
+        /* the 99th percentile lands at 4 / 2^exposure (tonemap) or 0.9: the maximum at least that */
+        float white = f.synth->scene.effects[DM_EFFECT_TONEMAP] ? 4.0f / exp2f(f.synth->scene.exposure) : 0.9f;
+        cr_expect_geq(top, white * 0.999f, "brightest %g, white %g", (double)top, (double)white);
+    } else {
+        cr_expect_eq(gain, 1.0f);
+    }
+    free(lin);
+    close_fixture(&f);
+}
+
+Test(views, specular_view_is_exposed) { specular_case(true); }
+Test(views, specular_view_without_specular_stays_finite) { specular_case(false); }
+
+/* The legend strip: the bar runs the turbo colours from its left to its right end. */
+Test(views, scalar_legend_draws_the_colour_bar)
+{
+    enum { W = 400, H = 120 };
+    uint8_t *img = calloc(W * H * 4, 1), lo[3], hi[3];
+    int lh = dm_render_scalar_legend_height(W);
+    cr_assert(lh > 0 && lh < H);
+    dm_render_scalar_legend(img, W, H, 0.5, 2.0, "mm per texel");
+    dm_render_turbo(0.0, lo), dm_render_turbo(1.0, hi);
+    /* the bar's first row: 6 rows below the strip's top (top-down), x from 8 to W - 8 */
+    int row = H - 1 - (H - lh + 6); /* bottom-up memory row */
+    const uint8_t *l = img + ((size_t)row * W + 8) * 4, *r = img + ((size_t)row * W + W - 9) * 4;
+    for (int c = 0; c < 3; ++c) {
+        cr_expect(abs(l[c] - lo[c]) <= 8, "left %d: %d vs %d", c, l[c], lo[c]);
+        cr_expect(abs(r[c] - hi[c]) <= 8, "right %d: %d vs %d", c, r[c], hi[c]);
+    }
+    free(img);
 }

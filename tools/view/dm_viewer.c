@@ -136,7 +136,7 @@ static void list_views(dm_viewer *v)
                                         "blur3",    "blur4",    "blur5",    "blur6",      "blur7",   "stretch0",
                                         "stretch1", "stretch2", "stretch3", "stretch4",   "stretch5", "stretch6",
                                         "stretch7", "shadow0",  "shadow1",  "shadow2",    "shadow3", "uv",
-                                        "wireframe"};
+                                        "wireframe", "curvature"};
     v->view_count = 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0] && v->view_count < DM_VIEWER_MAX_VIEWS; ++i) {
         dm_view view;

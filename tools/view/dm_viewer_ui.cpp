@@ -9,6 +9,7 @@
 #include "imgui_impl_opengl3.h"
 
 extern "C" {
+#include "render/dm_render_legend.h"
 #include "render/dm_render_plan.h"
 }
 
@@ -114,6 +115,25 @@ static void section_view(dm_viewer *v)
     }
     if (ImGui::SliderFloat("view scale", &v->view_scale, 0.01f, 100.0f, "x%.2f", ImGuiSliderFlags_Logarithmic))
         v->dirty = true;
+    /* the stretch and curvature views' colour scale, the specular view's gain */
+    float lo = 0, hi = 0;
+    const char *quantity = NULL;
+    if (v->r) dm_renderer_view_scale(v->r, &lo, &hi, &quantity);
+    if (quantity) {
+        ImDrawList *dl = ImGui::GetWindowDrawList();
+        ImVec2 at = ImGui::GetCursorScreenPos();
+        float w = ImGui::GetContentRegionAvail().x, h = ImGui::GetTextLineHeight();
+        for (int i = 0; i < 64; ++i) {
+            uint8_t c[3];
+            dm_render_turbo((i + 0.5) / 64.0, c);
+            dl->AddRectFilled(ImVec2(at.x + w * i / 64, at.y), ImVec2(at.x + w * (i + 1) / 64 + 1, at.y + h),
+                              IM_COL32(c[0], c[1], c[2], 255));
+        }
+        ImGui::Dummy(ImVec2(w, h));
+        ImGui::Text("%.3g .. %.3g  %s", lo, hi, quantity);
+    } else if (v->r && v->view == DM_VIEW_SPECULAR) {
+        ImGui::Text("head x %.3g (99th percentile to white)", dm_renderer_view_gain(v->r));
+    }
 }
 
 static void section_environment(dm_viewer *v)
