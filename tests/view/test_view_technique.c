@@ -95,3 +95,28 @@ Test(view_technique, unavailable_techniques_fail_clearly, .timeout = 180)
     cr_expect(strstr(out, "stretch"), "the refusal does not name the stretch maps:\n%s", out);
     free(out);
 }
+
+/* Key T cycles through every technique the pack supports: a pre-integrated pack holds the
+ * table and curvature map but no stretch chain, so T goes pre-integrated → screen-space →
+ * pre-integrated (texture-space skipped, never a failed rebuild). */
+Test(view_technique, key_t_cycles_through_pre_integrated, .timeout = 180)
+{
+    need_display();
+    char dir[64], script[1024], pack[160], line[1024], *out = NULL;
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(pack, sizeof pack, "%s/pi.dpk", dir);
+    snprintf(line, sizeof line, DERMIS_BIN "/dermis-pack assets/scenes/lps-pre-integrated.json -o %s --quiet", pack);
+    cr_assert_eq(test_run(line, NULL), 0, "dermis-pack failed on assets/scenes/lps-pre-integrated.json");
+    snprintf(script, sizeof script,
+             "0 screenshot %s/pi.png\n0.1 key T\n0.1 screenshot %s/ss.png\n0.2 key T\n0.2 screenshot %s/back.png\n"
+             "0.3 quit\n",
+             dir, dir, dir);
+    int rc = run_script(dir, pack, script, &out);
+    cr_assert_eq(rc, 0, "dermis-view exited %d:\n%s", rc, out);
+    cr_expect(strstr(out, "0 failed, 0 GL errors"), "no clean summary:\n%s", out);
+    free(out);
+    uint16_t *pi = picture(dir, "pi"), *ss = picture(dir, "ss"), *back = picture(dir, "back");
+    cr_expect(!same(pi, ss), "T did not switch to screen-space");
+    cr_expect(same(back, pi), "the second T did not come back to pre-integrated");
+    free(pi), free(ss), free(back);
+}

@@ -29,7 +29,7 @@ const char dm_viewer_help[] =
     "R              rotate the lights around the head (toggle)\n"
     "1 .. 8         toggle specular, subsurface, energy conservation,\n"
     "               shadows, environment lighting, glow, tonemap, translucency\n"
-    "T              subsurface technique: texture-space / screen-space\n"
+    "T              subsurface technique: the next one the pack supports\n"
     "shift+T        the other technique beside this one (C: side, split, error)\n"
     "B              environment background on/off\n"
     "C              reference comparison: side by side, split, error map, off\n"

@@ -150,11 +150,15 @@ void dm_viewer_cycle_compare(dm_viewer *v);
 bool dm_viewer_compare_frame(dm_viewer *v);
 void dm_viewer_compare_free(dm_viewer *v);
 
-/* Subsurface technique (dm_viewer_technique.c): "texture-space" or "screen-space"; the
- * renderer is recreated over the same assets (a screen-space kernel missing from the pack is
- * fitted from the profile; texture-space needs the pack's stretch maps, refused without). */
+/* Subsurface technique (dm_viewer_technique.c): "texture-space", "screen-space" or
+ * "pre-integrated"; the renderer is recreated over the same assets (a screen-space kernel
+ * missing from the pack is fitted from the profile; texture-space needs the pack's stretch
+ * maps, pre-integrated its table and curvature map: refused without, naming them). */
+/* What technique t needs that the pack lacks (a phrase), NULL when it can run. */
+const char *dm_viewer_technique_missing(const dm_viewer *v, dm_sss_technique t);
 bool dm_viewer_set_technique(dm_viewer *v, const char *name);
-/* Key T: texture-space ↔ screen-space. */
+/* Key T: the next technique the pack supports (texture-space → screen-space →
+ * pre-integrated → ...). */
 void dm_viewer_cycle_technique(dm_viewer *v);
 /* Key shift+T: the other technique beside this one (layout and divider of the comparison:
  * split at cmp.split by default; C cycles side/split/error), with their difference's

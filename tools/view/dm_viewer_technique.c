@@ -9,9 +9,32 @@
 
 #include "dm_viewer.h"
 
-static dm_sss_technique other(dm_sss_technique t)
+/* What technique t needs from the pack, NULL when the pack holds it: texture-space the stretch
+ * chain, pre-integrated its table and curvature map (packed only for a scene of that
+ * technique); screen-space nothing (its kernel is fitted from the profile when not packed). */
+const char *dm_viewer_technique_missing(const dm_viewer *v, dm_sss_technique t)
 {
-    return t == DM_SSS_SCREEN_SPACE ? DM_SSS_TEXTURE_SPACE : DM_SSS_SCREEN_SPACE;
+    const dm_render_assets *a = &v->assets;
+    if (t == DM_SSS_TEXTURE_SPACE && (a->stretch_level_count < 1 || !a->stretch[0].texels))
+        return "the stretch chain (pack a texture-space scene)";
+    if (t == DM_SSS_PRE_INTEGRATED && (!a->preintegrated.texels || !a->curvature.texels))
+        return "the pre-integrated table and curvature map (pack a pre-integrated scene)";
+    return NULL;
+}
+
+/* The next technique after t that is implemented and that the pack supports; t when none. */
+static dm_sss_technique next(const dm_viewer *v, dm_sss_technique t)
+{
+    for (int k = 1; k < DM_SSS_TECHNIQUE_COUNT; ++k) {
+        dm_sss_technique c = (dm_sss_technique)(((int)t + k) % DM_SSS_TECHNIQUE_COUNT);
+        if (dm_sss_technique_available(c) && !dm_viewer_technique_missing(v, c)) return c;
+    }
+    return t;
+}
+
+static dm_sss_technique other(const dm_viewer *v)
+{
+    return next(v, v->scene.sss_technique);
 }
 
 bool dm_viewer_set_technique(dm_viewer *v, const char *name)
@@ -21,6 +44,11 @@ bool dm_viewer_set_technique(dm_viewer *v, const char *name)
         if (!strcmp(name, dm_sss_technique_name((dm_sss_technique)k))) t = k;
     if (t < 0 || !dm_sss_technique_available((dm_sss_technique)t)) {
         dm_viewer_set_status(v, true, "technique '%s': expected texture-space, screen-space or pre-integrated", name);
+        return false;
+    }
+    const char *missing = dm_viewer_technique_missing(v, (dm_sss_technique)t);
+    if (missing) {
+        dm_viewer_set_status(v, true, "technique %s: this pack lacks %s", name, missing);
         return false;
     }
     if (v->scene.sss_technique == (dm_sss_technique)t) return true;
@@ -38,7 +66,13 @@ bool dm_viewer_set_technique(dm_viewer *v, const char *name)
 
 void dm_viewer_cycle_technique(dm_viewer *v)
 {
-    dm_viewer_set_technique(v, dm_sss_technique_name(other(v->scene.sss_technique)));
+    dm_sss_technique t = other(v);
+    if (t == v->scene.sss_technique) {
+        dm_viewer_set_status(v, true, "technique: this pack supports only %s (texture-space needs the stretch chain, "
+                             "pre-integrated its table and curvature map)", dm_sss_technique_name(t));
+        return;
+    }
+    dm_viewer_set_technique(v, dm_sss_technique_name(t));
 }
 
 bool dm_viewer_set_technique_split(dm_viewer *v, bool on)
@@ -59,7 +93,7 @@ bool dm_viewer_set_technique_split(dm_viewer *v, bool on)
     v->tsplit = on;
     v->dirty = true;
     if (on)
-        dm_viewer_set_status(v, false, "left: %s, right: %s", dm_sss_technique_name(other(v->scene.sss_technique)),
+        dm_viewer_set_status(v, false, "left: %s, right: %s", dm_sss_technique_name(other(v)),
                              dm_sss_technique_name(v->scene.sss_technique));
     return true;
 }
@@ -68,7 +102,7 @@ bool dm_viewer_set_technique_split(dm_viewer *v, bool on)
 static bool render_other(dm_viewer *v, const dm_frame_options *fo, dm_error *err)
 {
     v->scene_other = v->scene;
-    v->scene_other.sss_technique = other(v->scene.sss_technique);
+    v->scene_other.sss_technique = other(v);
     if (v->r_other && dm_renderer_set_scene(v->r_other, &v->scene_other, err) != DM_OK) {
         dm_renderer_destroy(v->r_other);
         v->r_other = NULL;
@@ -93,7 +127,7 @@ bool dm_viewer_technique_frame(dm_viewer *v, const dm_frame_options *fo)
     bool ok = a && b && rel;
     if (!ok) dm_viewer_set_status(v, true, "technique split: cannot allocate %dx%d", w, h);
     if (ok && !render_other(v, fo, &err)) {
-        dm_viewer_set_status(v, true, "technique split: %s: %s", dm_sss_technique_name(other(v->scene.sss_technique)),
+        dm_viewer_set_status(v, true, "technique split: %s: %s", dm_sss_technique_name(other(v)),
                              err.detail);
         ok = false;
     }

@@ -71,7 +71,7 @@ static void section_effects(dm_viewer *v)
     const char *tech = dm_sss_technique_name(v->scene.sss_technique);
     if (ImGui::BeginCombo("technique (T)", tech)) {
         for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)
-            if (dm_sss_technique_available((dm_sss_technique)k) &&
+            if (dm_sss_technique_available((dm_sss_technique)k) && !dm_viewer_technique_missing(v, (dm_sss_technique)k) &&
                 ImGui::Selectable(dm_sss_technique_name((dm_sss_technique)k), k == (int)v->scene.sss_technique))
                 dm_viewer_set_technique(v, dm_sss_technique_name((dm_sss_technique)k));
         ImGui::EndCombo();
