@@ -16,6 +16,7 @@
 #include <cJSON.h>
 
 #include "core/dm_hash.h"
+#include "core/dm_jread.h"
 #include "core/dm_pack_needs.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
@@ -24,88 +25,8 @@
 
 /* --- manifest reading ---------------------------------------------------------------- */
 
-typedef struct mctx {
-    const char *what;
-    dm_error *err;
-    dm_result r;
-} mctx;
-
-static bool mfail(mctx *c, dm_result code, const char *jpath, const cJSON *v, const char *expected)
-{
-    char vt[80] = "(nothing)";
-    char *t = v ? cJSON_PrintUnformatted(v) : NULL;
-    if (t) {
-        if (strlen(t) > 60)
-            snprintf(vt, sizeof vt, "%.57s...", t);
-        else
-            snprintf(vt, sizeof vt, "%s", t);
-        cJSON_free(t);
-    }
-    c->r = dm_fail(c->err, code, "%s: manifest %s: %s is not %s", c->what, jpath, vt, expected);
-    return false;
-}
-
-static bool mkeys(mctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
-{
-    for (const cJSON *it = obj->child; it; it = it->next) {
-        bool ok = false;
-        for (const char *const *a = allowed; *a; ++a)
-            if (strcmp(it->string, *a) == 0) ok = true;
-        if (!ok) {
-            c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: manifest %s.%s: unknown key", c->what, jpath, it->string);
-            return false;
-        }
-        for (const cJSON *jt = it->next; jt; jt = jt->next)
-            if (strcmp(it->string, jt->string) == 0) {
-                c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: manifest %s.%s: key given twice", c->what, jpath,
-                               it->string);
-                return false;
-            }
-    }
-    return true;
-}
-
-static const cJSON *mreq(mctx *c, const cJSON *obj, const char *jpath, const char *key)
-{
-    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!v) c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: manifest %s.%s: missing, expected it", c->what, jpath, key);
-    return v;
-}
-
-static bool mint(mctx *c, const cJSON *obj, const char *jpath, const char *key, int64_t lo, int64_t hi, int64_t *out)
-{
-    const cJSON *v = mreq(c, obj, jpath, key);
-    if (!v) return false;
-    char p[160], want[96];
-    snprintf(p, sizeof p, "%s.%s", jpath, key);
-    snprintf(want, sizeof want, "an integer in [%" PRId64 ", %" PRId64 "]", lo, hi);
-    if (!cJSON_IsNumber(v)) return mfail(c, DM_ERR_FORMAT, p, v, want);
-    double d = v->valuedouble;
-    if (!isfinite(d) || d != floor(d) || d < (double)lo || d > (double)hi) return mfail(c, DM_ERR_RANGE, p, v, want);
-    *out = (int64_t)d;
-    return true;
-}
-
-static bool mint32(mctx *c, const cJSON *obj, const char *jpath, const char *key, int lo, int hi, int *out)
-{
-    int64_t v;
-    if (!mint(c, obj, jpath, key, lo, hi, &v)) return false;
-    *out = (int)v;
-    return true;
-}
-
-static const char *mstr(mctx *c, const cJSON *obj, const char *jpath, const char *key)
-{
-    const cJSON *v = mreq(c, obj, jpath, key);
-    if (!v) return NULL;
-    if (!cJSON_IsString(v)) {
-        char p[160];
-        snprintf(p, sizeof p, "%s.%s", jpath, key);
-        mfail(c, DM_ERR_FORMAT, p, v, "a string");
-        return NULL;
-    }
-    return v->valuestring;
-}
+/* The strict reader (core/dm_jread.h) with where = "PACK: manifest". */
+typedef dm_jread mctx;
 
 static bool valid_name(const char *s)
 {
@@ -119,12 +40,12 @@ static bool valid_name(const char *s)
 
 static bool mname(mctx *c, const cJSON *obj, const char *jpath, const char *key, char out[DM_PACK_NAME_SIZE])
 {
-    const char *s = mstr(c, obj, jpath, key);
+    const char *s = dm_jread_string(c, obj, jpath, key);
     if (!s) return false;
     if (!valid_name(s)) {
         char p[160];
         snprintf(p, sizeof p, "%s.%s", jpath, key);
-        return mfail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(obj, key),
+        return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(obj, key),
                      "a name of 1..63 characters from [a-z0-9._-]");
     }
     snprintf(out, DM_PACK_NAME_SIZE, "%s", s);
@@ -134,19 +55,19 @@ static bool mname(mctx *c, const cJSON *obj, const char *jpath, const char *key,
 /* A provenance object, validated by dm_prov_from_json, kept as compact JSON. */
 static bool mprov(mctx *c, const cJSON *obj, const char *jpath, char **out)
 {
-    const cJSON *v = mreq(c, obj, jpath, "provenance");
+    const cJSON *v = dm_jread_required(c, obj, jpath, "provenance", "an object");
     if (!v) return false;
     char p[160];
     snprintf(p, sizeof p, "%s.provenance", jpath);
-    if (!cJSON_IsObject(v)) return mfail(c, DM_ERR_FORMAT, p, v, "an object");
+    if (!cJSON_IsObject(v)) return dm_jread_fail(c, DM_ERR_FORMAT, p, v, "an object");
     char *text = cJSON_PrintUnformatted(v);
     if (!text) {
-        c->r = dm_fail(c->err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", c->what);
+        c->r = dm_fail(c->err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", c->where);
         return false;
     }
     dm_provenance prov;
     char what[1200];
-    snprintf(what, sizeof what, "%s: manifest %s", c->what, p);
+    snprintf(what, sizeof what, "%s %s", c->where, p);
     dm_result r = dm_prov_from_json(&prov, text, what, c->err);
     if (r != DM_OK) {
         cJSON_free(text);
@@ -170,15 +91,15 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
     char jp[64];
     snprintf(jp, sizeof jp, "$.entries[%d]", index);
     memset(e, 0, sizeof *e);
-    if (!cJSON_IsObject(j)) return mfail(c, DM_ERR_FORMAT, jp, j, "an object");
+    if (!cJSON_IsObject(j)) return dm_jread_fail(c, DM_ERR_FORMAT, jp, j, "an object");
     if (!mname(c, j, jp, "name", e->name)) return false;
-    const char *kind = mstr(c, j, jp, "kind");
+    const char *kind = dm_jread_string(c, j, jp, "kind");
     if (!kind) return false;
     int k = dm_pack_kind_from_name(kind);
     if (k < 0) {
         char p[96];
         snprintf(p, sizeof p, "%s.kind", jp);
-        return mfail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "kind"),
+        return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "kind"),
                      "one of texture, mesh.vertices, mesh.indices, env.sh, profile, scene");
     }
     e->kind = (dm_pack_kind)k;
@@ -187,13 +108,13 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
                               : e->kind == DM_PACK_MESH_INDICES  ? idx_keys
                               : e->kind == DM_PACK_ENV_SH        ? sh_keys
                                                                  : common;
-    if (!mkeys(c, j, jp, keys)) return false;
+    if (!dm_jread_keys(c, j, jp, keys)) return false;
     int64_t off, size;
-    if (!mint(c, j, jp, "offset", 0, (int64_t)1 << 52, &off) || !mint(c, j, jp, "size", 0, (int64_t)1 << 52, &size))
+    if (!dm_jread_int64(c, j, jp, "offset", 0, (int64_t)1 << 52, &off) || !dm_jread_int64(c, j, jp, "size", 0, (int64_t)1 << 52, &size))
         return false;
     e->offset = (uint64_t)off;
     e->size = (uint64_t)size;
-    const char *hex = mstr(c, j, jp, "xxh3");
+    const char *hex = dm_jread_string(c, j, jp, "xxh3");
     if (!hex) return false;
     char *end = NULL;
     bool hex_ok = strlen(hex) == 16;
@@ -201,84 +122,84 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
     if (!hex_ok) {
         char p[96];
         snprintf(p, sizeof p, "%s.xxh3", jp);
-        return mfail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "xxh3"), "16 lowercase hex digits");
+        return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "xxh3"), "16 lowercase hex digits");
     }
     e->xxh3 = strtoull(hex, &end, 16);
     if (!mprov(c, j, jp, &e->provenance_json)) return false;
 
     if (e->kind == DM_PACK_TEXTURE) {
-        const char *f = mstr(c, j, jp, "format");
+        const char *f = dm_jread_string(c, j, jp, "format");
         if (!f) return false;
         int fi = dm_tex_format_from_name(f);
         if (fi < 0) {
             char p[96];
             snprintf(p, sizeof p, "%s.format", jp);
-            return mfail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "format"),
+            return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "format"),
                          "one of r8, rg8, rgba8, rgba8_srgb, r16f, rg16f, rgba16f, r32f, rg32f, rgba32f");
         }
         e->format = (dm_tex_format)fi;
-        if (!mint32(c, j, jp, "width", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->width) ||
-            !mint32(c, j, jp, "height", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->height) ||
-            !mint32(c, j, jp, "layers", 1, DM_PACK_LAYERS_MAX, &e->layers) ||
-            !mint32(c, j, jp, "levels", 1, 15, &e->levels))
+        if (!dm_jread_int32(c, j, jp, "width", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->width) ||
+            !dm_jread_int32(c, j, jp, "height", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->height) ||
+            !dm_jread_int32(c, j, jp, "layers", 1, DM_PACK_LAYERS_MAX, &e->layers) ||
+            !dm_jread_int32(c, j, jp, "levels", 1, 15, &e->levels))
             return false;
         const cJSON *ch = cJSON_GetObjectItemCaseSensitive(j, "channels");
         if (ch) {
             char p[96];
             snprintf(p, sizeof p, "%s.channels", jp);
             int n = cJSON_IsArray(ch) ? cJSON_GetArraySize(ch) : -1;
-            if (n < 1 || n > DM_PACK_MAX_CHANNELS) return mfail(c, DM_ERR_FORMAT, p, ch, "an array of 1..4 names");
+            if (n < 1 || n > DM_PACK_MAX_CHANNELS) return dm_jread_fail(c, DM_ERR_FORMAT, p, ch, "an array of 1..4 names");
             for (int q = 0; q < n; ++q) {
                 const cJSON *s = cJSON_GetArrayItem(ch, q);
                 if (!cJSON_IsString(s) || !*s->valuestring || strlen(s->valuestring) >= DM_PACK_CHANNEL_NAME_SIZE)
-                    return mfail(c, DM_ERR_FORMAT, p, ch, "an array of short non-empty names");
+                    return dm_jread_fail(c, DM_ERR_FORMAT, p, ch, "an array of short non-empty names");
                 snprintf(e->channels[q], DM_PACK_CHANNEL_NAME_SIZE, "%s", s->valuestring);
             }
             e->channel_count = n;
         }
     } else if (e->kind == DM_PACK_MESH_VERTICES) {
-        if (!mint(c, j, jp, "vertex_count", 1, (int64_t)1 << 32, &e->vertex_count) ||
-            !mint32(c, j, jp, "stride", 4, 256, &e->stride))
+        if (!dm_jread_int64(c, j, jp, "vertex_count", 1, (int64_t)1 << 32, &e->vertex_count) ||
+            !dm_jread_int32(c, j, jp, "stride", 4, 256, &e->stride))
             return false;
-        const cJSON *at = mreq(c, j, jp, "attributes");
+        const cJSON *at = dm_jread_required(c, j, jp, "attributes", "an array of attributes");
         if (!at) return false;
         char p[96];
         snprintf(p, sizeof p, "%s.attributes", jp);
         int n = cJSON_IsArray(at) ? cJSON_GetArraySize(at) : -1;
-        if (n < 1 || n > DM_PACK_MAX_ATTRIBUTES) return mfail(c, DM_ERR_FORMAT, p, at, "an array of 1..8 attributes");
+        if (n < 1 || n > DM_PACK_MAX_ATTRIBUTES) return dm_jread_fail(c, DM_ERR_FORMAT, p, at, "an array of 1..8 attributes");
         for (int q = 0; q < n; ++q) {
             static const char *const akeys[] = {"name", "offset", "components", "type", NULL};
             const cJSON *a = cJSON_GetArrayItem(at, q);
             char ap[128];
             snprintf(ap, sizeof ap, "%s[%d]", p, q);
-            if (!cJSON_IsObject(a)) return mfail(c, DM_ERR_FORMAT, ap, a, "an object");
-            if (!mkeys(c, a, ap, akeys)) return false;
-            const char *an = mstr(c, a, ap, "name"), *ty;
+            if (!cJSON_IsObject(a)) return dm_jread_fail(c, DM_ERR_FORMAT, ap, a, "an object");
+            if (!dm_jread_keys(c, a, ap, akeys)) return false;
+            const char *an = dm_jread_string(c, a, ap, "name"), *ty;
             if (!an) return false;
             if (!*an || strlen(an) >= DM_PACK_CHANNEL_NAME_SIZE)
-                return mfail(c, DM_ERR_FORMAT, ap, a, "an attribute with a short non-empty name");
+                return dm_jread_fail(c, DM_ERR_FORMAT, ap, a, "an attribute with a short non-empty name");
             snprintf(e->attributes[q].name, DM_PACK_CHANNEL_NAME_SIZE, "%s", an);
-            if (!mint32(c, a, ap, "offset", 0, 252, &e->attributes[q].offset) ||
-                !mint32(c, a, ap, "components", 1, 4, &e->attributes[q].components) || !(ty = mstr(c, a, ap, "type")))
+            if (!dm_jread_int32(c, a, ap, "offset", 0, 252, &e->attributes[q].offset) ||
+                !dm_jread_int32(c, a, ap, "components", 1, 4, &e->attributes[q].components) || !(ty = dm_jread_string(c, a, ap, "type")))
                 return false;
             if (strcmp(ty, "float32") != 0)
-                return mfail(c, DM_ERR_UNSUPPORTED, ap, a, "an attribute of type \"float32\"");
+                return dm_jread_fail(c, DM_ERR_UNSUPPORTED, ap, a, "an attribute of type \"float32\"");
         }
         e->attribute_count = n;
     } else if (e->kind == DM_PACK_MESH_INDICES) {
         const char *ty, *prim;
-        if (!mint(c, j, jp, "index_count", 3, (int64_t)3 << 32, &e->index_count) || !(ty = mstr(c, j, jp, "type")) ||
-            !(prim = mstr(c, j, jp, "primitive")) || !mname(c, j, jp, "vertices", e->vertices))
+        if (!dm_jread_int64(c, j, jp, "index_count", 3, (int64_t)3 << 32, &e->index_count) || !(ty = dm_jread_string(c, j, jp, "type")) ||
+            !(prim = dm_jread_string(c, j, jp, "primitive")) || !mname(c, j, jp, "vertices", e->vertices))
             return false;
         char p[96];
         snprintf(p, sizeof p, "%s.type", jp);
         if (strcmp(ty, "uint32") != 0)
-            return mfail(c, DM_ERR_UNSUPPORTED, p, cJSON_GetObjectItemCaseSensitive(j, "type"), "\"uint32\"");
+            return dm_jread_fail(c, DM_ERR_UNSUPPORTED, p, cJSON_GetObjectItemCaseSensitive(j, "type"), "\"uint32\"");
         snprintf(p, sizeof p, "%s.primitive", jp);
         if (strcmp(prim, "triangles") != 0)
-            return mfail(c, DM_ERR_UNSUPPORTED, p, cJSON_GetObjectItemCaseSensitive(j, "primitive"), "\"triangles\"");
+            return dm_jread_fail(c, DM_ERR_UNSUPPORTED, p, cJSON_GetObjectItemCaseSensitive(j, "primitive"), "\"triangles\"");
     } else if (e->kind == DM_PACK_ENV_SH) {
-        if (!mint32(c, j, jp, "sh_order", 0, DM_PACK_SH_ORDER_MAX, &e->sh_order)) return false;
+        if (!dm_jread_int32(c, j, jp, "sh_order", 0, DM_PACK_SH_ORDER_MAX, &e->sh_order)) return false;
     }
     return true;
 }
@@ -297,19 +218,21 @@ dm_result dm_pack_manifest_parse(dm_pack *pack, const uint8_t *bytes, uint64_t s
         return dm_fail(err, DM_ERR_FORMAT, "%s: manifest holds a NUL byte, expected JSON text", what);
     cJSON *root = cJSON_Parse(pack->manifest);
     if (!root) return dm_fail(err, DM_ERR_FORMAT, "%s: manifest is not valid JSON", what);
-    mctx c = {what, err, DM_OK};
+    char where[1100];
+    snprintf(where, sizeof where, "%s: manifest", what);
+    mctx c = {where, err, DM_OK};
     static const char *const top[] = {"format", "version", "provenance", "entries", NULL};
-    bool ok = cJSON_IsObject(root) ? mkeys(&c, root, "$", top) : mfail(&c, DM_ERR_FORMAT, "$", root, "an object");
-    const char *fmt = ok ? mstr(&c, root, "$", "format") : NULL;
+    bool ok = cJSON_IsObject(root) ? dm_jread_keys(&c, root, "$", top) : dm_jread_fail(&c, DM_ERR_FORMAT, "$", root, "an object");
+    const char *fmt = ok ? dm_jread_string(&c, root, "$", "format") : NULL;
     int64_t ver = 0;
     ok = ok && fmt;
     if (ok && strcmp(fmt, "dermis-pack") != 0)
-        ok = mfail(&c, DM_ERR_FORMAT, "$.format", cJSON_GetObjectItemCaseSensitive(root, "format"), "\"dermis-pack\"");
-    ok = ok && mint(&c, root, "$", "version", 1, 1, &ver) && mprov(&c, root, "$", &pack->provenance_json);
-    const cJSON *ents = ok ? mreq(&c, root, "$", "entries") : NULL;
+        ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.format", cJSON_GetObjectItemCaseSensitive(root, "format"), "\"dermis-pack\"");
+    ok = ok && dm_jread_int64(&c, root, "$", "version", 1, 1, &ver) && mprov(&c, root, "$", &pack->provenance_json);
+    const cJSON *ents = ok ? dm_jread_required(&c, root, "$", "entries", "an array of entries") : NULL;
     ok = ok && ents;
     if (ok && (!cJSON_IsArray(ents) || cJSON_GetArraySize(ents) > DM_PACK_ENTRIES_MAX))
-        ok = mfail(&c, DM_ERR_FORMAT, "$.entries", ents, "an array of at most 1024 entries");
+        ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.entries", ents, "an array of at most 1024 entries");
     if (ok) {
         int n = cJSON_GetArraySize(ents);
         pack->entries = calloc((size_t)(n ? n : 1), sizeof *pack->entries);

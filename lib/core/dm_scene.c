@@ -11,6 +11,7 @@
 #include <cJSON.h>
 
 #include "core/dm_file.h"
+#include "core/dm_jread.h"
 
 static const char *const effect_names[DM_EFFECT_COUNT] = {
     "specular", "subsurface", "energy_conservation", "shadows", "environment_lighting", "glow", "tonemap",
@@ -74,175 +75,15 @@ void dm_scene_defaults(dm_scene *s)
     s->height = 720;
 }
 
-/* --- strict reading helpers ------------------------------------------------------
- * Every helper returns false after filling ctx->err; callers stop at the first error. */
+/* --- reading: core/dm_jread.h, plus the scene's own path resolution ------------------- */
 
 typedef struct ctx {
-    const char *file;
+    dm_jread j; /* where = the scene file */
     char dir[DM_SCENE_PATH_SIZE];
-    dm_error *err;
-    dm_result r;
     bool search; /* dm_scene_read: relative paths must exist, searched in the asset path */
     const char *const *asset_dirs;
     int asset_dir_count;
 } ctx;
-
-enum { JPATH_SIZE = 160 };
-
-/* The JSON text of a value, shortened for messages. */
-static void value_text(const cJSON *v, char *out, size_t out_size)
-{
-    char *t = v ? cJSON_PrintUnformatted(v) : NULL;
-    if (!t) {
-        snprintf(out, out_size, "(nothing)");
-        return;
-    }
-    if (strlen(t) > 60)
-        snprintf(out, out_size, "%.57s...", t);
-    else
-        snprintf(out, out_size, "%s", t);
-    cJSON_free(t);
-}
-
-static bool fail_value(ctx *c, dm_result code, const char *jpath, const cJSON *v, const char *expected)
-{
-    char vt[80];
-    value_text(v, vt, sizeof vt);
-    c->r = dm_fail(c->err, code, "%s: %s: %s is not %s", c->file, jpath, vt, expected);
-    return false;
-}
-
-static void child_path(char *out, const char *parent, const char *key)
-{
-    if (snprintf(out, JPATH_SIZE, "%s.%s", parent, key) >= JPATH_SIZE) out[JPATH_SIZE - 1] = '\0';
-}
-
-/* Refuses keys outside `allowed` (NULL-terminated) and keys given twice. */
-static bool check_keys(ctx *c, const cJSON *obj, const char *jpath, const char *const *allowed)
-{
-    for (const cJSON *it = obj->child; it; it = it->next) {
-        bool ok = false;
-        for (const char *const *a = allowed; *a; ++a)
-            if (strcmp(it->string, *a) == 0) ok = true;
-        if (!ok) {
-            char list[512] = "";
-            size_t n = 0;
-            for (const char *const *a = allowed; *a && n < sizeof list; ++a)
-                n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", a == allowed ? "" : ", ", *a);
-            c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s.%s: unknown key, expected one of: %s", c->file, jpath,
-                           it->string, list);
-            return false;
-        }
-        for (const cJSON *jt = it->next; jt; jt = jt->next)
-            if (strcmp(it->string, jt->string) == 0) {
-                c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s.%s: key given twice, expected once", c->file, jpath,
-                               it->string);
-                return false;
-            }
-    }
-    return true;
-}
-
-static const cJSON *get(const cJSON *obj, const char *key)
-{
-    return cJSON_GetObjectItemCaseSensitive(obj, key);
-}
-
-/* An object member that must be an object (NULL with *ok = true when absent and optional). */
-static const cJSON *get_object(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool required, bool *ok)
-{
-    char p[JPATH_SIZE];
-    child_path(p, jpath, key);
-    const cJSON *v = get(obj, key);
-    *ok = true;
-    if (!v) {
-        if (!required) return NULL;
-        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected an object", c->file, p);
-        *ok = false;
-        return NULL;
-    }
-    if (!cJSON_IsObject(v)) {
-        *ok = fail_value(c, DM_ERR_FORMAT, p, v, "an object");
-        return NULL;
-    }
-    return v;
-}
-
-static bool get_double(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi,
-                       double *out)
-{
-    const cJSON *v = get(obj, key);
-    if (!v) return true;
-    char p[JPATH_SIZE], want[96];
-    child_path(p, jpath, key);
-    snprintf(want, sizeof want, "a number in [%g, %g]", lo, hi);
-    if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
-    if (!isfinite(v->valuedouble) || v->valuedouble < lo || v->valuedouble > hi)
-        return fail_value(c, DM_ERR_RANGE, p, v, want);
-    *out = v->valuedouble;
-    return true;
-}
-
-static bool get_float(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi, float *out)
-{
-    double d = *out;
-    if (!get_double(c, obj, jpath, key, lo, hi, &d)) return false;
-    *out = (float)d;
-    return true;
-}
-
-/* An integer in [lo, hi]; odd_only refuses even values. */
-static bool get_int(ctx *c, const cJSON *obj, const char *jpath, const char *key, int lo, int hi, bool odd_only,
-                    int *out)
-{
-    const cJSON *v = get(obj, key);
-    if (!v) return true;
-    char p[JPATH_SIZE], want[96];
-    child_path(p, jpath, key);
-    snprintf(want, sizeof want, "%s integer in [%d, %d]", odd_only ? "an odd" : "an", lo, hi);
-    if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
-    double d = v->valuedouble;
-    if (!isfinite(d) || d != floor(d) || d < lo || d > hi || (odd_only && fmod(d, 2.0) == 0.0))
-        return fail_value(c, DM_ERR_RANGE, p, v, want);
-    *out = (int)d;
-    return true;
-}
-
-static bool get_bool(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool *out)
-{
-    const cJSON *v = get(obj, key);
-    if (!v) return true;
-    char p[JPATH_SIZE];
-    child_path(p, jpath, key);
-    if (!cJSON_IsBool(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "true or false");
-    *out = cJSON_IsTrue(v);
-    return true;
-}
-
-/* Three finite numbers, each in [lo, hi]; nonzero refuses the zero vector. */
-static bool get_vec3(ctx *c, const cJSON *obj, const char *jpath, const char *key, double lo, double hi,
-                     bool nonzero, float out[3])
-{
-    const cJSON *v = get(obj, key);
-    if (!v) return true;
-    char p[JPATH_SIZE], want[128];
-    child_path(p, jpath, key);
-    snprintf(want, sizeof want, "an array of 3 numbers in [%g, %g]%s", lo, hi, nonzero ? ", not all zero" : "");
-    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3) return fail_value(c, DM_ERR_FORMAT, p, v, want);
-    float t[3];
-    double len2 = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        const cJSON *x = cJSON_GetArrayItem(v, k);
-        if (!cJSON_IsNumber(x)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
-        double d = x->valuedouble;
-        if (!isfinite(d) || d < lo || d > hi) return fail_value(c, DM_ERR_RANGE, p, v, want);
-        t[k] = (float)d;
-        len2 += d * d;
-    }
-    if (nonzero && !(len2 > 1e-12)) return fail_value(c, DM_ERR_RANGE, p, v, want);
-    memcpy(out, t, sizeof t);
-    return true;
-}
 
 /* Joins dir and value into out (dir "." or "" adds nothing); false when too long. */
 static bool join_path(char out[DM_SCENE_PATH_SIZE], const char *dir, const char *value)
@@ -315,30 +156,30 @@ static bool resolve(ctx *c, const char *jpath, const char *value, char out[DM_SC
 {
     bool fits = !*value || value[0] == '/' ? join_path(out, "", value) : join_path(out, c->dir, value);
     if (!fits) {
-        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: %s: \"%.60s...\" is too long, expected a path under %d bytes",
-                       c->file, jpath, value, DM_SCENE_PATH_SIZE);
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: %s: \"%.60s...\" is too long, expected a path under %d bytes",
+                       c->j.where, jpath, value, DM_SCENE_PATH_SIZE);
         return false;
     }
     if (!c->search || !*value || value[0] == '/' || is_file(out)) return true;
     search_state st = {.value = value, .out = out};
     snprintf(st.looked, sizeof st.looked, "%s (the scene's folder)", out);
     if (each_asset_dir(c, try_dir, &st)) return true;
-    c->r = dm_fail(c->err, DM_ERR_FILE_OPEN,
+    c->j.r = dm_fail(c->j.err, DM_ERR_FILE_OPEN,
                    "%s: %s: \"%s\" not found; looked in %s; expected the asset folder in --assets DIR or "
                    "DERMIS_ASSETS",
-                   c->file, jpath, value, st.looked);
+                   c->j.where, jpath, value, st.looked);
     return false;
 }
 
 static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool allow_empty,
                      char out[DM_SCENE_PATH_SIZE])
 {
-    const cJSON *v = get(obj, key);
+    const cJSON *v = dm_jread_get(obj, key);
     if (!v) return true;
-    char p[JPATH_SIZE];
-    child_path(p, jpath, key);
-    if (!cJSON_IsString(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "a file path string");
-    if (!allow_empty && !*v->valuestring) return fail_value(c, DM_ERR_RANGE, p, v, "a non-empty file path");
+    char p[DM_JPATH_SIZE];
+    dm_jread_path(p, jpath, key);
+    if (!cJSON_IsString(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, v, "a file path string");
+    if (!allow_empty && !*v->valuestring) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, v, "a non-empty file path");
     return resolve(c, p, v->valuestring, out);
 }
 
@@ -348,19 +189,19 @@ static bool parse_mesh(ctx *c, const cJSON *root, dm_scene *s)
 {
     static const char *const keys[] = {"path", "mm_per_unit", "name", NULL};
     bool ok;
-    const cJSON *m = get_object(c, root, "$", "mesh", true, &ok);
-    if (!ok || !check_keys(c, m, "$.mesh", keys)) return false;
-    if (!get(m, "path")) {
-        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: $.mesh.path: missing, expected the mesh file's path", c->file);
+    const cJSON *m = dm_jread_object(&c->j, root, "$", "mesh", true, &ok);
+    if (!ok || !dm_jread_keys(&c->j, m, "$.mesh", keys)) return false;
+    if (!dm_jread_get(m, "path")) {
+        c->j.r = dm_fail(c->j.err, DM_ERR_FORMAT, "%s: $.mesh.path: missing, expected the mesh file's path", c->j.where);
         return false;
     }
-    const cJSON *name = get(m, "name");
+    const cJSON *name = dm_jread_get(m, "name");
     if (name && (!cJSON_IsString(name) || strlen(name->valuestring) >= DM_SCENE_NAME_SIZE))
-        return fail_value(c, cJSON_IsString(name) ? DM_ERR_RANGE : DM_ERR_FORMAT, "$.mesh.name", name,
+        return dm_jread_fail(&c->j, cJSON_IsString(name) ? DM_ERR_RANGE : DM_ERR_FORMAT, "$.mesh.name", name,
                           "a glTF mesh name string under 128 bytes");
     if (name) snprintf(s->mesh_name, sizeof s->mesh_name, "%s", name->valuestring);
     return get_path(c, m, "$.mesh", "path", false, s->mesh) &&
-           get_double(c, m, "$.mesh", "mm_per_unit", 1e-6, 1e6, &s->mm_per_unit);
+           dm_jread_double_opt(&c->j, m, "$.mesh", "mm_per_unit", 1e-6, 1e6, &s->mm_per_unit);
 }
 
 static bool parse_material(ctx *c, const cJSON *root, dm_scene *s)
@@ -368,75 +209,75 @@ static bool parse_material(ctx *c, const cJSON *root, dm_scene *s)
     static const char *const keys[] = {"albedo", "normal_map", "specular_map", "roughness_map", "roughness", "rho_s",
                                        NULL};
     bool ok;
-    const cJSON *m = get_object(c, root, "$", "material", false, &ok);
+    const cJSON *m = dm_jread_object(&c->j, root, "$", "material", false, &ok);
     if (!ok) return false;
     if (!m) return true;
-    return check_keys(c, m, "$.material", keys) && get_path(c, m, "$.material", "albedo", true, s->albedo) &&
+    return dm_jread_keys(&c->j, m, "$.material", keys) && get_path(c, m, "$.material", "albedo", true, s->albedo) &&
            get_path(c, m, "$.material", "normal_map", true, s->normal_map) &&
            get_path(c, m, "$.material", "specular_map", true, s->specular_map) &&
            get_path(c, m, "$.material", "roughness_map", true, s->roughness_map) &&
-           get_float(c, m, "$.material", "roughness", 0.0, 1.0, &s->roughness) &&
-           get_float(c, m, "$.material", "rho_s", 0.0, 1.0, &s->rho_s);
+           dm_jread_float_opt(&c->j, m, "$.material", "roughness", 0.0, 1.0, &s->roughness) &&
+           dm_jread_float_opt(&c->j, m, "$.material", "rho_s", 0.0, 1.0, &s->rho_s);
 }
 
 static bool parse_light(ctx *c, const cJSON *l, const char *jpath, dm_light *out)
 {
     static const char *const dir_keys[] = {"type", "direction", "color", "intensity", "casts_shadow", NULL};
     static const char *const point_keys[] = {"type", "position", "color", "intensity", "casts_shadow", NULL};
-    if (!cJSON_IsObject(l)) return fail_value(c, DM_ERR_FORMAT, jpath, l, "an object");
-    const cJSON *t = get(l, "type");
-    char p[JPATH_SIZE];
-    child_path(p, jpath, "type");
+    if (!cJSON_IsObject(l)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, jpath, l, "an object");
+    const cJSON *t = dm_jread_get(l, "type");
+    char p[DM_JPATH_SIZE];
+    dm_jread_path(p, jpath, "type");
     if (!t) {
-        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected \"directional\" or \"point\"", c->file, p);
+        c->j.r = dm_fail(c->j.err, DM_ERR_FORMAT, "%s: %s: missing, expected \"directional\" or \"point\"", c->j.where, p);
         return false;
     }
     if (!cJSON_IsString(t) ||
         (strcmp(t->valuestring, "directional") != 0 && strcmp(t->valuestring, "point") != 0))
-        return fail_value(c, DM_ERR_FORMAT, p, t, "\"directional\" or \"point\"");
+        return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, t, "\"directional\" or \"point\"");
     memset(out, 0, sizeof *out);
     out->type = strcmp(t->valuestring, "point") == 0 ? DM_LIGHT_POINT : DM_LIGHT_DIRECTIONAL;
     out->color[0] = out->color[1] = out->color[2] = 1.0f;
     out->intensity = 1.0f;
     out->casts_shadow = true;
     const char *need = out->type == DM_LIGHT_POINT ? "position" : "direction";
-    if (!check_keys(c, l, jpath, out->type == DM_LIGHT_POINT ? point_keys : dir_keys)) return false;
-    if (!get(l, need)) {
-        child_path(p, jpath, need);
-        c->r = dm_fail(c->err, DM_ERR_FORMAT, "%s: %s: missing, expected an array of 3 numbers (a %s light needs it)",
-                       c->file, p, t->valuestring);
+    if (!dm_jread_keys(&c->j, l, jpath, out->type == DM_LIGHT_POINT ? point_keys : dir_keys)) return false;
+    if (!dm_jread_get(l, need)) {
+        dm_jread_path(p, jpath, need);
+        c->j.r = dm_fail(c->j.err, DM_ERR_FORMAT, "%s: %s: missing, expected an array of 3 numbers (a %s light needs it)",
+                       c->j.where, p, t->valuestring);
         return false;
     }
     if (out->type == DM_LIGHT_POINT) {
-        if (!get_vec3(c, l, jpath, "position", -1e6, 1e6, false, out->position)) return false;
+        if (!dm_jread_vec3_opt(&c->j, l, jpath, "position", -1e6, 1e6, false, out->position)) return false;
     } else {
-        if (!get_vec3(c, l, jpath, "direction", -1e6, 1e6, true, out->direction)) return false;
+        if (!dm_jread_vec3_opt(&c->j, l, jpath, "direction", -1e6, 1e6, true, out->direction)) return false;
         double n = sqrt((double)out->direction[0] * out->direction[0] + (double)out->direction[1] * out->direction[1] +
                         (double)out->direction[2] * out->direction[2]);
         for (int k = 0; k < 3; ++k) out->direction[k] = (float)(out->direction[k] / n);
     }
-    return get_vec3(c, l, jpath, "color", 0.0, 1e6, false, out->color) &&
-           get_float(c, l, jpath, "intensity", 0.0, 1e6, &out->intensity) &&
-           get_bool(c, l, jpath, "casts_shadow", &out->casts_shadow);
+    return dm_jread_vec3_opt(&c->j, l, jpath, "color", 0.0, 1e6, false, out->color) &&
+           dm_jread_float_opt(&c->j, l, jpath, "intensity", 0.0, 1e6, &out->intensity) &&
+           dm_jread_bool_opt(&c->j, l, jpath, "casts_shadow", &out->casts_shadow);
 }
 
 static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
 {
-    const cJSON *ls = get(root, "lights");
+    const cJSON *ls = dm_jread_get(root, "lights");
     if (!ls) return true;
     char want[64];
     snprintf(want, sizeof want, "an array of at most %d lights", DM_SCENE_MAX_LIGHTS);
-    if (!cJSON_IsArray(ls)) return fail_value(c, DM_ERR_FORMAT, "$.lights", ls, want);
+    if (!cJSON_IsArray(ls)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.lights", ls, want);
     int n = cJSON_GetArraySize(ls);
     if (n > DM_SCENE_MAX_LIGHTS) {
-        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.lights: %d lights, expected at most %d", c->file, n,
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: $.lights: %d lights, expected at most %d", c->j.where, n,
                        DM_SCENE_MAX_LIGHTS);
         return false;
     }
     s->light_count = 0;
     int k = 0;
     for (const cJSON *l = ls->child; l; l = l->next, ++k) {
-        char p[JPATH_SIZE];
+        char p[DM_JPATH_SIZE];
         snprintf(p, sizeof p, "$.lights[%d]", k);
         if (!parse_light(c, l, p, &s->lights[k])) return false;
         s->light_count = k + 1;
@@ -447,31 +288,31 @@ static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
 /* "alternatives": an array of at most DM_SCENE_MAX_ENV_ALTERNATIVES non-empty paths. */
 static bool parse_env_alternatives(ctx *c, const cJSON *e, dm_scene *s)
 {
-    const cJSON *v = get(e, "alternatives");
+    const cJSON *v = dm_jread_get(e, "alternatives");
     if (!v) return true;
     char want[96];
     snprintf(want, sizeof want, "an array of at most %d environment map paths", DM_SCENE_MAX_ENV_ALTERNATIVES);
-    if (!cJSON_IsArray(v)) return fail_value(c, DM_ERR_FORMAT, "$.environment.alternatives", v, want);
+    if (!cJSON_IsArray(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.environment.alternatives", v, want);
     int n = cJSON_GetArraySize(v);
     if (n > DM_SCENE_MAX_ENV_ALTERNATIVES) {
-        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.environment.alternatives: %d maps, expected at most %d", c->file,
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: $.environment.alternatives: %d maps, expected at most %d", c->j.where,
                        n, DM_SCENE_MAX_ENV_ALTERNATIVES);
         return false;
     }
     if (n > 0 && !*s->environment) {
-        c->r = dm_fail(c->err, DM_ERR_MISMATCH,
+        c->j.r = dm_fail(c->j.err, DM_ERR_MISMATCH,
                        "%s: $.environment.alternatives: %d maps, but $.environment.path is missing, expected the "
                        "main map first",
-                       c->file, n);
+                       c->j.where, n);
         return false;
     }
     s->env_alternative_count = 0;
     int k = 0;
     for (const cJSON *a = v->child; a; a = a->next, ++k) {
-        char p[JPATH_SIZE];
+        char p[DM_JPATH_SIZE];
         snprintf(p, sizeof p, "$.environment.alternatives[%d]", k);
-        if (!cJSON_IsString(a)) return fail_value(c, DM_ERR_FORMAT, p, a, "a file path string");
-        if (!*a->valuestring) return fail_value(c, DM_ERR_RANGE, p, a, "a non-empty file path");
+        if (!cJSON_IsString(a)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, a, "a file path string");
+        if (!*a->valuestring) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, a, "a non-empty file path");
         if (!resolve(c, p, a->valuestring, s->env_alternatives[k])) return false;
         s->env_alternative_count = k + 1;
     }
@@ -482,13 +323,13 @@ static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
 {
     static const char *const keys[] = {"path", "intensity", "rotation_deg", "background", "alternatives", NULL};
     bool ok;
-    const cJSON *e = get_object(c, root, "$", "environment", false, &ok);
+    const cJSON *e = dm_jread_object(&c->j, root, "$", "environment", false, &ok);
     if (!ok) return false;
     if (!e) return true;
-    return check_keys(c, e, "$.environment", keys) && get_path(c, e, "$.environment", "path", true, s->environment) &&
-           get_float(c, e, "$.environment", "intensity", 0.0, 1e6, &s->env_intensity) &&
-           get_float(c, e, "$.environment", "rotation_deg", -360.0, 360.0, &s->env_rotation_deg) &&
-           get_bool(c, e, "$.environment", "background", &s->env_background) && parse_env_alternatives(c, e, s);
+    return dm_jread_keys(&c->j, e, "$.environment", keys) && get_path(c, e, "$.environment", "path", true, s->environment) &&
+           dm_jread_float_opt(&c->j, e, "$.environment", "intensity", 0.0, 1e6, &s->env_intensity) &&
+           dm_jread_float_opt(&c->j, e, "$.environment", "rotation_deg", -360.0, 360.0, &s->env_rotation_deg) &&
+           dm_jread_bool_opt(&c->j, e, "$.environment", "background", &s->env_background) && parse_env_alternatives(c, e, s);
 }
 
 static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
@@ -496,22 +337,22 @@ static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s
     if (cJSON_IsObject(v)) { /* inline, in the dm_profile.h JSON form (what dm_scene_to_json writes) */
         char *text = cJSON_PrintUnformatted(v);
         if (!text) {
-            c->r = dm_fail(c->err, DM_ERR_OUT_OF_MEMORY, "%s: %s: out of memory", c->file, jpath);
+            c->j.r = dm_fail(c->j.err, DM_ERR_OUT_OF_MEMORY, "%s: %s: out of memory", c->j.where, jpath);
             return false;
         }
-        char what[DM_SCENE_PATH_SIZE + JPATH_SIZE];
-        snprintf(what, sizeof what, "%s: %s", c->file, jpath);
-        dm_result r = dm_profile_from_json(text, what, &s->profile, c->err);
+        char what[DM_SCENE_PATH_SIZE + DM_JPATH_SIZE];
+        snprintf(what, sizeof what, "%s: %s", c->j.where, jpath);
+        dm_result r = dm_profile_from_json(text, what, &s->profile, c->j.err);
         cJSON_free(text);
         if (r != DM_OK) {
-            c->r = r;
+            c->j.r = r;
             return false;
         }
         snprintf(s->profile_source, sizeof s->profile_source, "inline");
         return true;
     }
     if (!cJSON_IsString(v) || !*v->valuestring)
-        return fail_value(c, DM_ERR_FORMAT, jpath, v, "\"gems3-skin\", a profile JSON path or a profile object");
+        return dm_jread_fail(&c->j, DM_ERR_FORMAT, jpath, v, "\"gems3-skin\", a profile JSON path or a profile object");
     if (strcmp(v->valuestring, "gems3-skin") == 0) {
         dm_profile_gems3_skin(&s->profile);
         snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
@@ -522,13 +363,13 @@ static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s
     if (stat(s->profile_source, &st) != 0 || !S_ISREG(st.st_mode)) {
         char want[DM_SCENE_PATH_SIZE + 64];
         snprintf(want, sizeof want, "\"gems3-skin\" or an existing profile file (looked for %s)", s->profile_source);
-        return fail_value(c, DM_ERR_FILE_OPEN, jpath, v, want);
+        return dm_jread_fail(&c->j, DM_ERR_FILE_OPEN, jpath, v, want);
     }
-    dm_result r = dm_profile_read(s->profile_source, &s->profile, c->err);
+    dm_result r = dm_profile_read(s->profile_source, &s->profile, c->j.err);
     if (r != DM_OK) {
-        char inner[sizeof c->err->detail];
-        snprintf(inner, sizeof inner, "%s", c->err ? c->err->detail : "");
-        c->r = dm_fail(c->err, r, "%s: %s: %s", c->file, jpath, inner);
+        char inner[sizeof c->j.err->detail];
+        snprintf(inner, sizeof inner, "%s", c->j.err ? c->j.err->detail : "");
+        c->j.r = dm_fail(c->j.err, r, "%s: %s: %s", c->j.where, jpath, inner);
         return false;
     }
     return true;
@@ -539,23 +380,23 @@ static bool parse_effect(ctx *c, const cJSON *effects, dm_effect e, const char *
                          const cJSON **params)
 {
     const char *name = dm_effect_name(e);
-    const cJSON *v = get(effects, name);
-    char p[JPATH_SIZE];
-    child_path(p, "$.effects", name);
+    const cJSON *v = dm_jread_get(effects, name);
+    char p[DM_JPATH_SIZE];
+    dm_jread_path(p, "$.effects", name);
     *params = NULL;
     if (!v) return true;
     if (cJSON_IsBool(v)) {
         s->effects[e] = cJSON_IsTrue(v);
         return true;
     }
-    if (!cJSON_IsObject(v)) return fail_value(c, DM_ERR_FORMAT, p, v, "true, false or an object");
+    if (!cJSON_IsObject(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, v, "true, false or an object");
     const char *keys[12] = {"enabled"};
     int n = 1;
     for (const char *const *k = extra_keys; k && *k && n < 11; ++k) keys[n++] = *k;
     keys[n] = NULL;
-    if (!check_keys(c, v, p, keys)) return false;
+    if (!dm_jread_keys(&c->j, v, p, keys)) return false;
     bool on = true;
-    if (!get_bool(c, v, p, "enabled", &on)) return false;
+    if (!dm_jread_bool_opt(&c->j, v, p, "enabled", &on)) return false;
     s->effects[e] = on;
     *params = v;
     return true;
@@ -565,31 +406,31 @@ static bool parse_effect(ctx *c, const cJSON *effects, dm_effect e, const char *
  * of DM_SCENE_SCREEN_TAPS_LIST). */
 static bool parse_technique(ctx *c, const cJSON *pm, dm_scene *s)
 {
-    const cJSON *v = get(pm, "technique");
+    const cJSON *v = dm_jread_get(pm, "technique");
     if (v) {
         const char *p = "$.effects.subsurface.technique";
         const char *want = "\"texture-space\", \"screen-space\" or \"pre-integrated\"";
-        if (!cJSON_IsString(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+        if (!cJSON_IsString(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, v, want);
         int t = -1;
         for (int k = 0; k < DM_SSS_TECHNIQUE_COUNT; ++k)
             if (strcmp(v->valuestring, technique_names[k]) == 0) t = k;
-        if (t < 0) return fail_value(c, DM_ERR_RANGE, p, v, want);
+        if (t < 0) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, v, want);
         if (!dm_sss_technique_available((dm_sss_technique)t)) {
-            c->r = dm_fail(c->err, DM_ERR_UNSUPPORTED, "%s: %s: \"%s\" is a known technique but not implemented yet, expected %s",
-                           c->file, p, v->valuestring, "\"texture-space\" or \"screen-space\"");
+            c->j.r = dm_fail(c->j.err, DM_ERR_UNSUPPORTED, "%s: %s: \"%s\" is a known technique but not implemented yet, expected %s",
+                           c->j.where, p, v->valuestring, "\"texture-space\" or \"screen-space\"");
             return false;
         }
         s->sss_technique = (dm_sss_technique)t;
     }
-    v = get(pm, "screen_taps");
+    v = dm_jread_get(pm, "screen_taps");
     if (v) {
         static const int list[] = DM_SCENE_SCREEN_TAPS_LIST;
         const char *p = "$.effects.subsurface.screen_taps", *want = "one of 11, 17, 25";
-        if (!cJSON_IsNumber(v)) return fail_value(c, DM_ERR_FORMAT, p, v, want);
+        if (!cJSON_IsNumber(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, v, want);
         bool ok = false;
         for (size_t k = 0; k < sizeof list / sizeof list[0]; ++k)
             if (v->valuedouble == list[k]) ok = true;
-        if (!ok) return fail_value(c, DM_ERR_RANGE, p, v, want);
+        if (!ok) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, v, want);
         s->screen_taps = (int)v->valuedouble;
     }
     return true;
@@ -602,12 +443,12 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
     static const char *const glow_keys[] = {"threshold", "intensity", NULL};
     static const char *const tone_keys[] = {"exposure", NULL};
     bool ok;
-    const cJSON *fx = get_object(c, root, "$", "effects", true, &ok); /* a scene names its effects */
+    const cJSON *fx = dm_jread_object(&c->j, root, "$", "effects", true, &ok); /* a scene names its effects */
     if (!ok) return false;
     const char *keys[DM_EFFECT_COUNT + 1];
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) keys[e] = dm_effect_name((dm_effect)e);
     keys[DM_EFFECT_COUNT] = NULL;
-    if (!check_keys(c, fx, "$.effects", keys)) return false;
+    if (!dm_jread_keys(&c->j, fx, "$.effects", keys)) return false;
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = false; /* listed effects only */
     const cJSON *pm;
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
@@ -620,20 +461,20 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
         if (!pm) continue;
         if (e == DM_EFFECT_SUBSURFACE) {
             const char *p = "$.effects.subsurface";
-            const cJSON *prof = get(pm, "profile");
+            const cJSON *prof = dm_jread_get(pm, "profile");
             if (prof && !parse_profile(c, prof, "$.effects.subsurface.profile", s)) return false;
-            if (!get_int(c, pm, p, "taps", 3, 63, true, &s->blur_taps) ||
-                !get_int(c, pm, p, "irradiance_size", 64, 8192, false, &s->irradiance_size) ||
-                !get_float(c, pm, p, "mix", 0.0, 1.0, &s->mix) || !parse_technique(c, pm, s))
+            if (!dm_jread_int_opt(&c->j, pm, p, "taps", 3, 63, true, &s->blur_taps) ||
+                !dm_jread_int_opt(&c->j, pm, p, "irradiance_size", 64, 8192, false, &s->irradiance_size) ||
+                !dm_jread_float_opt(&c->j, pm, p, "mix", 0.0, 1.0, &s->mix) || !parse_technique(c, pm, s))
                 return false;
         } else if (e == DM_EFFECT_GLOW) {
-            if (!get_float(c, pm, "$.effects.glow", "threshold", 0.0, 1e6, &s->glow_threshold) ||
-                !get_float(c, pm, "$.effects.glow", "intensity", 0.0, 100.0, &s->glow_intensity))
+            if (!dm_jread_float_opt(&c->j, pm, "$.effects.glow", "threshold", 0.0, 1e6, &s->glow_threshold) ||
+                !dm_jread_float_opt(&c->j, pm, "$.effects.glow", "intensity", 0.0, 100.0, &s->glow_intensity))
                 return false;
         } else if (e == DM_EFFECT_TONEMAP) {
-            if (!get_float(c, pm, "$.effects.tonemap", "exposure", -20.0, 20.0, &s->exposure)) return false;
+            if (!dm_jread_float_opt(&c->j, pm, "$.effects.tonemap", "exposure", -20.0, 20.0, &s->exposure)) return false;
         } else if (e == DM_EFFECT_TRANSLUCENCY) {
-            if (!get_float(c, pm, "$.effects.translucency", "intensity", 0.0, 100.0, &s->translucency_intensity))
+            if (!dm_jread_float_opt(&c->j, pm, "$.effects.translucency", "intensity", 0.0, 100.0, &s->translucency_intensity))
                 return false;
         }
     }
@@ -644,13 +485,13 @@ static bool parse_camera(ctx *c, const cJSON *root, dm_scene *s)
 {
     static const char *const keys[] = {"eye", "target", "up", "fov_y_deg", NULL};
     bool ok;
-    const cJSON *cam = get_object(c, root, "$", "camera", false, &ok);
+    const cJSON *cam = dm_jread_object(&c->j, root, "$", "camera", false, &ok);
     if (!ok) return false;
     if (!cam) return true;
-    if (!check_keys(c, cam, "$.camera", keys) || !get_vec3(c, cam, "$.camera", "eye", -1e6, 1e6, false, s->camera_eye) ||
-        !get_vec3(c, cam, "$.camera", "target", -1e6, 1e6, false, s->camera_target) ||
-        !get_vec3(c, cam, "$.camera", "up", -1e6, 1e6, true, s->camera_up) ||
-        !get_float(c, cam, "$.camera", "fov_y_deg", 1.0, 179.0, &s->fov_y_deg))
+    if (!dm_jread_keys(&c->j, cam, "$.camera", keys) || !dm_jread_vec3_opt(&c->j, cam, "$.camera", "eye", -1e6, 1e6, false, s->camera_eye) ||
+        !dm_jread_vec3_opt(&c->j, cam, "$.camera", "target", -1e6, 1e6, false, s->camera_target) ||
+        !dm_jread_vec3_opt(&c->j, cam, "$.camera", "up", -1e6, 1e6, true, s->camera_up) ||
+        !dm_jread_float_opt(&c->j, cam, "$.camera", "fov_y_deg", 1.0, 179.0, &s->fov_y_deg))
         return false;
     double d[3], len2 = 0.0, cr[3], cr2 = 0.0, up2 = 0.0;
     for (int k = 0; k < 3; ++k) {
@@ -659,8 +500,8 @@ static bool parse_camera(ctx *c, const cJSON *root, dm_scene *s)
         up2 += (double)s->camera_up[k] * s->camera_up[k];
     }
     if (!(len2 > 1e-12)) {
-        c->r = dm_fail(c->err, DM_ERR_RANGE, "%s: $.camera.eye: equals $.camera.target, expected a distinct point",
-                       c->file);
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: $.camera.eye: equals $.camera.target, expected a distinct point",
+                       c->j.where);
         return false;
     }
     const float *u = s->camera_up;
@@ -669,9 +510,9 @@ static bool parse_camera(ctx *c, const cJSON *root, dm_scene *s)
     cr[2] = d[0] * u[1] - d[1] * u[0];
     for (int k = 0; k < 3; ++k) cr2 += cr[k] * cr[k];
     if (!(cr2 > 1e-8 * len2 * up2)) {
-        c->r = dm_fail(c->err, DM_ERR_RANGE,
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE,
                        "%s: $.camera.up: [%g, %g, %g] is parallel to the view direction, expected a vector across it",
-                       c->file, u[0], u[1], u[2]);
+                       c->j.where, u[0], u[1], u[2]);
         return false;
     }
     return true;
@@ -681,20 +522,20 @@ static bool parse_output(ctx *c, const cJSON *root, dm_scene *s)
 {
     static const char *const keys[] = {"width", "height", NULL};
     bool ok;
-    const cJSON *o = get_object(c, root, "$", "output", false, &ok);
+    const cJSON *o = dm_jread_object(&c->j, root, "$", "output", false, &ok);
     if (!ok) return false;
     if (!o) return true;
-    return check_keys(c, o, "$.output", keys) && get_int(c, o, "$.output", "width", 1, 16384, false, &s->width) &&
-           get_int(c, o, "$.output", "height", 1, 16384, false, &s->height);
+    return dm_jread_keys(&c->j, o, "$.output", keys) && dm_jread_int_opt(&c->j, o, "$.output", "width", 1, 16384, false, &s->width) &&
+           dm_jread_int_opt(&c->j, o, "$.output", "height", 1, 16384, false, &s->height);
 }
 
 static bool parse_header(ctx *c, const cJSON *root)
 {
-    const cJSON *f = get(root, "format"), *v = get(root, "version");
+    const cJSON *f = dm_jread_get(root, "format"), *v = dm_jread_get(root, "version");
     if (f && (!cJSON_IsString(f) || strcmp(f->valuestring, "dermis-scene") != 0))
-        return fail_value(c, DM_ERR_FORMAT, "$.format", f, "\"dermis-scene\"");
+        return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.format", f, "\"dermis-scene\"");
     if (v && (!cJSON_IsNumber(v) || v->valuedouble != 1.0))
-        return fail_value(c, DM_ERR_UNSUPPORTED, "$.version", v, "1 (the only scene version)");
+        return dm_jread_fail(&c->j, DM_ERR_UNSUPPORTED, "$.version", v, "1 (the only scene version)");
     return true;
 }
 
@@ -719,10 +560,10 @@ static dm_result parse_scene(const char *json, const char *path, bool search, co
     static const char *const keys[] = {"format", "version", "mesh",    "material", "lights",
                                        "environment", "effects", "camera", "output", NULL};
     dm_scene_defaults(s);
-    ctx c = {.file = path ? path : "(scene)", .err = err, .r = DM_OK, .search = search, .asset_dirs = asset_dirs,
+    ctx c = {.j = {.where = path ? path : "(scene)", .err = err, .r = DM_OK}, .search = search, .asset_dirs = asset_dirs,
              .asset_dir_count = asset_dir_count};
-    snprintf(s->path, sizeof s->path, "%s", c.file);
-    dm_dirname(c.file, c.dir, sizeof c.dir);
+    snprintf(s->path, sizeof s->path, "%s", c.j.where);
+    dm_dirname(c.j.where, c.dir, sizeof c.dir);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(json, &end, 1);
     if (!root) {
@@ -730,23 +571,23 @@ static dm_result parse_scene(const char *json, const char *path, bool search, co
         const char *at = end ? end : cJSON_GetErrorPtr();
         if (!at) at = json;
         line_col(json, at, &line, &col);
-        return dm_fail(err, DM_ERR_FORMAT, "%s:%d:%d: invalid JSON near \"%.20s\", expected a JSON object", c.file,
+        return dm_fail(err, DM_ERR_FORMAT, "%s:%d:%d: invalid JSON near \"%.20s\", expected a JSON object", c.j.where,
                        line, col, at);
     }
     bool ok = true;
-    if (!cJSON_IsObject(root)) ok = fail_value(&c, DM_ERR_FORMAT, "$", root, "a JSON object");
-    ok = ok && check_keys(&c, root, "$", keys) && parse_header(&c, root) && parse_mesh(&c, root, s) &&
+    if (!cJSON_IsObject(root)) ok = dm_jread_fail(&c.j, DM_ERR_FORMAT, "$", root, "a JSON object");
+    ok = ok && dm_jread_keys(&c.j, root, "$", keys) && parse_header(&c, root) && parse_mesh(&c, root, s) &&
          parse_material(&c, root, s) && parse_lights(&c, root, s) && parse_environment(&c, root, s) &&
          parse_effects(&c, root, s) && parse_camera(&c, root, s) && parse_output(&c, root, s);
     if (ok && s->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] && !*s->environment) {
-        c.r = dm_fail(err, DM_ERR_MISMATCH,
+        c.j.r = dm_fail(err, DM_ERR_MISMATCH,
                       "%s: $.effects.environment_lighting: on, but $.environment.path is missing, expected an "
                       "environment map or the effect turned off",
-                      c.file);
+                      c.j.where);
         ok = false;
     }
     cJSON_Delete(root);
-    return ok ? DM_OK : c.r;
+    return ok ? DM_OK : c.j.r;
 }
 
 dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err)
