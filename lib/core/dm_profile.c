@@ -8,6 +8,7 @@
 #include <cJSON.h>
 
 #include "core/dm_file.h"
+#include "core/dm_jread.h"
 #include "core/dm_math.h"
 
 const double DM_BLUR_TAPS_GEMS3[DM_BLUR_TAPS_GEMS3_COUNT] = {0.006, 0.061, 0.242, 0.383, 0.242, 0.061, 0.006};
@@ -131,49 +132,62 @@ dm_result dm_profile_validate(const dm_profile *p, const char *what, dm_error *e
     return DM_OK;
 }
 
+/* One Gaussian of $.gaussians: {variance_mm2, weights[3]} (incremental_variance_mm2, which
+ * dermis-fit-profile writes for readers, is allowed and not read: it follows from the rest). */
+static bool read_gaussian(dm_jread *c, const cJSON *e, int k, dm_profile *p)
+{
+    static const char *const keys[] = {"variance_mm2", "incremental_variance_mm2", "weights", NULL};
+    char jp[DM_JPATH_SIZE], wp[DM_JPATH_SIZE];
+    snprintf(jp, sizeof jp, "$.gaussians[%d]", k);
+    if (!cJSON_IsObject(e)) return dm_jread_fail(c, DM_ERR_FORMAT, jp, e, "an object {variance_mm2, weights}");
+    if (!dm_jread_keys(c, e, jp, keys)) return false;
+    const cJSON *v = dm_jread_required(c, e, jp, "variance_mm2", "a number (mm^2)");
+    if (!v || !dm_jread_double_opt(c, e, jp, "variance_mm2", -1e300, 1e300, &p->variance_mm2[k])) return false;
+    const cJSON *w = dm_jread_required(c, e, jp, "weights", "an array of 3 numbers (R, G, B)");
+    if (!w) return false;
+    dm_jread_path(wp, jp, "weights");
+    if (!cJSON_IsArray(w) || cJSON_GetArraySize(w) != 3)
+        return dm_jread_fail(c, DM_ERR_FORMAT, wp, w, "an array of 3 numbers (R, G, B)");
+    for (int ch = 0; ch < 3; ++ch) {
+        const cJSON *x = cJSON_GetArrayItem(w, ch);
+        if (!cJSON_IsNumber(x)) return dm_jread_fail(c, DM_ERR_FORMAT, wp, w, "an array of 3 numbers (R, G, B)");
+        p->weight[k][ch] = x->valuedouble; /* double as written: ranges are dm_profile_validate's */
+    }
+    return true;
+}
+
 dm_result dm_profile_from_json(const char *json, const char *what, dm_profile *p, dm_error *err)
 {
+    /* what dermis-fit-profile, dermis-pack and dm_scene_to_json write (the fit's report is
+     * carried, not read) */
+    static const char *const top[] = {"format", "version", "name", "normalized", "gaussians", "blur_passes",
+                                      "total_reflectance_rgb", "error", "source", "provenance", NULL};
     memset(p, 0, sizeof *p);
+    dm_jread c = {what, err, DM_OK};
     cJSON *root = cJSON_Parse(json);
-    if (!cJSON_IsObject(root)) {
-        cJSON_Delete(root);
-        return dm_fail(err, DM_ERR_FORMAT, "%s: not a JSON object", what);
+    bool ok = cJSON_IsObject(root) ? dm_jread_keys(&c, root, "$", top)
+                                   : dm_jread_fail(&c, DM_ERR_FORMAT, "$", NULL, "a JSON object (a profile)");
+    const cJSON *fmt = ok ? dm_jread_get(root, "format") : NULL, *name = ok ? dm_jread_get(root, "name") : NULL;
+    if (ok && fmt && !(cJSON_IsString(fmt) && strcmp(fmt->valuestring, "dermis-profile") == 0))
+        ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.format", fmt, "\"dermis-profile\"");
+    int version = 1;
+    ok = ok && dm_jread_int_opt(&c, root, "$", "version", 1, 1, false, &version);
+    if (ok && name && !cJSON_IsString(name)) ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.name", name, "a string");
+    if (ok && name) snprintf(p->name, sizeof p->name, "%s", name->valuestring);
+    const cJSON *g = ok ? dm_jread_required(&c, root, "$", "gaussians", "an array of {variance_mm2, weights}") : NULL;
+    ok = ok && g;
+    if (ok && (!cJSON_IsArray(g) || cJSON_GetArraySize(g) < 1 || cJSON_GetArraySize(g) > DM_PROFILE_MAX_GAUSSIANS)) {
+        char want[96];
+        snprintf(want, sizeof want, "an array of 1..%d {variance_mm2, weights}", DM_PROFILE_MAX_GAUSSIANS);
+        ok = dm_jread_fail(&c, cJSON_IsArray(g) ? DM_ERR_RANGE : DM_ERR_FORMAT, "$.gaussians", g, want);
     }
-    dm_result r = DM_OK;
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(root, "name");
-    if (cJSON_IsString(name)) snprintf(p->name, sizeof p->name, "%s", name->valuestring);
-    const cJSON *g = cJSON_GetObjectItemCaseSensitive(root, "gaussians");
-    if (!cJSON_IsArray(g)) {
-        r = dm_fail(err, DM_ERR_FORMAT, "%s: $.gaussians: expected an array of {variance_mm2, weights}", what);
-    } else {
-        int n = cJSON_GetArraySize(g);
-        if (n < 1 || n > DM_PROFILE_MAX_GAUSSIANS)
-            r = dm_fail(err, DM_ERR_RANGE, "%s: $.gaussians has %d entries, expected 1..%d", what, n,
-                        DM_PROFILE_MAX_GAUSSIANS);
-        for (int k = 0; k < n && r == DM_OK; ++k) {
-            const cJSON *e = cJSON_GetArrayItem(g, k);
-            const cJSON *v = cJSON_GetObjectItemCaseSensitive(e, "variance_mm2");
-            const cJSON *w = cJSON_GetObjectItemCaseSensitive(e, "weights");
-            if (!cJSON_IsNumber(v)) {
-                r = dm_fail(err, DM_ERR_FORMAT, "%s: $.gaussians[%d].variance_mm2: expected a number", what, k);
-            } else if (!cJSON_IsArray(w) || cJSON_GetArraySize(w) != 3) {
-                r = dm_fail(err, DM_ERR_FORMAT, "%s: $.gaussians[%d].weights: expected an array of 3 numbers", what, k);
-            } else {
-                p->variance_mm2[k] = v->valuedouble;
-                for (int c = 0; c < 3 && r == DM_OK; ++c) {
-                    const cJSON *x = cJSON_GetArrayItem(w, c);
-                    if (!cJSON_IsNumber(x))
-                        r = dm_fail(err, DM_ERR_FORMAT, "%s: $.gaussians[%d].weights[%d]: expected a number", what, k, c);
-                    else
-                        p->weight[k][c] = x->valuedouble;
-                }
-            }
-        }
-        p->count = n;
+    for (int k = 0; ok && k < cJSON_GetArraySize(g); ++k) {
+        ok = read_gaussian(&c, cJSON_GetArrayItem(g, k), k, p);
+        p->count = k + 1;
     }
     cJSON_Delete(root);
-    if (r == DM_OK) r = dm_profile_validate(p, what, err);
-    return r;
+    if (!ok) return c.r;
+    return dm_profile_validate(p, what, err);
 }
 
 dm_result dm_profile_read(const char *path, dm_profile *p, dm_error *err)

@@ -185,3 +185,26 @@ Test(profile, blur_taps_refuse_bad_counts_and_spacing)
     cr_assert_eq(dm_blur_taps(7, NAN, 0, w, NULL, &err), DM_ERR_RANGE);
     cr_assert_eq(dm_blur_taps(7, -1.0, 0, w, NULL, &err), DM_ERR_RANGE);
 }
+
+/* Profile JSON is read strictly (core/dm_jread.h): unknown keys, at the top and in a
+ * Gaussian, are refused with their JSON path; what the writers add (a fit's report) is not. */
+Test(profile, json_is_read_strictly)
+{
+    dm_profile p;
+    dm_error err = {0};
+    const char *ok = "{\"format\": \"dermis-profile\", \"version\": 1, \"name\": \"x\", \"normalized\": true,"
+                     " \"gaussians\": [{\"variance_mm2\": 0.5, \"incremental_variance_mm2\": 0.5,"
+                     " \"weights\": [1, 1, 1]}], \"blur_passes\": 1, \"error\": {}, \"source\": {}}";
+    cr_expect_eq(dm_profile_from_json(ok, "ok.json", &p, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(p.count, 1);
+    cr_expect_eq(p.variance_mm2[0], 0.5);
+    const char *top = "{\"gaussians\": [{\"variance_mm2\": 0.5, \"weights\": [1, 1, 1]}], \"colour\": 1}";
+    cr_expect_eq(dm_profile_from_json(top, "t.json", &p, &err), DM_ERR_FORMAT);
+    cr_expect(strstr(err.detail, "t.json: $.colour: unknown key") != NULL, "%s", err.detail);
+    const char *inner = "{\"gaussians\": [{\"variance_mm2\": 0.5, \"weight\": [1, 1, 1]}]}";
+    cr_expect_eq(dm_profile_from_json(inner, "i.json", &p, &err), DM_ERR_FORMAT);
+    cr_expect(strstr(err.detail, "$.gaussians[0].weight: unknown key") != NULL, "%s", err.detail);
+    const char *none = "{\"gaussians\": []}";
+    cr_expect_eq(dm_profile_from_json(none, "n.json", &p, &err), DM_ERR_RANGE);
+    cr_expect(strstr(err.detail, "$.gaussians: [] is not an array of 1..") != NULL, "%s", err.detail);
+}
