@@ -8,6 +8,8 @@
 
 #include <cJSON.h>
 
+#include "core/dm_jread.h"
+
 #include "core/dm_version.h"
 
 static void copy_str(char *dst, size_t dst_size, const char *src)
@@ -101,57 +103,74 @@ dm_result dm_prov_to_json(const dm_provenance *p, char *out, size_t out_size, dm
     return DM_OK;
 }
 
+/* One $.params member into p: a string, a number (integral values read back as ints, with .d
+ * set as well: JSON does not keep int from double, so parameters compare through .d) or null
+ * (NaN). Names are [a-z0-9_], shorter than DM_PROV_NAME_SIZE: what the writers make, and what
+ * prints back as JSON without escaping. */
+static bool read_param(dm_jread *c, const cJSON *it, dm_provenance *p)
+{
+    char jp[DM_JPATH_SIZE];
+    dm_jread_path(jp, "$.params", it->string ? it->string : "");
+    size_t len = it->string ? strlen(it->string) : 0;
+    bool ok = len > 0 && len < DM_PROV_NAME_SIZE;
+    for (size_t i = 0; ok && i < len; ++i) {
+        char ch = it->string[i];
+        ok = (ch >= 'a' && ch <= 'z') || (ch >= '0' && ch <= '9') || ch == '_';
+    }
+    if (!ok) {
+        char want[96];
+        snprintf(want, sizeof want, "a parameter named by [a-z0-9_], 1..%d characters", DM_PROV_NAME_SIZE - 1);
+        return dm_jread_fail(c, DM_ERR_FORMAT, jp, it, want);
+    }
+    if (p->param_count >= DM_PROV_PARAM_MAX) {
+        char want[64];
+        snprintf(want, sizeof want, "within the first %d parameters", DM_PROV_PARAM_MAX);
+        return dm_jread_fail(c, DM_ERR_RANGE, jp, it, want);
+    }
+    if (cJSON_IsString(it)) {
+        dm_prov_add_string(p, it->string, it->valuestring);
+    } else if (cJSON_IsNumber(it)) {
+        double d = it->valuedouble;
+        if (d == floor(d) && fabs(d) < 9007199254740992.0)
+            dm_prov_add_int(p, it->string, (int64_t)d);
+        else
+            dm_prov_add_double(p, it->string, d);
+    } else if (cJSON_IsNull(it)) {
+        dm_prov_add_double(p, it->string, NAN);
+    } else {
+        return dm_jread_fail(c, DM_ERR_FORMAT, jp, it, "a string, a number or null");
+    }
+    return true;
+}
+
 dm_result dm_prov_from_json(dm_provenance *p, const char *json, const char *what, dm_error *err)
 {
+    static const char *const keys[] = {"tool", "version", "input_hash", "params", NULL};
     memset(p, 0, sizeof *p);
+    char where[320];
+    snprintf(where, sizeof where, "%s: provenance", what);
+    dm_jread c = {where, err, DM_OK};
     cJSON *root = cJSON_Parse(json);
-    if (!cJSON_IsObject(root)) {
-        cJSON_Delete(root);
-        return dm_fail(err, DM_ERR_FORMAT, "%s: provenance is not a JSON object", what);
+    bool ok = cJSON_IsObject(root) ? dm_jread_keys(&c, root, "$", keys)
+                                   : dm_jread_fail(&c, DM_ERR_FORMAT, "$", NULL, "a JSON object");
+    const char *tool = ok ? dm_jread_string(&c, root, "$", "tool") : NULL;
+    const char *ver = tool ? dm_jread_string(&c, root, "$", "version") : NULL;
+    const cJSON *hash = ver ? dm_jread_get(root, "input_hash") : NULL;
+    ok = ok && tool && ver;
+    if (ok && hash && !cJSON_IsString(hash)) ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.input_hash", hash, "a string");
+    bool have = false;
+    const cJSON *params = ok ? dm_jread_object(&c, root, "$", "params", true, &have) : NULL;
+    ok = ok && have && params;
+    if (ok) {
+        copy_str(p->tool, sizeof p->tool, tool);
+        copy_str(p->version, sizeof p->version, ver);
+        if (hash) copy_str(p->input_hash, sizeof p->input_hash, hash->valuestring);
     }
-    const cJSON *tool = cJSON_GetObjectItemCaseSensitive(root, "tool");
-    const cJSON *ver = cJSON_GetObjectItemCaseSensitive(root, "version");
-    const cJSON *hash = cJSON_GetObjectItemCaseSensitive(root, "input_hash");
-    const cJSON *params = cJSON_GetObjectItemCaseSensitive(root, "params");
-    if (!cJSON_IsString(tool) || !cJSON_IsString(ver) || !cJSON_IsObject(params)) {
-        cJSON_Delete(root);
-        return dm_fail(err, DM_ERR_FORMAT, "%s: provenance needs string \"tool\", \"version\" and object \"params\"", what);
-    }
-    copy_str(p->tool, sizeof p->tool, tool->valuestring);
-    copy_str(p->version, sizeof p->version, ver->valuestring);
-    if (cJSON_IsString(hash)) copy_str(p->input_hash, sizeof p->input_hash, hash->valuestring);
-    const cJSON *it;
-    cJSON_ArrayForEach(it, params) {
-        if (p->param_count >= DM_PROV_PARAM_MAX) break;
-        /* names are [a-z0-9_], shorter than DM_PROV_NAME_SIZE (what the writers make, and
-         * what prints back as JSON without escaping) */
-        size_t len = it->string ? strlen(it->string) : 0;
-        bool ok = len > 0 && len < DM_PROV_NAME_SIZE;
-        for (size_t i = 0; ok && i < len; ++i) {
-            char c = it->string[i];
-            ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
-        }
-        if (!ok) {
-            dm_result r = dm_fail(err, DM_ERR_FORMAT, "%s: provenance parameter name \"%.64s\": expected [a-z0-9_], 1..%d characters",
-                                  what, it->string ? it->string : "", DM_PROV_NAME_SIZE - 1);
-            cJSON_Delete(root);
-            memset(p, 0, sizeof *p);
-            return r;
-        }
-        if (cJSON_IsString(it)) {
-            dm_prov_add_string(p, it->string, it->valuestring);
-        } else if (cJSON_IsNumber(it)) {
-            double d = it->valuedouble;
-            /* JSON does not keep int from double: integral values read back as ints,
-             * with .d set as well, so compare parameters through .d. */
-            if (d == floor(d) && fabs(d) < 9007199254740992.0)
-                dm_prov_add_int(p, it->string, (int64_t)d);
-            else
-                dm_prov_add_double(p, it->string, d);
-        } else if (cJSON_IsNull(it)) {
-            dm_prov_add_double(p, it->string, NAN);
-        }
-    }
+    for (const cJSON *it = ok ? params->child : NULL; it && ok; it = it->next) ok = read_param(&c, it, p);
     cJSON_Delete(root);
+    if (!ok) {
+        memset(p, 0, sizeof *p);
+        return c.r;
+    }
     return DM_OK;
 }

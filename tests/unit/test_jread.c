@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/dm_jread.h"
+#include "core/dm_prov.h"
 
 static cJSON *doc(const char *text)
 {
@@ -75,4 +76,28 @@ Test(jread, vec3_and_objects)
     cr_expect_not(ok);
     EXPECT_DETAIL(err, "$.none: missing, expected an object");
     cJSON_Delete(j);
+}
+
+/* Provenance JSON (core/dm_prov.h) is read by the same reader: a known parameter round-trips,
+ * a stray key, a bad name or an array value is refused with its JSON path. */
+Test(jread, provenance_is_read_strictly)
+{
+    dm_provenance p;
+    dm_error err = {0};
+    cr_expect_eq(dm_prov_from_json(&p, "{\"tool\":\"t\",\"version\":\"1\",\"input_hash\":\"h\",\"params\":{\"n\":3,\"x\":0.5,"
+                                       "\"s\":\"v\",\"z\":null}}", "a.png", &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(p.param_count, 4);
+    cr_expect_str_eq(p.tool, "t");
+    cr_expect_eq(dm_prov_from_json(&p, "{\"tool\":\"t\",\"version\":\"1\",\"params\":{},\"extra\":1}", "b.png", &err),
+                 DM_ERR_FORMAT);
+    EXPECT_DETAIL(err, "b.png: provenance: $.extra: unknown key");
+    cr_expect_eq(dm_prov_from_json(&p, "{\"tool\":\"t\",\"version\":\"1\",\"params\":{\"Bad Name\":1}}", "c.png", &err),
+                 DM_ERR_FORMAT);
+    EXPECT_DETAIL(err, "$.params.Bad Name");
+    cr_expect_eq(dm_prov_from_json(&p, "{\"tool\":\"t\",\"version\":\"1\",\"params\":{\"a\":[1]}}", "d.png", &err),
+                 DM_ERR_FORMAT);
+    EXPECT_DETAIL(err, "$.params.a: [1] is not a string, a number or null");
+    cr_expect_eq(dm_prov_from_json(&p, "{\"version\":\"1\",\"params\":{}}", "e.png", &err), DM_ERR_FORMAT);
+    EXPECT_DETAIL(err, "$.tool: missing, expected a string");
+    cr_expect_eq(p.param_count, 0, "a refused provenance is left empty");
 }
