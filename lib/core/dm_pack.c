@@ -72,6 +72,8 @@ void dm_pack_close(dm_pack *pack)
     for (int k = 0; k < pack->entry_count; ++k) free(pack->entries[k].provenance_json);
     free(pack->entries);
     free(pack->manifest);
+    free(pack->scene);
+    pack->scene = NULL;
     free(pack->provenance_json);
     if (pack->mapped) munmap((void *)(uintptr_t)pack->base, pack->size);
     pack->entries = NULL;
@@ -119,18 +121,13 @@ dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float
     return DM_OK;
 }
 
+/* The scene entry was parsed while the pack was verified (dm_pack_verify.c keeps it): a copy,
+ * not a second parse. */
 dm_result dm_pack_scene(const dm_pack *pack, dm_scene *scene, dm_error *err)
 {
     const dm_pack_entry *e = dm_pack_find(pack, "scene");
-    if (!e || e->kind != DM_PACK_SCENE || !e->data)
+    if (!e || e->kind != DM_PACK_SCENE || !e->data || !pack->scene)
         return dm_fail(err, DM_ERR_FORMAT, "%s: no scene entry, expected one", pack->what);
-    char *text = malloc(e->size + 1);
-    if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", pack->what);
-    memcpy(text, e->data, e->size);
-    text[e->size] = '\0';
-    char what[1200];
-    snprintf(what, sizeof what, "%s#scene", pack->what);
-    dm_result r = dm_scene_parse(text, what, scene, err);
-    free(text);
-    return r;
+    *scene = *pack->scene;
+    return DM_OK;
 }

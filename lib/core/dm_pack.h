@@ -190,6 +190,7 @@ typedef struct dm_pack {
     char *provenance_json; /* the packer's provenance, NUL-terminated */
     int entry_count;
     dm_pack_entry *entries; /* in manifest order */
+    struct dm_scene *scene; /* the scene entry, parsed once while verifying (dm_pack_scene) */
 } dm_pack;
 
 /* Maps the file read-only and verifies all of it (see VERIFIED ON OPEN). On success the

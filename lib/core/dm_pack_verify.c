@@ -81,7 +81,7 @@ static dm_result check_texture_values(const dm_pack *pack, const dm_pack_entry *
     return DM_OK;
 }
 
-static dm_result check_contents(const dm_pack *pack, const dm_pack_entry *e, dm_error *err)
+static dm_result check_contents(dm_pack *pack, const dm_pack_entry *e, dm_error *err)
 {
     uint64_t bad = 0;
     switch (e->kind) {
@@ -132,9 +132,10 @@ static dm_result check_contents(const dm_pack *pack, const dm_pack_entry *e, dm_
         if (e->kind == DM_PACK_PROFILE) {
             dm_profile prof;
             r = dm_profile_from_json(text, what, &prof, err);
-        } else {
+        } else { /* the scene is parsed here once and kept: dm_pack_scene hands out copies */
             dm_scene *sc = malloc(sizeof *sc);
             r = sc ? dm_scene_parse(text, what, sc, err) : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", what);
+            if (r == DM_OK && !pack->scene && strcmp(e->name, "scene") == 0) pack->scene = sc, sc = NULL;
             free(sc);
         }
         free(text);
