@@ -214,6 +214,12 @@ build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $< $(CORE_SRC) $(CORE_LIBS) -o $@
+# fuzz_script: the viewer's script reader (C, no window) beside the core library.
+FUZZ_SCRIPT_SRC := tools/view/dm_viewer_script.c
+build/fuzz/fuzz_script: fuzz/fuzz_script.c $(CORE_SRC) $(FUZZ_SCRIPT_SRC) tools/view/dm_viewer_script.h $(wildcard lib/core/*.h)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -Itools/view -D_POSIX_C_SOURCE=200809L \
+	  $(CORE_CFLAGS) $< $(FUZZ_SCRIPT_SRC) $(CORE_SRC) $(CORE_LIBS) -o $@
 # Targets that read meshes (fuzz_gltf): also the bake library's mesh loaders (C and C++,
 # compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
 FUZZ_CXX       ?= clang++

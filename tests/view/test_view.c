@@ -346,6 +346,22 @@ Test(view, bad_script_line_is_a_usage_error_with_file_and_line)
     free(out);
 }
 
+/* Numbers in a script are finite: "nan" and "inf" (which strtod reads) are refused. */
+Test(view, script_numbers_are_finite)
+{
+    char dir[64], path[128], line[512], log[128];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(path, sizeof path, "%s/nan.txt", dir);
+    write_text(path, "0 set exposure nan\n");
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    snprintf(line, sizeof line, VIEW " --synthetic sphere --script %s", path);
+    int rc = test_run(line, log);
+    char *out = test_slurp(log);
+    cr_expect_eq(rc, 1, "exit %d:\n%s", rc, out);
+    cr_expect(strstr(out, "set: 'nan' is not a number") != NULL, "%s", out);
+    free(out);
+}
+
 /* A view the pass list cannot show fails the script (exit 3) with a message; no crash. */
 Test(view, unavailable_view_fails_the_script_clearly)
 {

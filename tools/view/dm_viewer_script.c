@@ -1,5 +1,6 @@
 #include "dm_viewer_script.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,21 +19,32 @@ static const command_spec specs[] = {
     {"quit", 0, 0, -1},       {"env", 1, 1, 0},        {"compare", 1, 1, -1},   {"technique", 1, 1, -1},
 };
 
+/* A finite number (strtod alone also takes "nan" and "inf"). */
 static bool number(const char *t)
 {
     char *end;
-    strtod(t, &end);
-    return end != t && *end == 0;
+    double d = strtod(t, &end);
+    return end != t && *end == 0 && isfinite(d);
 }
 
 dm_result dm_script_read(const char *path, dm_script *s, dm_error *err)
 {
     memset(s, 0, sizeof *s);
-    s->path = path;
     char *text = NULL;
     size_t size = 0;
     dm_result rc = dm_read_file(path, &text, &size, err);
     if (rc != DM_OK) return rc;
+    if (memchr(text, 0, size)) rc = dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected text", path);
+    if (rc == DM_OK) rc = dm_script_parse(text, path, s, err);
+    free(text);
+    return rc;
+}
+
+dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *err)
+{
+    memset(s, 0, sizeof *s);
+    s->path = path;
+    dm_result rc = DM_OK;
     int cap = 0, line = 0;
     double last = 0;
     for (char *p = text; p && *p;) {
@@ -104,7 +116,6 @@ dm_result dm_script_read(const char *path, dm_script *s, dm_error *err)
         }
         s->events[s->count++] = e;
     }
-    free(text);
     if (rc != DM_OK) dm_script_free(s);
     return rc;
 }

@@ -56,6 +56,9 @@ typedef struct dm_script {
 /* Reads and checks every line (command names, argument counts, numbers, times), so a
  * script fails before the window opens: "FILE:LINE: error: what, expected what". */
 dm_result dm_script_read(const char *path, dm_script *s, dm_error *err);
+/* The same over NUL-terminated text (modified in place: lines and words are cut); path names
+ * it in messages. */
+dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *err);
 void dm_script_free(dm_script *s);
 
 #ifdef __cplusplus
