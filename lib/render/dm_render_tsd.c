@@ -13,23 +13,21 @@
 #include "core/dm_half.h"
 #include "render/dm_render_internal.h"
 
-static double phi(double x) /* standard normal CDF */
-{
-    return 0.5 * erfc(-x / sqrt(2.0));
-}
-
+/* The tested tap weights of lib/core (dm_blur_taps: bin masses of the unit Gaussian, each
+ * end bin running to infinity), taps spread over ±3σ. */
 double dm_render_blur_kernel(int taps, float *offsets_sigma, float *weights)
 {
     assert(taps >= 3 && taps <= 63 && taps % 2 == 1);
     int h = (taps - 1) / 2;
-    double step = 3.0 / h, var = 0.0;
+    double step = 3.0 / h, var = 0.0, w[DM_BLUR_TAPS_MAX];
+    dm_result rc = dm_blur_taps(taps, step, 1, w, NULL, NULL);
+    assert(rc == DM_OK);
+    (void)rc;
     for (int i = 0; i < taps; ++i) {
         double x = (i - h) * step;
-        double lo = i == 0 ? -INFINITY : x - 0.5 * step, hi = i == taps - 1 ? INFINITY : x + 0.5 * step;
-        double w = (isinf(hi) ? 1.0 : phi(hi)) - (isinf(lo) ? 0.0 : phi(lo));
         offsets_sigma[i] = (float)x;
-        weights[i] = (float)w;
-        var += w * x * x;
+        weights[i] = (float)w[i];
+        var += w[i] * x * x;
     }
     return var;
 }
