@@ -118,6 +118,9 @@ void dm_viewer_free(dm_viewer *v);
 void dm_viewer_update(dm_viewer *v, double dt_s);
 
 /* actions (each marks the frame dirty and returns false, with v->status set, on failure) */
+/* dm_viewer_camera.c: the orbit from the loaded scene's camera; into the scene's camera. */
+void dm_viewer_camera_from_scene(dm_viewer *v);
+void dm_viewer_apply_camera(dm_viewer *v);
 void dm_viewer_orbit(dm_viewer *v, float dx_px, float dy_px);
 void dm_viewer_pan(dm_viewer *v, float dx_px, float dy_px);
 void dm_viewer_zoom(dm_viewer *v, float wheel_steps);
