@@ -12,7 +12,6 @@
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
-#include "render/dm_render_legend.h"
 #include "render/dm_render_compare.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_prov.h"
@@ -255,56 +254,9 @@ static void provenance(const options *o, const dm_scene *s, const char *input_ha
 {
     dm_render_provenance(p, "dermis-render", o->pack ? o->pack : o->synthetic, input_hash, s, r, o->view_text,
                          o->light_azimuth, o->frames);
-    /* every speed/accuracy setting of dm_render_desc, defaults resolved, so a picture says
-     * which path made it */
-    const dm_render_desc *d = &o->speed;
-    dm_prov_add_int(p, "shadow_pcf_taps", d->shadow_pcf_taps ? d->shadow_pcf_taps : 4);
-    dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
-    dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
-    dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
-    if (r && o->view == DM_VIEW_SPECULAR) dm_prov_add_double(p, "view_gain", dm_renderer_view_gain(r));
-    float lo, hi;
-    const char *quantity = NULL;
-    if (r) dm_renderer_view_scale(r, &lo, &hi, &quantity);
-    if (quantity) {
-        dm_prov_add_string(p, "colour_scale", quantity);
-        dm_prov_add_double(p, "colour_scale_lo", lo);
-        dm_prov_add_double(p, "colour_scale_hi", hi);
-    }
-    dm_prov_add_string(p, "blur_resolution",
-                       d->blur_auto_resolution ? "auto" : d->blur_reduce_from ? "reduce_from" : "full");
-    char sizes[96] = "", *end = sizes; /* each level's texels per side as rendered */
-    for (int i = 0; r && i < dm_renderer_target_count(r); ++i) {
-        dm_target_info ti;
-        dm_renderer_target_info(r, i, &ti);
-        bool level = !strcmp(ti.name, "irradiance") || (!strncmp(ti.name, "blur", 4) && ti.name[4] >= '1' &&
-                                                        ti.name[4] <= '9' && !ti.name[5]);
-        if (level && end < sizes + sizeof sizes - 8)
-            end += snprintf(end, (size_t)(sizes + sizeof sizes - end), "%s%d", end > sizes ? " " : "", ti.width);
-    }
-    if (*sizes) dm_prov_add_string(p, "blur_level_sizes", sizes);
-    dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
-    dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
+    dm_render_settings_provenance(p, &o->speed, r);
 }
 
-/* A stretch or curvature view's PNG: its colour scale's legend in a strip below the picture
- * (*px, RGBA8, grows by the strip; *h with it). Other views unchanged. */
-static dm_result with_legend(const dm_renderer *r, void **px, int w, int *h, dm_error *err)
-{
-    float lo, hi;
-    const char *quantity;
-    dm_renderer_view_scale(r, &lo, &hi, &quantity);
-    if (!quantity) return DM_OK;
-    int lh = dm_render_scalar_legend_height(w), nh = *h + lh;
-    uint8_t *out = malloc((size_t)w * nh * 4);
-    if (!out) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "cannot allocate the legend");
-    memset(out, 0, (size_t)w * lh * 4);
-    memcpy(out + (size_t)w * lh * 4, *px, (size_t)w * *h * 4); /* bottom-up: the strip is the first rows */
-    dm_render_scalar_legend(out, w, nh, lo, hi, quantity);
-    free(*px);
-    *px = out, *h = nh;
-    return DM_OK;
-}
 
 /* What is rendered: a verified pack (mapped, nothing copied) or a synthetic scene. */
 typedef struct source {
@@ -612,7 +564,7 @@ int main(int argc, char **argv)
         if (res != DM_OK) {
             rc = DM_EXIT_PROCESS;
         } else {
-            if (!exr) res = with_legend(r, &px, w, &h, &err);
+            if (!exr) res = dm_render_view_with_legend(r, &px, w, &h, &err);
             if (res == DM_OK)
                 res = exr ? dm_render_write_exr(o.out, w, h, px, &prov, &err)
                           : dm_render_write_png(o.out, w, h, px, &prov, &err);

@@ -249,6 +249,10 @@ void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const ch
 /* The gain the last frame's specular view applied to the head (its 99th percentile to near
  * display white; the background keeps the scene's exposure); 1 for other views. */
 float dm_renderer_view_gain(const dm_renderer *r);
+/* A stretch or curvature view's display picture (*px, w x *h RGBA8, bottom-up, malloc'd)
+ * with its colour scale's legend in a strip below (*px replaced, *h grown); other views
+ * unchanged. */
+dm_result dm_render_view_with_legend(const dm_renderer *r, void **px, int w, int *h, dm_error *err);
 dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err);
 
 /* Every intermediate render target, for inspection (tests scan them for NaN/Inf). */

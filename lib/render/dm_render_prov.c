@@ -42,3 +42,36 @@ void dm_render_provenance(dm_provenance *p, const char *tool, const char *source
     dm_prov_add_int(p, "frames", frames);
     dm_prov_add_string(p, "renderer", r ? dm_renderer_gl_name(r) : "");
 }
+
+void dm_render_settings_provenance(dm_provenance *p, const dm_render_desc *d, const dm_renderer *r)
+{
+    /* every speed/accuracy setting of dm_render_desc, defaults resolved, so a picture says
+     * which path made it */
+    dm_prov_add_int(p, "shadow_pcf_taps", d->shadow_pcf_taps ? d->shadow_pcf_taps : 4);
+    dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
+    dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
+    dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
+    if (r && dm_renderer_plan(r)->view == DM_VIEW_SPECULAR) dm_prov_add_double(p, "view_gain", dm_renderer_view_gain(r));
+    float lo, hi;
+    const char *quantity = NULL;
+    if (r) dm_renderer_view_scale(r, &lo, &hi, &quantity);
+    if (quantity) {
+        dm_prov_add_string(p, "colour_scale", quantity);
+        dm_prov_add_double(p, "colour_scale_lo", lo);
+        dm_prov_add_double(p, "colour_scale_hi", hi);
+    }
+    dm_prov_add_string(p, "blur_resolution",
+                       d->blur_auto_resolution ? "auto" : d->blur_reduce_from ? "reduce_from" : "full");
+    char sizes[96] = "", *end = sizes; /* each level's texels per side as rendered */
+    for (int i = 0; r && i < dm_renderer_target_count(r); ++i) {
+        dm_target_info ti;
+        dm_renderer_target_info(r, i, &ti);
+        bool level = !strcmp(ti.name, "irradiance") || (!strncmp(ti.name, "blur", 4) && ti.name[4] >= '1' &&
+                                                        ti.name[4] <= '9' && !ti.name[5]);
+        if (level && end < sizes + sizeof sizes - 8)
+            end += snprintf(end, (size_t)(sizes + sizeof sizes - end), "%s%d", end > sizes ? " " : "", ti.width);
+    }
+    if (*sizes) dm_prov_add_string(p, "blur_level_sizes", sizes);
+    dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
+    dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
+}

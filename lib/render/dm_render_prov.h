@@ -19,6 +19,11 @@ void dm_render_provenance(dm_provenance *p, const char *tool, const char *source
                           const dm_scene *s, const dm_renderer *r, const char *view, double light_azimuth_deg,
                           int frames);
 
+/* Adds every speed/accuracy setting of d (defaults resolved), the blur levels' sizes as
+ * rendered, and the view's colour scale or gain (r may be NULL): a picture says which path
+ * made it. */
+void dm_render_settings_provenance(dm_provenance *p, const dm_render_desc *d, const dm_renderer *r);
+
 #ifdef __cplusplus
 }
 #endif

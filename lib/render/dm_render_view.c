@@ -4,8 +4,10 @@
  * (dm_renderer_view_scale) a legend names. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "render/dm_render_internal.h"
+#include "render/dm_render_legend.h"
 
 /* The texture a texture view shows and its size in texels. */
 static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
@@ -82,6 +84,25 @@ void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const ch
 float dm_renderer_view_gain(const dm_renderer *r)
 {
     return r->plan.view == DM_VIEW_SPECULAR && r->view_gain > 0 ? r->view_gain : 1.0f;
+}
+
+/* A stretch or curvature view's PNG: its colour scale's legend in a strip below the picture
+ * (*px, RGBA8, grows by the strip; *h with it). Other views unchanged. */
+dm_result dm_render_view_with_legend(const dm_renderer *r, void **px, int w, int *h, dm_error *err)
+{
+    float lo, hi;
+    const char *quantity;
+    dm_renderer_view_scale(r, &lo, &hi, &quantity);
+    if (!quantity) return DM_OK;
+    int lh = dm_render_scalar_legend_height(w), nh = *h + lh;
+    uint8_t *out = malloc((size_t)w * nh * 4);
+    if (!out) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "cannot allocate the legend");
+    memset(out, 0, (size_t)w * lh * 4);
+    memcpy(out + (size_t)w * lh * 4, *px, (size_t)w * *h * 4); /* bottom-up: the strip is the first rows */
+    dm_render_scalar_legend(out, w, nh, lo, hi, quantity);
+    free(*px);
+    *px = out, *h = nh;
+    return DM_OK;
 }
 
 /* Texture views: the texels at their own size into "view" (RGBA32F, full precision, alpha =
