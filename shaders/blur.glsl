@@ -7,13 +7,7 @@ uniform sampler2D u_stretch;
 uniform vec2 u_dir; // (1, 0) for u, (0, 1) for v
 uniform float u_offset_mm[63];
 uniform float u_weight[63];
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 void main()

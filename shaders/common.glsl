@@ -13,6 +13,15 @@ vec4 dm_fullscreen(out vec2 uv)
     uv = p;
     return vec4(p * 2.0 - 1.0, 0.0, 1.0);
 }
+#ifdef DM_FULLSCREEN
+// The whole vertex stage of a pass file that has none (the loader defines DM_FULLSCREEN for
+// it): the full-screen triangle, uv to the fragment stage as v_uv.
+out vec2 v_uv;
+void main()
+{
+    gl_Position = dm_fullscreen(v_uv);
+}
+#endif
 #endif
 
 #ifdef DM_FRAGMENT

@@ -1,13 +1,7 @@
 // glow_add.glsl - adds intensity x the blurred bright pass to the screen (additive blending).
 uniform sampler2D u_src;
 uniform float u_intensity;
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 void main()

@@ -2,13 +2,7 @@
 // in 5 bilinear fetches.
 uniform sampler2D u_src;
 uniform vec2 u_step; // one texel along x or y, in UV
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 void main()

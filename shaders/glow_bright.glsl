@@ -1,13 +1,7 @@
 // glow_bright.glsl - bright pass into the half-resolution target: what exceeds the threshold.
 uniform sampler2D u_src;
 uniform float u_threshold;
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 void main()

@@ -1,13 +1,7 @@
 // tonemap.glsl - exposure (stops), Hable's filmic curve (white point 11.2), sRGB encoding.
 uniform sampler2D u_src;
 uniform float u_exposure_scale; // 2^exposure
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 vec3 hable(vec3 x)

@@ -30,13 +30,7 @@ vec3 turbo(float t)
                             t * (vec3(-152.94239396, 4.27729857, -89.90310912) + t * vec3(59.28637943, 2.82956604, 27.34824973)))));
     return clamp(c, 0.0, 1.0);
 }
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
 // Chart coverage at this texel: the irradiance alpha (0 or 1, rasterised) of the fine texel

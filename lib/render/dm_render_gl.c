@@ -192,6 +192,9 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_er
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);
     if (rc == DM_OK) rc = dm_render_shader_source(dir, file, &src, err);
+    /* a pass file without a vertex stage takes common.glsl's full-screen triangle */
+    if (rc == DM_OK && !strstr(src, "DM_VERTEX"))
+        snprintf(defines + strlen(defines), sizeof defines - strlen(defines), "#define DM_FULLSCREEN 1\n");
     GLuint vs = 0, fs = 0;
     if (rc == DM_OK) rc = compile_stage(GL_VERTEX_SHADER, defines, common, src, file, &vs, err);
     if (rc == DM_OK) rc = compile_stage(GL_FRAGMENT_SHADER, defines, common, src, file, &fs, err);
