@@ -73,15 +73,13 @@ static void *big_alloc(size_t size)
 
 void dm_stretch_blur_weights(double w[DM_STRETCH_TAPS])
 {
-    const int half = DM_STRETCH_TAPS / 2;
+    /* the bin masses of the unit Gaussian at 1σ spacing (dm_blur_taps, lib/core), the tails
+     * left out and the rest renormalised to sum to 1 */
+    dm_result rc = dm_blur_taps(DM_STRETCH_TAPS, 1.0, 0, w, NULL, NULL);
+    assert(rc == DM_OK);
+    (void)rc;
     double sum = 0.0;
-    for (int i = 0; i <= half; ++i) {
-        /* Mass of the unit Gaussian over [i − ½, i + ½]: Φ(i + ½) − Φ(i − ½); set on both
-         * sides from one value so the kernel is exactly symmetric. */
-        double m = 0.5 * (erfc((i - 0.5) / sqrt(2.0)) - erfc((i + 0.5) / sqrt(2.0)));
-        w[half + i] = w[half - i] = m;
-        sum += i == 0 ? m : 2.0 * m;
-    }
+    for (int k = 0; k < DM_STRETCH_TAPS; ++k) sum += w[k];
     for (int k = 0; k < DM_STRETCH_TAPS; ++k) w[k] /= sum;
 }
 
