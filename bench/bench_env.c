@@ -13,16 +13,11 @@
 #include "bake/dm_env_bake.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
+#include "core/dm_sort.h"
 
 static const char *MAPS[] = {"courtyard.exr", "night.exr", "royal_esplanade_1k.hdr", "studio.exr",
                              "venice_sunset_1k.hdr"};
 enum { MAP_COUNT = 5, REPEATS = 3, CHECK_TEXELS = 64 };
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static void cpu_model(char *out, size_t size)
 {
@@ -112,7 +107,7 @@ int main(int argc, char **argv)
             dm_envmap_free(&map);
         }
         remove(tmp_out);
-        qsort(total, REPEATS, sizeof total[0], cmp_double);
+        dm_sort_doubles(total, REPEATS);
         fprintf(md, "| %s | %dx%d | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | **%.0f** |\n", MAPS[mi], w, h, load, sh, bg,
                 pf, ck, wr, total[REPEATS / 2]);
         fprintf(stderr, "%s: full bake %.0f ms\n", MAPS[mi], total[REPEATS / 2]);

@@ -14,18 +14,13 @@
 #include "core/dm_file.h"
 #include "core/dm_pack.h"
 #include "core/dm_parallel.h"
+#include "core/dm_sort.h"
 
 enum { PACK_RUNS = 5, OPEN_RUNS = 21, MAX_SCENES = 16 };
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 static double median(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    dm_sort_doubles(v, (size_t)n);
     return v[n / 2];
 }
 

@@ -24,6 +24,7 @@
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
 #include "core/dm_prov.h"
+#include "core/dm_sort.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 
@@ -43,15 +44,9 @@ typedef struct result {
     int zero_uv, zero_area, mirrored;
 } result;
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 static double median(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    dm_sort_doubles(v, (size_t)n);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 

@@ -8,6 +8,7 @@
 #include "bake/dm_uv_raster.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
+#include "core/dm_sort.h"
 
 enum { BOUNDARY_PASSES = 8 };
 
@@ -427,12 +428,6 @@ static void texel_rows(void *vctx, size_t begin, size_t end)
         }
 }
 
-static int cmp_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
 void dm_curvature_map_free(dm_curvature_map *map)
 {
     free(map->curvature);
@@ -495,7 +490,7 @@ dm_result dm_curvature_bake(const dm_mesh *m, const dm_curvature_options *opt, d
     size_t n = 0;
     for (size_t i = 0; i < texels; ++i)
         if (covered[i]) vals[n++] = out->curvature[i];
-    qsort(vals, n, sizeof *vals, cmp_float);
+    dm_sort_floats(vals, n);
     static const double pct[5] = {0.01, 0.05, 0.5, 0.95, 0.99};
     for (int k = 0; k < 5; ++k) st->percentile[k] = vals[(size_t)(pct[k] * (double)(n - 1) + 0.5)];
     st->min = vals[0];

@@ -7,6 +7,7 @@
 #include "core/dm_cli.h"
 #include "core/dm_math.h"
 #include "core/dm_parallel.h"
+#include "core/dm_sort.h"
 
 enum { GL = DM_PREINT_NODES, CUTS_MAX = 32 };
 
@@ -30,12 +31,6 @@ static void gauss_legendre(double *x, double *w)
         x[i] = z;
         w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
     }
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 /* The angle x ∈ [0, π] at which the chord 2r sin(x/2) equals c. */
@@ -63,7 +58,7 @@ static void ring_gaussian(double v, double r, double theta, const double *gx, co
         double x = chord_angle(chords[i] * sigma, r);
         if (x < x_max) cut[n++] = x;
     }
-    qsort(cut, (size_t)n, sizeof cut[0], cmp_double);
+    dm_sort_doubles(cut, (size_t)n);
     double sn = 0.0, sd = 0.0;
     for (int p = 0; p + 1 < n; ++p) {
         double a = cut[p], b = cut[p + 1];

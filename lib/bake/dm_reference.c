@@ -12,6 +12,7 @@
 #include "bake/dm_profile_fit.h"
 #include "bake/dm_reference_impl.h"
 #include "core/dm_math.h"
+#include "core/dm_sort.h"
 
 dm_result dm_reference_kernel_from_profile(const dm_profile *p, dm_reference_kernel *k, dm_error *err)
 {
@@ -198,12 +199,6 @@ static double now_ms(void)
     return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The atlas texel's edge in mm, 95th percentile over triangles weighted by their UV area
  * (the coarsest texels the wide Gaussians' elements have to resolve). */
 static double texel_size_mm(const dm_reference *ref)
@@ -220,7 +215,7 @@ static double texel_size_mm(const dm_reference *ref)
     }
     double r = 0.0;
     if (n > 0) {
-        qsort(s, (size_t)n, sizeof *s, cmp_double);
+        dm_sort_doubles(s, (size_t)n);
         r = s[(int)floor(0.95 * (n - 1))];
     }
     free(s);

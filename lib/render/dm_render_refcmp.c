@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/dm_exr_read.h"
+#include "core/dm_sort.h"
 #include "render/dm_render_font.h"
 #include "render/dm_render_legend.h"
 
@@ -68,12 +69,6 @@ void dm_refcmp_ref_free(dm_refcmp_ref *ref)
 
 /* ---- statistics ------------------------------------------------------------------------ */
 
-static int cmp_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return x < y ? -1 : x > y;
-}
-
 dm_result dm_refcmp_stats_compute(const float *ref, const float *render, int width, int height, dm_refcmp_stats *st,
                                   float *rel, dm_error *err)
 {
@@ -115,7 +110,7 @@ dm_result dm_refcmp_stats_compute(const float *ref, const float *render, int wid
             if (rel && (float)v > rel[i]) rel[i] = (float)v;
         }
         st->mean[c] = sum / (double)k;
-        qsort(e, (size_t)k, sizeof *e, cmp_float);
+        dm_sort_floats(e, (size_t)k);
         long rank = (long)ceil(0.95 * (double)k); /* nearest rank, 1-based */
         st->p95[c] = e[(rank > 0 ? rank : 1) - 1];
     }
@@ -190,7 +185,7 @@ static double display_white(const float *ref, int width, int height)
     }
     double w = 1.0;
     if (k) {
-        qsort(v, k, sizeof *v, cmp_float);
+        dm_sort_floats(v, k);
         w = v[(size_t)(0.99 * (double)(k - 1))];
     }
     free(v);

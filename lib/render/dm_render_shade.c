@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "render/dm_render_internal.h"
+#include "core/dm_sort.h"
 
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
 {
@@ -41,12 +42,6 @@ void dmr_depth_prepass(dm_renderer *r)
     glDepthMask(GL_FALSE);
 }
 
-static int cmp_float(const void *x, const void *y)
-{
-    float a = *(const float *)x, b = *(const float *)y;
-    return (a > b) - (a < b);
-}
-
 /* The specular view exposed to be read: the head's specular is a few percent of its
  * radiance, dark at the scene's exposure. Its pixels (alpha 1) are scaled so their 99th
  * percentile (largest channel) lands near display white: tonemap input 4 (0.92 of white
@@ -62,7 +57,7 @@ static void expose_specular(dm_renderer *r)
         for (size_t i = 0; i < n; ++i)
             if (px[4 * i + 3] >= 0.5f) v[k++] = fmaxf(px[4 * i], fmaxf(px[4 * i + 1], px[4 * i + 2]));
         if (k) {
-            qsort(v, k, sizeof *v, cmp_float);
+            dm_sort_floats(v, k);
             float top = v[k - 1 - k / 100], white = r->plan.effects[DM_EFFECT_TONEMAP] ? 4.0f / exp2f(r->scene.exposure) : 0.9f;
             r->view_gain = top > 1e-12f && isfinite(top) ? fminf(white / top, 1e6f) : 1.0f;
             for (size_t i = 0; i < n; ++i)

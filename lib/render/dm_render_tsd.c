@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/dm_half.h"
+#include "core/dm_sort.h"
 #include "render/dm_render_internal.h"
 
 /* The tested tap weights of lib/core (dm_blur_taps: bin masses of the unit Gaussian, each
@@ -57,12 +58,6 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
     return rc;
 }
 
-static int cmp_float(const void *x, const void *y)
-{
-    float a = *(const float *)x, b = *(const float *)y;
-    return (a > b) - (a < b);
-}
-
 static float stretch_at(const dm_texture *t, size_t i)
 {
     return t->format == DM_TEX_RG32F ? ((const float *)t->texels)[i] : dm_half_to_float(((const uint16_t *)t->texels)[i]);
@@ -83,7 +78,7 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
         if ((mask ? mask[i] > 0 : su > 0) && isfinite(su) && isfinite(sv)) u[k] = su, v[k++] = sv;
     }
     if (k) {
-        qsort(u, k, sizeof *u, cmp_float), qsort(v, k, sizeof *v, cmp_float);
+        dm_sort_floats(u, k), dm_sort_floats(v, k);
         med[0] = u[k / 2], med[1] = v[k / 2];
     }
     free(u), free(v);

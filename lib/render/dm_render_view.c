@@ -8,6 +8,7 @@
 
 #include "render/dm_render_internal.h"
 #include "render/dm_render_legend.h"
+#include "core/dm_sort.h"
 
 /* The texture a texture view shows and its size in texels. */
 static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
@@ -31,12 +32,6 @@ static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
     *w = *h = r->level_size[level];
     while ((r->level_size[level] << *cov_shift) < r->irr_size) ++*cov_shift;
     return r->irr_tex[level];
-}
-
-static int cmp_float(const void *x, const void *y)
-{
-    float a = *(const float *)x, b = *(const float *)y;
-    return (a > b) - (a < b);
 }
 
 /* The colour scale of a stretch or curvature view: the 1st and 99th percentiles of its
@@ -63,7 +58,7 @@ static void scalar_range(dm_renderer *r, GLuint src, int w, int h, bool stretch)
             if (isfinite(s) && (!m || m[i] >= 0.5f)) v[k++] = (float)s;
         }
         if (k) {
-            qsort(v, k, sizeof *v, cmp_float);
+            dm_sort_floats(v, k);
             r->view_lo = v[k / 100], r->view_hi = v[k - 1 - k / 100];
             if (!(r->view_hi > r->view_lo)) r->view_hi = r->view_lo + 1e-6f;
         }
