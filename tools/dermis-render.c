@@ -68,7 +68,7 @@ static void usage(FILE *f)
             "  --blur-reduce-shift S  that resolution is irradiance >> S, default 1; 1..3\n"
             "  --blur-auto          each blur level at the lowest resolution (down to 1/8) where\n"
             "                       its Gaussian stays 1.2 texels wide at the median stretch (head\n"
-            "                       at 1024: levels 4, 5 at 1/2, 1/4: -26 %% frame time, +0.5 %% mean\n"
+            "                       at 1024: levels 4, 5 at 1/2, 1/4: -8 %% frame time, +0.5 %% mean\n"
             "                       red error against the ground truth)\n"
             "  --half-float         RGBA16F irradiance and blur targets (slower on llvmpipe)\n"
             "  --compare-exact      also render the exact path and print this setting's error\n"
