@@ -220,6 +220,12 @@ build/fuzz/fuzz_script: fuzz/fuzz_script.c $(CORE_SRC) $(FUZZ_SCRIPT_SRC) tools/
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -Itools/view -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $< $(FUZZ_SCRIPT_SRC) $(CORE_SRC) $(CORE_LIBS) -o $@
+# fuzz_bake_exr: the bake side's EXR reader (OpenEXR's C API) beside the core library.
+FUZZ_BAKE_EXR_SRC := lib/bake/dm_exr.c
+build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) lib/bake/dm_exr.h $(wildcard lib/core/*.h)
+	@mkdir -p $(@D)
+	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
+	  $(CORE_CFLAGS) $(shell $(PKG) --cflags OpenEXR 2>/dev/null) $< $(FUZZ_BAKE_EXR_SRC) $(CORE_SRC) -lOpenEXRCore-3_1 $(CORE_LIBS) -o $@
 # Targets that read meshes (fuzz_gltf): also the bake library's mesh loaders (C and C++,
 # compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
 FUZZ_CXX       ?= clang++
