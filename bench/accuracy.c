@@ -97,6 +97,9 @@ static void add_rows(bool quick, bool large, int B)
     }
     add(B, 0, 0, false, (dm_render_desc){0}, "pre-integrated", "pre-integrated (Penner): the table by N.L and curvature")
         ->technique = DM_SSS_PRE_INTEGRATED;
+    add(256, 0, BURLEY_G, false, (dm_render_desc){0}, "256 Burley G6",
+        "256, 6 Gaussians fitted to Burley (A 0.8/0.6/0.4, mfp 1/0.5/0.25 mm), vs Burley")
+        ->burley = true;
     int T = quick ? 256 : 1024;
     snprintf(n, sizeof n, "%d + transl.", T), snprintf(w, sizeof w, "irradiance %d + translucency", T);
     add(T, 0, 0, false, (dm_render_desc){0}, n, w)->translucency = true;
@@ -112,12 +115,21 @@ static int run(const char *cmd)
 
 /* The cached reference (texture space at N, or the frame when N = 0), computed by
  * dermis-reference when missing or stale. */
+static const char *truth_kind(const char *spec)
+{
+    return !spec ? NULL : spec == BURLEY ? "burley" : "dipole";
+}
+
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
                      dm_refcmp_ref *ref)
 {
-    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
     char path[2048], cmd[8192], truth[64] = "", opt[80] = "";
-    if (dip) snprintf(truth, sizeof truth, "dipole-%s-", dip), snprintf(opt, sizeof opt, " --dipole %s", dip);
+    if (dip) {
+        snprintf(truth, sizeof truth, "%s-%s-", kind, dip), snprintf(opt, sizeof opt, " --%s %s", kind, dip);
+        for (char *t = truth; *t; ++t) /* the spec's '/', ',' and '.' out of the file name */
+            if (!((*t >= 'a' && *t <= 'z') || (*t >= '0' && *t <= '9') || *t == '-')) *t = '_';
+    }
     if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
     else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d.exr", dir, hex, truth, FW, FH, FRAME_ATLAS);
     dm_error err = {0};
@@ -127,8 +139,10 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             ref->mode == (N ? DM_REFCMP_TEXTURE_SPACE : DM_REFCMP_FRAME) &&
             (N ? ref->width == N : ref->width == FW && ref->height == FH)) {
             const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
+            const dm_param *bp = dm_prov_find(&ref->prov, "burley"), *mine = dip == BURLEY ? bp : dp;
             const dm_param *ps = dm_prov_find(&ref->prov, "pixel_samples"); /* frames: anti-aliased */
-            if ((!tc || tc->i == 1) && (dip ? dp && !strcmp(dp->s, dip) : !dp) && (N || (ps && ps->i > 1))) {
+            bool truth_ok = dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) : !dp && !bp;
+            if ((!tc || tc->i == 1) && truth_ok && (N || (ps && ps->i > 1))) {
                 fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
                 return 1;
             }
@@ -211,6 +225,24 @@ static int pack_fit(const char *bin, const char *dir, const char *hash, int g, c
     snprintf(value, sizeof value, "\"profile\": \"%s\"", fit);
     snprintf(tag, sizeof tag, "g%d", g);
     return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, tag, pack_path);
+}
+
+/* The pack whose profile is BURLEY fitted by BURLEY_G Gaussians (cached like pack_fit). */
+static int pack_burley(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    char fit[4096], cmd[8192], absdir[3072], cwd[2048], value[4200];
+    if (dir[0] == '/') snprintf(absdir, sizeof absdir, "%s", dir);
+    else if (getcwd(cwd, sizeof cwd)) snprintf(absdir, sizeof absdir, "%s/%s", cwd, dir);
+    else return 0;
+    snprintf(fit, sizeof fit, "%s/fit-burley-%d.json", absdir, BURLEY_G);
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-burley-g%d.dpk", dir, hex, BURLEY_G);
+    if (!access(pack_path, R_OK) && !access(fit, R_OK)) return 1;
+    snprintf(cmd, sizeof cmd, "%s/bin/dermis-fit-profile --burley --albedo 0.8,0.6,0.4 --mfp 1,0.5,0.25 -n %d -o %s --quiet",
+             bin, BURLEY_G, fit);
+    if (run(cmd) != 0) return 0;
+    snprintf(value, sizeof value, "\"profile\": \"%s\"", fit);
+    return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, "burley", pack_path);
 }
 
 /* The scene as the pre-integrated technique packs it (its table and curvature map). */
@@ -313,7 +345,11 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         int g = rows_s[c].gaussians;
         char p[2048];
-        if (g && !packs[g].open && (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g]))) return 3;
+        if (g && !rows_s[c].burley && !packs[g].open && (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g])))
+            return 3;
+        if (rows_s[c].burley && !packs[PACK_BURLEY].open &&
+            (!pack_burley(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_BURLEY])))
+            return 3;
         if (rows_s[c].technique == DM_SSS_PRE_INTEGRATED && !packs[PACK_PREINT].open &&
             (!pack_preint(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_PREINT])))
             return 3;
@@ -333,10 +369,10 @@ int main(int argc, char **argv)
     }
     dm_ref_regions_info ri;
     dm_ref_regions_get_info(rg, &ri);
-    sized z[4] = {{0}};
+    sized z[6] = {{0}};
     int nz = 0;
     for (int c = 0; c < nrows; ++c) {
-        const char *truth = rows_s[c].gaussians ? dipole : NULL;
+        const char *truth = rows_s[c].burley ? BURLEY : rows_s[c].gaussians ? dipole : NULL;
         int i = 0;
         if (rows_s[c].technique != DM_SSS_TEXTURE_SPACE) continue;
         while (i < nz && !(z[i].N == rows_s[c].size && z[i].dipole == truth)) ++i;
@@ -366,14 +402,14 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         const setting *s = &rows_s[c];
         rows[c].s = *s;
-        int pk = s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->gaussians;
+        int pk = s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->gaussians;
         rows[c].scene = packs[pk].scene;
         if (s->taps) rows[c].scene.blur_taps = s->taps;
         rows[c].scene.effects[DM_EFFECT_GLOW] = false;
         rows[c].scene.effects[DM_EFFECT_TRANSLUCENCY] = s->translucency;
         rows[c].scene.sss_technique = s->technique;
         if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
-        rows[c].fref = &fref[s->gaussians && dipole];
+        rows[c].fref = s->burley ? NULL : &fref[s->gaussians && dipole]; /* Burley: texture space only */
         as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
         if (s->flat_stretch) {
@@ -401,7 +437,8 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         rows[c].frame_ms = bench_median(rows[c].ms, frames);
         const sized *zz = z;
-        while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == (rows[c].s.gaussians ? dipole : NULL))) ++zz;
+        const char *truth = rows[c].s.burley ? BURLEY : rows[c].s.gaussians ? dipole : NULL;
+        while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == truth)) ++zz;
         if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE) {
             int w = 0, h = 0;
             float *px = NULL;
@@ -423,7 +460,8 @@ int main(int argc, char **argv)
         bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
                           !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
                           rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
-        rows[c].fok = frame_error(&as[c], &rows[c].s, rows[c].fref, &rows[c].fst, is_default ? &default_px : NULL);
+        rows[c].fok = rows[c].fref &&
+                      frame_error(&as[c], &rows[c].s, rows[c].fref, &rows[c].fst, is_default ? &default_px : NULL);
         const dm_ref_error_stats *s = &rows[c].st[REG_ALL], *f = &rows[c].fst;
         printf("%-52s %7.1f ms", rows[c].s.what, rows[c].frame_ms);
         if (rows[c].ok[REG_ALL])

@@ -18,7 +18,7 @@
 #include "render/dm_render_refcmp.h"
 
 enum { W = 1280, H = 720, FW = 320, FH = 180, FRAME_ATLAS = 512, MAX_FRAMES = 64, MAX_ROWS = 40, MAX_G = 8 };
-enum { PACK_PREINT = MAX_G + 1, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
+enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
 
@@ -30,6 +30,7 @@ typedef struct setting {
                                  * the table and curvature map, PACK_PREINT) */
     int screen_taps;            /* screen-space kernel taps */
     bool translucency;
+    bool burley; /* its own truth and pack: a Gaussian fit of BURLEY against BURLEY itself */
     dm_render_desc knobs;
 } setting;
 
@@ -37,9 +38,15 @@ typedef struct setting {
  * dermis-reference can convolve it (--dipole), else gems3-skin itself. */
 static const char *dipole;
 
+/* The Burley profile of the Burley row (docs/pre-integrated.md's example): albedo / mean
+ * free path (mm) per channel, as dermis-reference --burley takes it; fitted by BURLEY_G
+ * Gaussians. */
+static const char *const BURLEY = "0.8,0.6,0.4/1,0.5,0.25";
+enum { BURLEY_G = 6 };
+
 typedef struct sized {
     int N;
-    const char *dipole; /* NULL: the pack's profile */
+    const char *dipole; /* the truth's spec: NULL the pack's profile, dipole, or BURLEY */
     dm_refcmp_ref ref;
     uint8_t *label;
     float *area;
@@ -81,7 +88,8 @@ static void plot(const char *outdir, const char *dir, const row *rows)
     int order[MAX_ROWS], n = 0;
     double fmax_ = 1;
     for (int c = 0; c < nrows; ++c) {
-        bool fit = rows[c].s.gaussians && dipole; /* another truth: its own series, not on the front */
+        /* another truth: its own series, not on the front (Burley: not plotted) */
+        int fit = rows[c].s.burley ? 2 : rows[c].s.gaussians && dipole;
         if (!rows[c].ok[REG_ALL] && !rows[c].fok) continue;
         char tsd[32] = "?", fr_[32] = "?";
         if (rows[c].ok[REG_ALL]) snprintf(tsd, sizeof tsd, "%.6f", 100 * mean3(rows[c].st[REG_ALL].mean));
@@ -197,7 +205,10 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "constant stretch texture, the chart median s_u = %.4f, s_v = %.4f UV/mm, for every blur (the "
                 "renderer unchanged). Gaussian rows at %d: `dermis-fit-profile %s -n N`, each packed with its own "
                 "stretch chain, all compared with one reference of the profile they fit (%s), texture space and "
-                "frame: they show each N's fitting cost on top of the diffusion's. Screen-space rows (Jimenez's "
+                "frame: they show each N's fitting cost on top of the diffusion's. The Burley row: the pack's profile "
+                "is `dermis-fit-profile --burley --albedo 0.8,0.6,0.4 --mfp 1,0.5,0.25 -n 6`, compared in texture "
+                "space with `dermis-reference --burley 0.8,0.6,0.4/1,0.5,0.25` (Burley represented by 12 Gaussians "
+                "from d/40): what the 6-Gaussian fit loses. Screen-space rows (Jimenez's "
                 "separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
                 "frame error only, against the same frame reference (it does not depend on the technique). "
                 "Translucency rows add light through thin parts (from the shadow map's thickness), which the reference "
