@@ -53,20 +53,6 @@ dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, s
     return DM_OK;
 }
 
-dm_pack_entry dmpb_texture_desc(const char *name, dm_tex_format f, int w, int h)
-{
-    dm_pack_entry d;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "%s", name);
-    d.kind = DM_PACK_TEXTURE;
-    d.format = f;
-    d.width = w;
-    d.height = h;
-    d.layers = 1;
-    d.levels = 1;
-    return d;
-}
-
 const char *dmpb_base_name(const char *path)
 {
     const char *s = strrchr(path, '/');

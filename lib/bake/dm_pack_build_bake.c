@@ -103,7 +103,7 @@ dm_result dmpb_step_stretch(dm_pack_build *j, dm_error *err)
     dm_prov_add_double(&p, "coverage", map.stats.coverage);
     if (j->opt->stretch_file) dm_prov_add_string(&p, "baked_file", j->opt->stretch_file);
     if (r == DM_OK) {
-        dm_pack_entry d = dmpb_texture_desc("stretch", DM_TEX_RG32F, n, n);
+        dm_pack_entry d = dm_pack_texture_entry("stretch", DM_TEX_RG32F, n, n);
         d.layers = map.level_count;
         d.channel_count = 2;
         snprintf(d.channels[0], sizeof d.channels[0], "u");
@@ -111,7 +111,7 @@ dm_result dmpb_step_stretch(dm_pack_build *j, dm_error *err)
         r = dmpb_add(j, &d, rg, texels * 2 * (size_t)map.level_count * sizeof *rg, &p, src, err);
     }
     if (r == DM_OK) {
-        dm_pack_entry d = dmpb_texture_desc("stretch.mask", DM_TEX_R8, n, n);
+        dm_pack_entry d = dm_pack_texture_entry("stretch.mask", DM_TEX_R8, n, n);
         dmpb_mesh_prov(j, &p, "chart coverage mask, 255 covered");
         dm_prov_add_int(&p, "size", n);
         r = dmpb_add(j, &d, mask, texels, &p, src, err);
@@ -151,7 +151,7 @@ dm_result dmpb_step_preintegrated(dm_pack_build *j, dm_error *err)
     char src[160];
     snprintf(src, sizeof src, "%dx%d, curvature 0..%g /mm, %.0f ms", lut.width, lut.height, lut.curvature_max_per_mm,
              lut.bake_ms);
-    dm_pack_entry d = dmpb_texture_desc("sss.preintegrated", DM_TEX_RGBA32F, lut.width, lut.height);
+    dm_pack_entry d = dm_pack_texture_entry("sss.preintegrated", DM_TEX_RGBA32F, lut.width, lut.height);
     r = dmpb_add(j, &d, rgba, texels * 4 * sizeof *rgba, &p, src, err);
     free(rgba);
     dm_preint_lut_free(&lut);
@@ -181,7 +181,7 @@ dm_result dmpb_step_curvature(dm_pack_build *j, dm_error *err)
     char src[200];
     snprintf(src, sizeof src, "baked from %.120s, median %.3g /mm, smoothing %.2f mm", dmpb_base_name(j->scene.mesh),
              map.stats.percentile[2], smooth_mm);
-    dm_pack_entry d = dmpb_texture_desc("sss.curvature", DM_TEX_R32F, n, n);
+    dm_pack_entry d = dm_pack_texture_entry("sss.curvature", DM_TEX_R32F, n, n);
     r = dmpb_add(j, &d, map.curvature, (size_t)n * n * sizeof(float), &p, src, err);
     dm_curvature_map_free(&map);
     return r;
@@ -233,14 +233,14 @@ static dm_result bake_environment(dm_pack_build *j, int k, dm_error *err)
         d.sh_order = 2;
         r = dmpb_add(j, &d, env.sh, sizeof env.sh, &env.sh_prov, src, err);
         if (r == DM_OK) {
-            d = dmpb_texture_desc(spec_name, DM_TEX_RGBA32F, env.spec_width, env.spec_height);
+            d = dm_pack_texture_entry(spec_name, DM_TEX_RGBA32F, env.spec_width, env.spec_height);
             d.layers = env.spec_layers;
             r = dmpb_add(j, &d, env.spec_rgba, (size_t)env.spec_width * env.spec_height * env.spec_layers * 4 * sizeof(float),
                     &env.spec_prov, src, err);
         }
     }
     if (r == DM_OK && background) {
-        dm_pack_entry d = dmpb_texture_desc(bg_name, DM_TEX_RGBA32F, env.background_width, env.background_height);
+        dm_pack_entry d = dm_pack_texture_entry(bg_name, DM_TEX_RGBA32F, env.background_width, env.background_height);
         r = dmpb_add(j, &d, env.background_rgba, (size_t)env.background_width * env.background_height * 4 * sizeof(float),
                 &env.background_prov, src, err);
     }

@@ -9,8 +9,6 @@
 /* The entry into the writer, with its report row. */
 dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
                    const char *source, dm_error *err);
-/* A single-level, single-layer texture entry's descriptor. */
-dm_pack_entry dmpb_texture_desc(const char *name, dm_tex_format f, int w, int h);
 const char *dmpb_base_name(const char *path);
 /* The scene's mesh, loaded once (the mesh and stretch steps share it). */
 dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err);

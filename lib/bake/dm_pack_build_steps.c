@@ -90,7 +90,7 @@ static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path,
     dm_prov_add_string(&p, "source", path);
     if (gltf) dm_prov_add_string(&p, "gltf_image", gltf_src);
     dm_prov_add_string(&p, "conversion", out_c == 1 ? "u8 mean of colour channels" : "u8 rgb + alpha (255 if none)");
-    dm_pack_entry d = dmpb_texture_desc(entry, f, img.width, img.height);
+    dm_pack_entry d = dm_pack_texture_entry(entry, f, img.width, img.height);
     if (f == DM_TEX_RGBA8) {
         d.channel_count = 4;
         snprintf(d.channels[0], sizeof d.channels[0], "x");
@@ -128,7 +128,7 @@ dm_result dmpb_step_beckmann(dm_pack_build *j, dm_error *err)
     const int n = j->opt->beckmann_size;
     dm_provenance want;
     dm_lut_prov_beckmann(&want, DM_PACK_BUILD_TOOL, n, n);
-    dm_pack_entry d = dmpb_texture_desc("lut.beckmann", DM_TEX_R8, n, n);
+    dm_pack_entry d = dm_pack_texture_entry("lut.beckmann", DM_TEX_R8, n, n);
     if (j->opt->beckmann) { /* already baked: provenance must match what we would bake */
         const char *f = j->opt->beckmann;
         dm_image img;
@@ -191,7 +191,7 @@ dm_result dmpb_step_directional(dm_pack_build *j, dm_error *err)
     dm_result r = rg && r1 ? DM_OK : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "directional LUT: out of memory");
     if (r == DM_OK && bake) r = dm_lut_bake_directional(n, n, DM_SKIN_F0, nodes, j->opt->threads, &lut, err);
     if (r == DM_OK && need_rho) {
-        dm_pack_entry d = dmpb_texture_desc("lut.rho_dt", DM_TEX_R32F, n, n);
+        dm_pack_entry d = dm_pack_texture_entry("lut.rho_dt", DM_TEX_R32F, n, n);
         d.channel_count = 1;
         snprintf(d.channels[0], sizeof d.channels[0], "rho_dt");
         dm_provenance p;
@@ -207,7 +207,7 @@ dm_result dmpb_step_directional(dm_pack_build *j, dm_error *err)
         if (r == DM_OK) r = dmpb_add(j, &d, r1, count * sizeof *r1, &p, src, err);
     }
     if (r == DM_OK && need_env) {
-        dm_pack_entry d = dmpb_texture_desc("lut.env_brdf", DM_TEX_RG32F, n, n);
+        dm_pack_entry d = dm_pack_texture_entry("lut.env_brdf", DM_TEX_RG32F, n, n);
         d.channel_count = 2;
         snprintf(d.channels[0], sizeof d.channels[0], "scale");
         snprintf(d.channels[1], sizeof d.channels[1], "bias");
@@ -293,7 +293,7 @@ dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
     char src[160];
     snprintf(src, sizeof src, "%d taps, +-%.2f mm, fit error %.2f/%.2f/%.2f %% (R/G/B)", k.taps, k.range_mm,
              100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
-    dm_pack_entry d = dmpb_texture_desc("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
+    dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
     return dmpb_add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);
 }
 

@@ -10,6 +10,20 @@
 #include "core/dm_file.h"
 #include "core/dm_hash.h"
 
+dm_pack_entry dm_pack_texture_entry(const char *name, dm_tex_format f, int w, int h)
+{
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "%s", name);
+    d.kind = DM_PACK_TEXTURE;
+    d.format = f;
+    d.width = w;
+    d.height = h;
+    d.layers = 1;
+    d.levels = 1;
+    return d;
+}
+
 void dm_pack_writer_init(dm_pack_writer *w)
 {
     memset(w, 0, sizeof *w);

@@ -36,6 +36,9 @@ typedef struct dm_pack_writer {
     dm_pack_blob *blobs;
 } dm_pack_writer;
 
+/* The descriptor of a single-level, single-layer texture entry. */
+dm_pack_entry dm_pack_texture_entry(const char *name, dm_tex_format f, int w, int h);
+
 void dm_pack_writer_init(dm_pack_writer *w);
 /* Adds an entry: desc gives name, kind and the kind's fields; data is copied. For the
  * JSON kinds (profile, scene) data is the text and size its strlen; for the others size

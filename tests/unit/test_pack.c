@@ -57,20 +57,6 @@ static void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool bad_index
     cr_assert_eq(dm_pack_writer_add(wp, &d, idx, sizeof idx, pp, &err), DM_OK, "%s", err.detail);
 }
 
-static dm_pack_entry tex(const char *name, dm_tex_format f, int w, int h)
-{
-    dm_pack_entry d;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "%s", name);
-    d.kind = DM_PACK_TEXTURE;
-    d.format = f;
-    d.width = w;
-    d.height = h;
-    d.layers = 1;
-    d.levels = 1;
-    return d;
-}
-
 /* Builds a small pack in memory (64-byte aligned, free with free()). */
 static uint8_t *build(const fixture *fx, size_t *size)
 {
@@ -91,10 +77,10 @@ static uint8_t *build(const fixture *fx, size_t *size)
         cr_assert_eq(dm_lut_bake_beckmann(16, 16, 0, 1, &lut, &err), DM_OK);
         if (fx->beckmann_as_float) {
             float f[256] = {0};
-            d = tex("lut.beckmann", DM_TEX_R32F, 16, 16);
+            d = dm_pack_texture_entry("lut.beckmann", DM_TEX_R32F, 16, 16);
             cr_assert_eq(dm_pack_writer_add(&w, &d, f, sizeof f, &p, &err), DM_OK, "%s", err.detail);
         } else {
-            d = tex("lut.beckmann", DM_TEX_R8, 16, 16);
+            d = dm_pack_texture_entry("lut.beckmann", DM_TEX_R8, 16, 16);
             cr_assert_eq(dm_pack_writer_add(&w, &d, lut.texels, 256, &p, &err), DM_OK, "%s", err.detail);
         }
         dm_beckmann_lut_free(&lut);
@@ -102,14 +88,14 @@ static uint8_t *build(const fixture *fx, size_t *size)
     dm_directional_lut dl;
     cr_assert_eq(dm_lut_bake_directional(8, 8, DM_SKIN_F0, 16, 1, &dl, &err), DM_OK);
     if (fx->nan_in_rho) dl.rho_dt[3 * 8 + 5] = NAN;
-    d = tex("lut.rho_dt", DM_TEX_R32F, 8, 8);
+    d = dm_pack_texture_entry("lut.rho_dt", DM_TEX_R32F, 8, 8);
     cr_assert_eq(dm_pack_writer_add(&w, &d, dl.rho_dt, 64 * sizeof(float), &p, &err), DM_OK, "%s", err.detail);
     dm_directional_lut_free(&dl);
 
     /* a mipmapped rgba16f texture with 2 layers: level sizes and layout */
     uint16_t half[(4 * 4 + 2 * 2 + 1) * 2 * 4];
     for (size_t k = 0; k < sizeof half / sizeof half[0]; ++k) half[k] = 0x3c00; /* 1.0 */
-    d = tex("test.mipmapped", DM_TEX_RGBA16F, 4, 4);
+    d = dm_pack_texture_entry("test.mipmapped", DM_TEX_RGBA16F, 4, 4);
     d.layers = 2;
     d.levels = 3;
     cr_assert_eq(dm_pack_writer_add(&w, &d, half, sizeof half, &p, &err), DM_OK, "%s", err.detail);
@@ -280,7 +266,7 @@ Test(pack, writer_refuses_size_not_matching_format)
     dm_provenance p;
     dm_prov_init(&p, "test_pack");
     dm_error err = {0};
-    dm_pack_entry d = tex("lut.beckmann", DM_TEX_R8, 16, 16);
+    dm_pack_entry d = dm_pack_texture_entry("lut.beckmann", DM_TEX_R8, 16, 16);
     uint8_t t[255] = {0};
     cr_assert_eq(dm_pack_writer_add(&w, &d, t, sizeof t, &p, &err), DM_ERR_INVALID_ARGUMENT);
     cr_assert(strstr(err.detail, "255 bytes given, expected 256"), "%s", err.detail);
@@ -647,7 +633,7 @@ static uint8_t *build_env(const char *skip, size_t *size)
     cr_assert_eq(dm_pack_writer_add(&w, &d, json, strlen(json), &p, &err), DM_OK, "%s", err.detail);
     add_mesh(&w, &p, false);
     float rg[4 * 4 * 2] = {0}, rgba[4 * 2 * 4] = {0}, sh[27] = {0};
-    d = tex("lut.env_brdf", DM_TEX_RG32F, 4, 4);
+    d = dm_pack_texture_entry("lut.env_brdf", DM_TEX_RG32F, 4, 4);
     cr_assert_eq(dm_pack_writer_add(&w, &d, rg, sizeof rg, &p, &err), DM_OK, "%s", err.detail);
     const char *names[] = {"env.sh", "env.specular", "env1.sh", "env1.specular"};
     for (int k = 0; k < 4; ++k) {
@@ -659,7 +645,7 @@ static uint8_t *build_env(const char *skip, size_t *size)
             d.sh_order = 2;
             cr_assert_eq(dm_pack_writer_add(&w, &d, sh, sizeof sh, &p, &err), DM_OK, "%s", err.detail);
         } else {
-            d = tex(names[k], DM_TEX_RGBA32F, 4, 2);
+            d = dm_pack_texture_entry(names[k], DM_TEX_RGBA32F, 4, 2);
             cr_assert_eq(dm_pack_writer_add(&w, &d, rgba, sizeof rgba, &p, &err), DM_OK, "%s", err.detail);
         }
     }
