@@ -1,6 +1,6 @@
 /* dermis-pack — scene + sources → one .dpk pack holding only what the scene's effects need.
- * parse → load the scene → run the bake steps that apply (bake/dm_pack_build.h) → write →
- * report. */
+ * parse → load the scene (once) → run the bake steps that apply (bake/dm_pack_build.h) →
+ * write → report. */
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,11 +8,8 @@
 
 #include "bake/dm_lut.h"
 #include "bake/dm_pack_build.h"
-#include "core/dm_brdf.h"
 #include "core/dm_cli.h"
 #include "core/dm_pack.h"
-#include "core/dm_prov.h"
-#include "core/dm_version.h"
 
 static void usage(FILE *f)
 {
@@ -202,20 +199,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "warning: --env %s: baked from none of the scene's environment maps (or none is "
                             "needed); ignored\n", bo->env_files[f]);
 
-    dm_provenance pp;
-    dm_prov_init(&pp, DM_PACK_BUILD_TOOL);
-    snprintf(pp.input_hash, sizeof pp.input_hash, "%s", j->scene_hash);
-    dm_prov_add_string(&pp, "scene", opt.scene);
-    dm_prov_add_int(&pp, "beckmann_size", bo->beckmann_size);
-    dm_prov_add_int(&pp, "lut_size", bo->lut_size);
-    dm_prov_add_int(&pp, "lut_nodes", bo->lut_nodes);
-    dm_prov_add_double(&pp, "f0", DM_SKIN_F0);
-    dm_prov_add_string(&pp, "beckmann_file", bo->beckmann ? bo->beckmann : "");
-    dm_prov_add_string(&pp, "rho_dt_file", bo->rho_dt ? bo->rho_dt : "");
-    dm_prov_add_string(&pp, "env_brdf_file", bo->env_brdf ? bo->env_brdf : "");
     size_t total = 0;
     double tw = dm_now_ms();
-    dm_result r = dm_pack_writer_write(&j->w, opt.output, &pp, &total, &err);
+    dm_result r = dm_pack_build_write(j, opt.output, &total, &err);
     tw = dm_now_ms() - tw;
     if (r != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);

@@ -4,29 +4,13 @@
  * (stretch, pre-integrated table, curvature, environments). */
 #include "bake/dm_pack_build.h"
 
-#include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_curvature.h"
-#include "bake/dm_exr.h"
 #include "bake/dm_gltf_map.h"
-#include "bake/dm_image.h"
-#include "bake/dm_lut.h"
-#include "bake/dm_lut_prov.h"
-#include "bake/dm_mesh.h"
-#include "bake/dm_mesh_plausible.h"
-#include "bake/dm_pack_env.h"
-#include "bake/dm_preintegrated.h"
-#include "bake/dm_stretch.h"
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
-#include "core/dm_file.h"
 #include "core/dm_pack_needs.h"
-#include "core/dm_ssss_kernel.h"
-#include "core/dm_version.h"
 
 #include "bake/dm_pack_build_impl.h"
 
@@ -147,6 +131,26 @@ dm_result dm_pack_build_run(dm_pack_build *b, const char **failed_step, dm_error
         if (r != DM_OK && failed_step) *failed_step = steps[s].name;
     }
     dm_progress_end(&bar);
+    return r;
+}
+
+dm_result dm_pack_build_write(const dm_pack_build *b, const char *path, size_t *written_size, dm_error *err)
+{
+    const dm_pack_build_options *o = b->opt;
+    dm_provenance p;
+    dm_prov_init(&p, DM_PACK_BUILD_TOOL);
+    snprintf(p.input_hash, sizeof p.input_hash, "%s", b->scene_hash);
+    dm_prov_add_string(&p, "scene", b->scene_path);
+    dm_prov_add_int(&p, "beckmann_size", o->beckmann_size);
+    dm_prov_add_int(&p, "lut_size", o->lut_size);
+    dm_prov_add_int(&p, "lut_nodes", o->lut_nodes);
+    dm_prov_add_double(&p, "f0", DM_SKIN_F0);
+    dm_prov_add_string(&p, "beckmann_file", o->beckmann ? o->beckmann : "");
+    dm_prov_add_string(&p, "rho_dt_file", o->rho_dt ? o->rho_dt : "");
+    dm_prov_add_string(&p, "env_brdf_file", o->env_brdf ? o->env_brdf : "");
+    size_t size = 0;
+    dm_result r = dm_pack_writer_write(&b->w, path, &p, &size, err);
+    if (written_size) *written_size = size;
     return r;
 }
 

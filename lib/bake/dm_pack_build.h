@@ -1,7 +1,7 @@
 /* dm_pack_build.h — a scene baked into a pack: the steps dermis-pack runs, each adding only
  * the entries the scene's effects need (core/dm_pack_needs.h), into a pack writer
- * (bake/dm_pack_write.h). The tool is the pipeline: parse options → dm_pack_build_begin →
- * dm_pack_build_run → dm_pack_writer_write → report. */
+ * (bake/dm_pack_write.h). The tool is the pipeline: parse options → dm_pack_build_begin (the
+ * scene, read once) → dm_pack_build_run → dm_pack_build_write → report. */
 #ifndef DM_PACK_BUILD_H
 #define DM_PACK_BUILD_H
 
@@ -64,6 +64,10 @@ bool dm_pack_build_wants(const dm_pack_build *b, const char *entry);
 /* Runs every step one of whose entries applies, in pack order, with a progress bar on a
  * terminal; on failure *failed_step (when not NULL) names the step. */
 dm_result dm_pack_build_run(dm_pack_build *b, const char **failed_step, dm_error *err);
+/* Writes the pack to `path` (temporary name, renamed; read back and verified,
+ * bake/dm_pack_write.h) with the pack's provenance: the scene, its hash and the options.
+ * *written_size (when not NULL) gets the file's size. */
+dm_result dm_pack_build_write(const dm_pack_build *b, const char *path, size_t *written_size, dm_error *err);
 /* Prints, per pack entry, whether the scene needs it and which effect asks for it. */
 void dm_pack_build_explain(const dm_scene *s);
 void dm_pack_build_free(dm_pack_build *b);

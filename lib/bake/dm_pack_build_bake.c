@@ -2,29 +2,16 @@
  * the curvature map and the environments (dm_pack_build.h). */
 #include "bake/dm_pack_build.h"
 
-#include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bake/dm_curvature.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_gltf_map.h"
-#include "bake/dm_image.h"
-#include "bake/dm_lut.h"
-#include "bake/dm_lut_prov.h"
-#include "bake/dm_mesh.h"
-#include "bake/dm_mesh_plausible.h"
 #include "bake/dm_pack_env.h"
 #include "bake/dm_preintegrated.h"
 #include "bake/dm_stretch.h"
-#include "core/dm_brdf.h"
-#include "core/dm_cli.h"
 #include "core/dm_file.h"
 #include "core/dm_pack_needs.h"
-#include "core/dm_ssss_kernel.h"
-#include "core/dm_version.h"
 
 #include "bake/dm_pack_build_impl.h"
 
