@@ -100,7 +100,7 @@ $(BUILD)/obj/lib/core/%.c.o: lib/core/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
 # Scenes look for assets missing beside them in --assets, DERMIS_ASSETS, then this default.
-$(BUILD)/obj/lib/core/dm_scene.c.o: CPPFLAGS += -DDM_ASSETS_DEFAULT='"$(abspath $(ASSETS))"'
+$(BUILD)/obj/lib/core/dm_scene_paths.c.o: CPPFLAGS += -DDM_ASSETS_DEFAULT='"$(abspath $(ASSETS))"'
 $(BUILD)/obj/lib/bake/%.c.o: lib/bake/%.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(BAKE_CFLAGS) -c $< -o $@

@@ -1,7 +1,8 @@
-#define _XOPEN_SOURCE 700 /* realpath */
+/* dm_scene.c — the scene reader (core/dm_scene.h): the strict JSON reader (core/dm_jread.h)
+ * over each section, its file paths resolved by dm_scene_paths.c. Defaults and names:
+ * dm_scene_defaults.c; the writer: dm_scene_write.c. */
 #include "core/dm_scene.h"
 
-#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,102 +13,14 @@
 
 #include "core/dm_file.h"
 #include "core/dm_jread.h"
+#include "core/dm_scene_paths.h"
 
-/* --- reading: core/dm_jread.h, plus the scene's own path resolution ------------------- */
+/* --- reading: core/dm_jread.h; paths resolved by dm_scene_paths.c ------------------- */
 
 typedef struct ctx {
     dm_jread j; /* where = the scene file */
-    char dir[DM_SCENE_PATH_SIZE];
-    bool search; /* dm_scene_read: relative paths must exist, searched in the asset path */
-    const char *const *asset_dirs;
-    int asset_dir_count;
+    dm_scene_paths paths;
 } ctx;
-
-/* Joins dir and value into out (dir "." or "" adds nothing); false when too long. */
-static bool join_path(char out[DM_SCENE_PATH_SIZE], const char *dir, const char *value)
-{
-    int n = !*dir || strcmp(dir, ".") == 0 ? snprintf(out, DM_SCENE_PATH_SIZE, "%s", value)
-                                           : snprintf(out, DM_SCENE_PATH_SIZE, "%s/%s", dir, value);
-    return n >= 0 && n < DM_SCENE_PATH_SIZE;
-}
-
-static bool is_file(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
-}
-
-/* The asset search path after the scene's folder, in order: the caller's folders, each
- * folder of $DERMIS_ASSETS (':'-separated), the build's default. Calls visit(dir, origin)
- * until it returns true. */
-static bool each_asset_dir(const ctx *c, bool (*visit)(void *, const char *, const char *), void *user)
-{
-    for (int k = 0; k < c->asset_dir_count; ++k)
-        if (c->asset_dirs[k] && *c->asset_dirs[k] && visit(user, c->asset_dirs[k], "--assets")) return true;
-    const char *env = getenv("DERMIS_ASSETS");
-    while (env && *env) {
-        const char *colon = strchr(env, ':');
-        size_t len = colon ? (size_t)(colon - env) : strlen(env);
-        char d[DM_SCENE_PATH_SIZE];
-        if (len > 0 && len < sizeof d) {
-            memcpy(d, env, len);
-            d[len] = '\0';
-            if (visit(user, d, "DERMIS_ASSETS")) return true;
-        }
-        env = colon ? colon + 1 : NULL;
-    }
-#ifdef DM_ASSETS_DEFAULT
-    if (visit(user, DM_ASSETS_DEFAULT, "the build's default, make ASSETS=")) return true;
-#endif
-    return false;
-}
-
-typedef struct search_state {
-    const char *value;
-    char *out;
-    char looked[700];
-} search_state;
-
-static bool try_dir(void *user, const char *dir, const char *origin)
-{
-    search_state *st = user;
-    char cand[DM_SCENE_PATH_SIZE];
-    if (!join_path(cand, dir, st->value)) return false;
-    if (is_file(cand)) {
-        /* absolute: an asset folder given relative to the working directory (DERMIS_ASSETS=
-         * ../shared/assets) must not make the path relative to it in a stored scene */
-        char abs[PATH_MAX];
-        const char *use = realpath(cand, abs) && strlen(abs) < DM_SCENE_PATH_SIZE ? abs : cand;
-        memcpy(st->out, use, strlen(use) + 1);
-        return true;
-    }
-    size_t n = strlen(st->looked);
-    snprintf(st->looked + n, sizeof st->looked - n, "%s%s (%s)", n ? ", " : "", cand, origin);
-    return false;
-}
-
-/* Resolves a path into out; "" stays "", an absolute path is kept. A relative path is
- * taken against the scene's folder; when reading a scene file (c->search), a relative
- * path missing there is looked up in the asset search path, and one found nowhere is an
- * error naming every place looked. */
-static bool resolve(ctx *c, const char *jpath, const char *value, char out[DM_SCENE_PATH_SIZE])
-{
-    bool fits = !*value || value[0] == '/' ? join_path(out, "", value) : join_path(out, c->dir, value);
-    if (!fits) {
-        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: %s: \"%.60s...\" is too long, expected a path under %d bytes",
-                       c->j.where, jpath, value, DM_SCENE_PATH_SIZE);
-        return false;
-    }
-    if (!c->search || !*value || value[0] == '/' || is_file(out)) return true;
-    search_state st = {.value = value, .out = out};
-    snprintf(st.looked, sizeof st.looked, "%s (the scene's folder)", out);
-    if (each_asset_dir(c, try_dir, &st)) return true;
-    c->j.r = dm_fail(c->j.err, DM_ERR_FILE_OPEN,
-                   "%s: %s: \"%s\" not found; looked in %s; expected the asset folder in --assets DIR or "
-                   "DERMIS_ASSETS",
-                   c->j.where, jpath, value, st.looked);
-    return false;
-}
 
 static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *key, bool allow_empty,
                      char out[DM_SCENE_PATH_SIZE])
@@ -118,7 +31,7 @@ static bool get_path(ctx *c, const cJSON *obj, const char *jpath, const char *ke
     dm_jread_path(p, jpath, key);
     if (!cJSON_IsString(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, v, "a file path string");
     if (!allow_empty && !*v->valuestring) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, v, "a non-empty file path");
-    return resolve(c, p, v->valuestring, out);
+    return dm_scene_resolve_path(&c->paths, &c->j, p, v->valuestring, out);
 }
 
 /* --- sections ---------------------------------------------------------------------- */
@@ -251,7 +164,7 @@ static bool parse_env_alternatives(ctx *c, const cJSON *e, dm_scene *s)
         snprintf(p, sizeof p, "$.environment.alternatives[%d]", k);
         if (!cJSON_IsString(a)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, a, "a file path string");
         if (!*a->valuestring) return dm_jread_fail(&c->j, DM_ERR_RANGE, p, a, "a non-empty file path");
-        if (!resolve(c, p, a->valuestring, s->env_alternatives[k])) return false;
+        if (!dm_scene_resolve_path(&c->paths, &c->j, p, a->valuestring, s->env_alternatives[k])) return false;
         s->env_alternative_count = k + 1;
     }
     return true;
@@ -296,7 +209,7 @@ static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s
         snprintf(s->profile_source, sizeof s->profile_source, "gems3-skin");
         return true;
     }
-    if (!resolve(c, jpath, v->valuestring, s->profile_source)) return false;
+    if (!dm_scene_resolve_path(&c->paths, &c->j, jpath, v->valuestring, s->profile_source)) return false;
     struct stat st;
     if (stat(s->profile_source, &st) != 0 || !S_ISREG(st.st_mode)) {
         char want[DM_SCENE_PATH_SIZE + 64];
@@ -498,10 +411,10 @@ static dm_result parse_scene(const char *json, const char *path, bool search, co
     static const char *const keys[] = {"format", "version", "mesh",    "material", "lights",
                                        "environment", "effects", "camera", "output", NULL};
     dm_scene_defaults(s);
-    ctx c = {.j = {.where = path ? path : "(scene)", .err = err, .r = DM_OK}, .search = search, .asset_dirs = asset_dirs,
-             .asset_dir_count = asset_dir_count};
+    ctx c = {.j = {.where = path ? path : "(scene)", .err = err, .r = DM_OK},
+             .paths = {.search = search, .asset_dirs = asset_dirs, .asset_dir_count = asset_dir_count}};
     snprintf(s->path, sizeof s->path, "%s", c.j.where);
-    dm_dirname(c.j.where, c.dir, sizeof c.dir);
+    dm_dirname(c.j.where, c.paths.dir, sizeof c.paths.dir);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(json, &end, 1);
     if (!root) {
@@ -554,6 +467,3 @@ dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, 
     free(text);
     return r;
 }
-
-/* --- writing ----------------------------------------------------------------------- */
-
