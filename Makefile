@@ -226,10 +226,10 @@ build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) 
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $(shell $(PKG) --cflags OpenEXR 2>/dev/null) $< $(FUZZ_BAKE_EXR_SRC) $(CORE_SRC) -lOpenEXRCore-3_1 $(CORE_LIBS) -o $@
-# Targets that read meshes (fuzz_gltf): also the bake library's mesh loaders (C and C++,
+# Targets that read meshes (fuzz_gltf, fuzz_obj): also the bake library's mesh loaders (C and C++,
 # compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
 FUZZ_CXX       ?= clang++
-FUZZ_MESH      := build/fuzz/fuzz_gltf
+FUZZ_MESH      := build/fuzz/fuzz_gltf build/fuzz/fuzz_obj
 FUZZ_MESH_SRC  := $(addprefix lib/bake/,dm_isolate.c dm_mesh.c dm_mesh_check.c dm_mesh_gpu.c dm_mesh_gltf.cpp dm_mesh_openmesh.cpp)
 FUZZ_SAN       := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -pthread -D_POSIX_C_SOURCE=200809L
 $(FUZZ_MESH): build/fuzz/%: fuzz/%.c $(CORE_SRC) $(FUZZ_MESH_SRC) $(wildcard lib/core/*.h lib/bake/dm_mesh*.h lib/bake/dm_isolate.h)

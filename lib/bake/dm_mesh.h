@@ -88,7 +88,8 @@ typedef struct dm_mesh_load_options {
 dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mesh *out, dm_error *err);
 
 /* Checks what OpenMesh's readers trust, before they read (dm_mesh_load calls it):
- *  .obj: every v/vt/vn line has its numbers, all finite (else DM_ERR_NON_FINITE or
+ *  .obj: text only (a NUL or other control character but tab and CR is DM_ERR_FORMAT:
+ *        OpenMesh would read what this check did not), every v/vt/vn line has its numbers, all finite (else DM_ERR_NON_FINITE or
  *        DM_ERR_FORMAT), every face corner's v/vt/vn index is non-zero and refers to an
  *        element already defined (DM_ERR_RANGE; negative indices count back), every
  *        face has 3 or more corners (DM_ERR_FORMAT): an index out of range is an

@@ -8,17 +8,23 @@
 
 #include "bake/dm_mesh.h"
 
-/* Parses up to `max` numbers from s; returns how many parsed, -1 if one is not finite. */
+/* Parses up to `max` numbers from s; returns how many parsed, -1 if one is not finite
+ * as a float (OpenMesh reads floats: a value beyond FLT_MAX makes its stream fail and
+ * drops the element). A number is a whole token of decimal digits, sign, point and
+ * exponent that strtof consumes entirely ("inf" and "nan" are not finite; hex floats
+ * and "1e" are not numbers to OpenMesh's reader either). */
 static int numbers(const char *s, double *out, int max)
 {
     int n = 0;
     while (n < max) {
         while (*s && isspace((unsigned char)*s)) ++s;
         if (!*s) break;
+        size_t len = strcspn(s, " \t\r\n\v\f");
         char *end;
-        double v = strtod(s, &end);
-        if (end == s) break;
+        float v = strtof(s, &end);
+        if (end != s + len) break;
         if (!isfinite(v)) return -1;
+        if (strspn(s, "0123456789+-.eE") < len) break;
         out[n++] = v;
         s = end;
     }
@@ -54,8 +60,18 @@ static dm_result check_obj(const char *path, FILE *fp, dm_error *err)
     size_t cap = 0;
     long long lineno = 0;
     dm_result r = DM_OK;
-    while (r == DM_OK && getline(&line, &cap, fp) >= 0) {
+    ssize_t len;
+    while (r == DM_OK && (len = getline(&line, &cap, fp)) >= 0) {
         ++lineno;
+        /* Text only: a NUL ends the line for this check but not for OpenMesh's reader,
+         * and the two disagree on which other control characters are white space. */
+        for (ssize_t i = 0; i < len && r == DM_OK; ++i) {
+            unsigned char c = (unsigned char)line[i];
+            if ((c < 0x20 && c != '\t' && c != '\r' && c != '\n') || c == 0x7f)
+                r = dm_fail(err, DM_ERR_FORMAT, "%s:%lld: control character 0x%02X, expected a text line", path,
+                            lineno, c);
+        }
+        if (r != DM_OK) break;
         const char *s = line;
         while (*s && isspace((unsigned char)*s)) ++s;
         const char *kw = s;

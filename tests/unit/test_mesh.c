@@ -358,6 +358,30 @@ Test(mesh, bad_inf_uv)
                    DM_ERR_NON_FINITE, "texture coordinate 2");
 }
 
+Test(mesh, bad_float_overflow)
+{
+    /* Finite as a double, infinite as the float OpenMesh reads: its stream fails, the
+     * vertex is dropped and the face's indices point past the end (found by fuzz_obj). */
+    expect_failure(fixture("big.obj", "v 1e40 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n", -1),
+                   DM_ERR_NON_FINITE, "big.obj:1: vertex 1");
+}
+
+Test(mesh, bad_control_characters)
+{
+    /* OpenMesh reads past a NUL and takes a vertical tab for text (found by fuzz_obj). */
+    static const char nul[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/\0\0 4//2\n";
+    expect_failure(fixture("nul.obj", nul, (long)sizeof nul - 1), DM_ERR_FORMAT, "nul.obj:7: control character 0x00");
+    expect_failure(fixture("vt.obj", "\vv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n", -1), DM_ERR_FORMAT,
+                   "vt.obj:1: control character 0x0B");
+}
+
+Test(mesh, bad_hex_float)
+{
+    /* strtod reads 0x1p0, OpenMesh's stream reads 0 and stops: not a number here either. */
+    expect_failure(fixture("hex.obj", "v 0x1p0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n", -1),
+                   DM_ERR_FORMAT, "hex.obj:1: vertex 1 has 0 numbers");
+}
+
 Test(mesh, bad_nan_in_binary_ply)
 {
     /* Binary PLY: no text parser in the way, the NaN reaches our check as a float. */
