@@ -237,17 +237,8 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
         r = dm_read_file(j->scene.profile_source, &text, &size, err);
         if (r == DM_OK) r = dm_hash_file_hex(j->scene.profile_source, p.input_hash, err);
     } else {
-        size_t cap = 4096;
-        text = malloc(cap);
-        if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile: out of memory");
-        size_t n = (size_t)snprintf(text, cap,
-                                    "{\"format\": \"dermis-profile\", \"version\": 1, \"name\": \"%s\", \"gaussians\": [",
-                                    pr->name);
-        for (int k = 0; k < pr->count; ++k)
-            n += (size_t)snprintf(text + n, cap - n, "%s\n  {\"variance_mm2\": %.17g, \"weights\": [%.17g, %.17g, %.17g]}",
-                                  k ? "," : "", pr->variance_mm2[k], pr->weight[k][0], pr->weight[k][1], pr->weight[k][2]);
-        n += (size_t)snprintf(text + n, cap - n, "\n]}\n");
-        size = n;
+        r = dm_profile_to_json(pr, &text, err);
+        if (r == DM_OK) size = strlen(text);
     }
     dm_pack_entry d;
     memset(&d, 0, sizeof d);

@@ -1,4 +1,5 @@
-/* dm_profile_json.h — writing a fitted profile as the JSON that dm_profile_read loads.
+/* dm_profile_json.h — writing a fitted profile as the JSON that dm_profile_read loads:
+ * the full document around core's gaussians writer (dm_profile_put_gaussians).
  *
  * The document (keys in this order, doubles with 17 significant digits so they read back
  * exactly, no time stamps: the same inputs give byte-identical files):
@@ -40,7 +41,7 @@ typedef struct dm_profile_doc {
 } dm_profile_doc;
 
 /* Serialises doc into a malloc'd NUL-terminated string (*json; free with free()). */
-dm_result dm_profile_to_json(const dm_profile_doc *doc, char **json, dm_error *err);
+dm_result dm_profile_doc_to_json(const dm_profile_doc *doc, char **json, dm_error *err);
 /* The same, written to path through a temporary file and rename (core/dm_file.h). */
 dm_result dm_profile_write(const char *path, const dm_profile_doc *doc, dm_error *err);
 

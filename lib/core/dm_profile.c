@@ -10,6 +10,7 @@
 #include "core/dm_file.h"
 #include "core/dm_jread.h"
 #include "core/dm_math.h"
+#include "core/dm_sbuf.h"
 
 const double DM_BLUR_TAPS_GEMS3[DM_BLUR_TAPS_GEMS3_COUNT] = {0.006, 0.061, 0.242, 0.383, 0.242, 0.061, 0.006};
 
@@ -199,4 +200,42 @@ dm_result dm_profile_read(const char *path, dm_profile *p, dm_error *err)
     r = dm_profile_from_json(text, path, p, err);
     free(text);
     return r;
+}
+
+void dm_profile_put_gaussians(dm_sbuf *b, const dm_profile *p, const char *indent, int with_increments)
+{
+    double inc[DM_PROFILE_MAX_GAUSSIANS];
+    dm_profile_incremental_variances(p, inc);
+    dm_sbuf_put(b, "[\n");
+    for (int k = 0; k < p->count; ++k) {
+        dm_sbuf_put(b, "%s  {\"variance_mm2\": ", indent);
+        dm_sbuf_num(b, p->variance_mm2[k]);
+        if (with_increments) {
+            dm_sbuf_put(b, ", \"incremental_variance_mm2\": ");
+            dm_sbuf_num(b, inc[k]);
+        }
+        dm_sbuf_put(b, ", \"weights\": ");
+        dm_sbuf_rgb(b, p->weight[k]);
+        dm_sbuf_put(b, "}%s\n", k + 1 < p->count ? "," : "");
+    }
+    dm_sbuf_put(b, "%s]", indent);
+}
+
+dm_result dm_profile_to_json(const dm_profile *p, char **json, dm_error *err)
+{
+    *json = NULL;
+    dm_result r = dm_profile_validate(p, "profile to write", err);
+    if (r != DM_OK) return r;
+    dm_sbuf b = {0};
+    dm_sbuf_put(&b, "{\"format\": \"dermis-profile\", \"version\": 1, \"name\": ");
+    dm_sbuf_str(&b, p->name);
+    dm_sbuf_put(&b, ", \"gaussians\": ");
+    dm_profile_put_gaussians(&b, p, "", 0);
+    dm_sbuf_put(&b, "}\n");
+    if (b.failed) {
+        free(b.s);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile '%s': cannot build its JSON", p->name);
+    }
+    *json = b.s;
+    return DM_OK;
 }

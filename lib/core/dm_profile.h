@@ -4,7 +4,7 @@
  * RGB channel, variances ascending and shared by the channels (the runtime's incremental
  * blur needs that: level k is level k−1 blurred by v_k − v_{k−1}).
  *
- * JSON form (written by dermis-fit-profile, read here):
+ * JSON form (written by dermis-fit-profile and dm_profile_to_json, read here):
  *   { "format": "dermis-profile", "version": 1, "name": "gems3-skin",
  *     "gaussians": [ {"variance_mm2": 0.0064, "weights": [0.233, 0.455, 0.649]}, ... ],
  *     "error": {...}, "source": {...}, "provenance": {...} }
@@ -83,6 +83,17 @@ dm_result dm_profile_validate(const dm_profile *p, const char *what, dm_error *e
 dm_result dm_profile_from_json(const char *json, const char *what, dm_profile *p, dm_error *err);
 /* Reads a profile JSON file. */
 dm_result dm_profile_read(const char *path, dm_profile *p, dm_error *err);
+
+/* The one writer of profile JSON. dm_profile_put_gaussians appends the "gaussians" array
+ * (entries one per line after `indent` and two spaces; with_increments adds each
+ * "incremental_variance_mm2"); bake/dm_profile_json.h builds the full document around it.
+ * dm_profile_to_json writes the smallest document dm_profile_from_json reads back
+ * exactly: {"format", "version", "name", "gaussians"} (the scene's inline profile, the
+ * pack's profile entry). Fails on a profile dm_profile_validate refuses, or out of
+ * memory; *json is malloc'd, free with free(). */
+struct dm_sbuf;
+void dm_profile_put_gaussians(struct dm_sbuf *b, const dm_profile *p, const char *indent, int with_increments);
+dm_result dm_profile_to_json(const dm_profile *p, char **json, dm_error *err);
 
 #ifdef __cplusplus
 }

@@ -14,19 +14,14 @@ static cJSON *vec3(const float v[3])
     return cJSON_CreateDoubleArray(d, 3);
 }
 
+/* The inline profile through the one profile writer (dm_profile_to_json), as a cJSON
+ * tree: the same doubles, printed the scene's way. NULL when it cannot be written. */
 static cJSON *profile_json(const dm_profile *p)
 {
-    cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "format", "dermis-profile");
-    cJSON_AddNumberToObject(o, "version", 1);
-    cJSON_AddStringToObject(o, "name", p->name);
-    cJSON *g = cJSON_AddArrayToObject(o, "gaussians");
-    for (int k = 0; k < p->count; ++k) {
-        cJSON *e = cJSON_CreateObject();
-        cJSON_AddNumberToObject(e, "variance_mm2", p->variance_mm2[k]);
-        cJSON_AddItemToObject(e, "weights", cJSON_CreateDoubleArray(p->weight[k], 3));
-        cJSON_AddItemToArray(g, e);
-    }
+    char *text = NULL;
+    if (dm_profile_to_json(p, &text, NULL) != DM_OK) return NULL;
+    cJSON *o = cJSON_Parse(text);
+    free(text);
     return o;
 }
 

@@ -196,7 +196,7 @@ static char *fit_json(const dm_profile_source *s, int n)
     memcpy(doc.total_reflectance, total, sizeof total);
     memcpy(doc.error_relative, r.error_relative, sizeof r.error_relative);
     char *json = NULL;
-    cr_assert_eq(dm_profile_to_json(&doc, &json, NULL), DM_OK);
+    cr_assert_eq(dm_profile_doc_to_json(&doc, &json, NULL), DM_OK);
     return json;
 }
 
