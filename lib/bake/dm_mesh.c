@@ -1,6 +1,7 @@
 #include "bake/dm_mesh.h"
 
 #include <assert.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -79,6 +80,43 @@ static void tri_cross(const dm_mesh *m, int32_t t, double n[3])
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+#define DEGENERATE_REL 1e-9 /* dm_mesh_uv_jacobian's "zero", relative (dm_mesh.h) */
+
+void dm_mesh_uv_jacobian(const dm_mesh *m, int32_t t, double scale, dm_uv_jacobian *out)
+{
+    memset(out, 0, sizeof *out);
+    const uint32_t *ix = m->indices + (size_t)t * 3;
+    const float *p0 = m->positions + (size_t)ix[0] * 3, *p1 = m->positions + (size_t)ix[1] * 3,
+                *p2 = m->positions + (size_t)ix[2] * 3;
+    const float *uv = m->uvs + (size_t)t * 6;
+    double du1 = (double)uv[2] - uv[0], dv1 = (double)uv[3] - uv[1];
+    double du2 = (double)uv[4] - uv[0], dv2 = (double)uv[5] - uv[1];
+    double det = du1 * dv2 - du2 * dv1;
+    if (!(fabs(det) > DEGENERATE_REL * (du1 * du1 + dv1 * dv1 + du2 * du2 + dv2 * dv2))) {
+        out->kind = DM_TRIANGLE_ZERO_UV_AREA;
+        return;
+    }
+    double e1[3], e2[3];
+    for (int d = 0; d < 3; ++d) {
+        e1[d] = ((double)p1[d] - p0[d]) * scale;
+        e2[d] = ((double)p2[d] - p0[d]) * scale;
+        out->a[d] = e1[d] * dv2 - e2[d] * dv1;
+        out->b[d] = e2[d] * du1 - e1[d] * du2;
+    }
+    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+    double cross = sqrt(cx * cx + cy * cy + cz * cz);
+    double edges2 = 0.0;
+    for (int d = 0; d < 3; ++d) edges2 += e1[d] * e1[d] + e2[d] * e2[d];
+    out->det = det;
+    out->la = sqrt(out->a[0] * out->a[0] + out->a[1] * out->a[1] + out->a[2] * out->a[2]);
+    out->lb = sqrt(out->b[0] * out->b[0] + out->b[1] * out->b[1] + out->b[2] * out->b[2]);
+    if (!(cross > DEGENERATE_REL * edges2) || !(fabs(det) / out->la <= FLT_MAX) || !(fabs(det) / out->lb <= FLT_MAX)) {
+        out->kind = DM_TRIANGLE_ZERO_AREA;
+        return;
+    }
+    out->kind = DM_TRIANGLE_OK;
 }
 
 double dm_mesh_triangle_area(const dm_mesh *m, int32_t t)

@@ -122,6 +122,27 @@ dm_result dm_mesh_subdivide(const dm_mesh *m, dm_mesh *out, dm_error *err);
 
 /* Surface area of a triangle and its signed UV area (positive: counter-clockwise in UV,
  * the same turn as the triangle in 3-D; negative: mirrored UVs). Double precision. */
+/* The UV Jacobian of a triangle: the one copy the stretch bake and the tangent frames
+ * use, with one test for degenerate triangles. With D = det [uv1 − uv0, uv2 − uv0] and
+ * the edges e1, e2 (positions × scale), a = e1 dv2 − e2 dv1 = D ∂P/∂u and
+ * b = e2 du1 − e1 du2 = D ∂P/∂v. "Zero" is relative: |D| ≤ 1e-9 of the squared UV edge
+ * lengths is DM_TRIANGLE_ZERO_UV_AREA; |e1 × e2| ≤ 1e-9 of the squared edge lengths, or
+ * an |∂P/∂u| or |∂P/∂v| whose inverse overflows a float, is DM_TRIANGLE_ZERO_AREA (an
+ * angle of about 1e-9 rad between the edges, far below anything a float mesh means as a
+ * face). Fields past kind are valid when kind is DM_TRIANGLE_OK. */
+typedef enum dm_triangle_kind {
+    DM_TRIANGLE_OK = 0,
+    DM_TRIANGLE_ZERO_UV_AREA,
+    DM_TRIANGLE_ZERO_AREA
+} dm_triangle_kind;
+typedef struct dm_uv_jacobian {
+    dm_triangle_kind kind;
+    double det;        /* D, UV units²; < 0: the UV map is mirrored here */
+    double a[3], b[3]; /* D ∂P/∂u, D ∂P/∂v (position units × scale × UV units) */
+    double la, lb;     /* |a|, |b| */
+} dm_uv_jacobian;
+void dm_mesh_uv_jacobian(const dm_mesh *m, int32_t t, double scale, dm_uv_jacobian *out);
+
 double dm_mesh_triangle_area(const dm_mesh *m, int32_t t);
 double dm_mesh_triangle_uv_area(const dm_mesh *m, int32_t t);
 

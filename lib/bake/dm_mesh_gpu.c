@@ -119,19 +119,14 @@ dm_result dm_mesh_split_for_gpu(const dm_mesh *m, dm_gpu_mesh *out, dm_error *er
      * and weighted by surface area, summed per split vertex. */
     for (int32_t t = 0; t < m->triangle_count; ++t) {
         const uint32_t *ix = out->indices + (size_t)t * 3;
-        const float *p0 = out->positions + (size_t)ix[0] * 3, *p1 = out->positions + (size_t)ix[1] * 3,
-                    *p2 = out->positions + (size_t)ix[2] * 3;
-        const float *uv = m->uvs + (size_t)t * 6;
-        double du1 = (double)uv[2] - uv[0], dv1 = (double)uv[3] - uv[1];
-        double du2 = (double)uv[4] - uv[0], dv2 = (double)uv[5] - uv[1];
-        double det = du1 * dv2 - du2 * dv1;
+        dm_uv_jacobian j;
+        dm_mesh_uv_jacobian(m, t, 1.0, &j);
         double area = dm_mesh_triangle_area(m, t);
-        if (det == 0.0 || !(area > 0.0)) continue;
+        if (j.kind != DM_TRIANGLE_OK || !(area > 0.0)) continue;
         double tu[3], tv[3];
         for (int d = 0; d < 3; ++d) {
-            double e1 = (double)p1[d] - p0[d], e2 = (double)p2[d] - p0[d];
-            tu[d] = (e1 * dv2 - e2 * dv1) / det;
-            tv[d] = (e2 * du1 - e1 * du2) / det;
+            tu[d] = j.a[d] / j.det;
+            tv[d] = j.b[d] / j.det;
         }
         double lu = sqrt(tu[0] * tu[0] + tu[1] * tu[1] + tu[2] * tu[2]);
         double lv = sqrt(tv[0] * tv[0] + tv[1] * tv[1] + tv[2] * tv[2]);

@@ -14,46 +14,16 @@
 #include "core/dm_math.h"
 #include "core/dm_parallel.h"
 
-/* Relative thresholds for "zero area": 1e-9 of the squared edge lengths is an angle of
- * about 1e-9 rad between the edges, far below anything a float mesh means as a face. */
-#define DEGENERATE_REL 1e-9
-
 void dm_triangle_stretch_of(const dm_mesh *m, int32_t t, double mm_per_unit, dm_triangle_stretch *out)
 {
     memset(out, 0, sizeof *out);
-    const uint32_t *ix = m->indices + (size_t)t * 3;
-    const float *p0 = m->positions + (size_t)ix[0] * 3, *p1 = m->positions + (size_t)ix[1] * 3,
-                *p2 = m->positions + (size_t)ix[2] * 3;
-    const float *uv = m->uvs + (size_t)t * 6;
-    double du1 = (double)uv[2] - uv[0], dv1 = (double)uv[3] - uv[1];
-    double du2 = (double)uv[4] - uv[0], dv2 = (double)uv[5] - uv[1];
-    double det = du1 * dv2 - du2 * dv1;
-    if (!(fabs(det) > DEGENERATE_REL * (du1 * du1 + dv1 * dv1 + du2 * du2 + dv2 * dv2))) {
-        out->kind = DM_TRIANGLE_ZERO_UV_AREA;
-        return;
-    }
-    double e1[3], e2[3], a[3], b[3];
-    for (int d = 0; d < 3; ++d) {
-        e1[d] = ((double)p1[d] - p0[d]) * mm_per_unit;
-        e2[d] = ((double)p2[d] - p0[d]) * mm_per_unit;
-        a[d] = e1[d] * dv2 - e2[d] * dv1; /* D · ∂P/∂u */
-        b[d] = e2[d] * du1 - e1[d] * du2; /* D · ∂P/∂v */
-    }
-    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
-    double cross = sqrt(cx * cx + cy * cy + cz * cz);
-    double edges2 = 0.0;
-    for (int d = 0; d < 3; ++d) edges2 += e1[d] * e1[d] + e2[d] * e2[d];
-    double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    double lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    double su = fabs(det) / la, sv = fabs(det) / lb;
-    if (!(cross > DEGENERATE_REL * edges2) || !(su <= FLT_MAX) || !(sv <= FLT_MAX)) {
-        out->kind = DM_TRIANGLE_ZERO_AREA;
-        return;
-    }
-    out->kind = DM_TRIANGLE_OK;
-    out->mirrored = det < 0.0;
-    out->s_u = su;
-    out->s_v = sv;
+    dm_uv_jacobian j;
+    dm_mesh_uv_jacobian(m, t, mm_per_unit, &j);
+    out->kind = j.kind;
+    if (j.kind != DM_TRIANGLE_OK) return;
+    out->mirrored = j.det < 0.0;
+    out->s_u = fabs(j.det) / j.la;
+    out->s_v = fabs(j.det) / j.lb;
 }
 
 /* Allocates a texture-sized buffer (freed with free()). Large buffers are 2 MiB aligned

@@ -50,19 +50,14 @@ enum {
 };
 #define DM_STRETCH_MM_PER_UNIT_DEFAULT 50.0 /* the Lee Perry-Smith head (DESIGN.md) */
 
-typedef enum dm_triangle_kind {
-    DM_TRIANGLE_OK = 0,
-    DM_TRIANGLE_ZERO_UV_AREA,
-    DM_TRIANGLE_ZERO_AREA
-} dm_triangle_kind;
-
 typedef struct dm_triangle_stretch {
     dm_triangle_kind kind;
     int mirrored;  /* 1 when D < 0 (and kind is OK) */
     double s_u, s_v; /* UV units per mm; 0 unless kind is OK */
 } dm_triangle_stretch;
 
-/* The exact stretch of triangle t of m (valid mesh), mm_per_unit > 0. */
+/* The exact stretch of triangle t of m (valid mesh), mm_per_unit > 0: from its UV
+ * Jacobian (dm_mesh_uv_jacobian), s = 1 / |∂P/∂u| and 1 / |∂P/∂v| in mm. */
 void dm_triangle_stretch_of(const dm_mesh *m, int32_t t, double mm_per_unit, dm_triangle_stretch *out);
 
 /* Zero means the default for every field. */

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "bake/dm_mesh.h"
+#include "bake/dm_stretch.h"
 
 static char tmpdir[256];
 
@@ -213,6 +214,44 @@ Test(mesh, zero_uv_area_vertex_gets_a_finite_tangent)
         for (int d = 0; d < 4; ++d) cr_assert(isfinite(t[d]));
         cr_assert_float_eq(t[0] * n[0] + t[1] * n[1] + t[2] * n[2], 0.0f, 1e-6);
         cr_assert_eq(t[3], 1.0f);
+    }
+    dm_gpu_mesh_free(&g);
+    dm_mesh_free(&m);
+}
+
+/* One UV Jacobian (dm_mesh_uv_jacobian) for the stretch bake and the tangent frames: a
+ * triangle whose UV area is zero relative to its UV edges (D = -1e-10 against edges of
+ * length 1) is DM_TRIANGLE_ZERO_UV_AREA for the stretch and adds nothing to the tangents
+ * (the tangent path used to test D == 0 only: this triangle's ∂P/∂u, 1e10 long and
+ * pointing at (-2, -1, 0)/√5, pulled the shared corner's tangent off +x). */
+Test(mesh, near_zero_uv_area_is_degenerate_for_stretch_and_tangents)
+{
+    dm_mesh m;
+    dm_error err = {0};
+    cr_assert_eq(dm_mesh_alloc(4, 2, &m, &err), DM_OK);
+    static const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+    static const uint32_t ix[6] = {0, 1, 2, 0, 2, 3};
+    static const float uv[12] = {0, 0, 1, 0, 0, 1, /* good: +u along +x */
+                                 0, 0, 0, 1, 1e-10f, 0.5f};
+    memcpy(m.positions, p, sizeof p);
+    memcpy(m.indices, ix, sizeof ix);
+    memcpy(m.uvs, uv, sizeof uv);
+    dm_mesh_compute_normals(&m);
+    dm_uv_jacobian j;
+    dm_mesh_uv_jacobian(&m, 0, 1.0, &j);
+    cr_assert_eq(j.kind, DM_TRIANGLE_OK);
+    dm_mesh_uv_jacobian(&m, 1, 1.0, &j);
+    cr_assert_eq(j.kind, DM_TRIANGLE_ZERO_UV_AREA);
+    dm_triangle_stretch st;
+    dm_triangle_stretch_of(&m, 1, 50.0, &st);
+    cr_assert_eq(st.kind, DM_TRIANGLE_ZERO_UV_AREA);
+    dm_gpu_mesh g;
+    cr_assert_eq(dm_mesh_split_for_gpu(&m, &g, &err), DM_OK, "%s", err.detail);
+    for (int c = 0; c < 2; ++c) { /* corners 0 and 2: shared by both triangles */
+        const float *t = g.tangents + g.indices[c * 2] * 4;
+        cr_assert_float_eq(t[0], 1.0f, 1e-6, "corner %d tangent (%g, %g, %g)", c * 2, t[0], t[1], t[2]);
+        cr_assert_float_eq(t[1], 0.0f, 1e-6);
+        cr_assert_float_eq(t[2], 0.0f, 1e-6);
     }
     dm_gpu_mesh_free(&g);
     dm_mesh_free(&m);
