@@ -29,7 +29,7 @@ void main()
 // chart coverage in alpha. One copy for the final pass and the diffusion view, so the view
 // is exactly the sum the final pass samples.
 uniform vec3 u_level_weight[8]; // per channel, already divided by their sum
-uniform sampler2D u_level[8];
+uniform sampler2D u_level[8]; /* DM_PROFILE_MAX_GAUSSIANS levels */
 
 // Level k at uv, coverage-normalised (rgb / alpha; 0 where nothing covers).
 vec3 dm_level(int k, vec2 uv)

@@ -314,7 +314,7 @@ static bool parse_effects(ctx *c, const cJSON *root, dm_scene *s)
             const char *p = "$.effects.subsurface";
             const cJSON *prof = dm_jread_get(pm, "profile");
             if (prof && !parse_profile(c, prof, "$.effects.subsurface.profile", s)) return false;
-            if (!dm_jread_int_opt(&c->j, pm, p, "taps", 3, 63, true, &s->blur_taps) ||
+            if (!dm_jread_int_opt(&c->j, pm, p, "taps", 3, DM_BLUR_TAPS_MAX, true, &s->blur_taps) ||
                 !dm_jread_int_opt(&c->j, pm, p, "irradiance_size", 64, 8192, false, &s->irradiance_size) ||
                 !dm_jread_float_opt(&c->j, pm, p, "mix", 0.0, 1.0, &s->mix) || !parse_technique(c, pm, s))
                 return false;
@@ -464,6 +464,7 @@ dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, 
         return dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected JSON text", path);
     }
     r = parse_scene(text, path, true, asset_dirs, asset_dir_count, s, err);
+    if (r == DM_OK) dm_hash_hex(text, size, s->file_hash);
     free(text);
     return r;
 }

@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 
+#include "core/dm_hash.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
 
@@ -77,6 +78,8 @@ typedef struct dm_light {
 
 typedef struct dm_scene {
     char path[DM_SCENE_PATH_SIZE]; /* the scene file itself */
+    char file_hash[DM_HASH_HEX_SIZE]; /* its content hash (dm_hash_hex) from the one read of
+                                       * dm_scene_read*; "" when parsed from a string */
     /* mesh and maps */
     char mesh[DM_SCENE_PATH_SIZE];
     char mesh_name[DM_SCENE_NAME_SIZE];     /* glTF meshes: only those of this name; "" = all */

@@ -116,8 +116,8 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     r->desc.shader_dir = NULL;
     r->width = desc->width > 0 ? desc->width : a->scene->width;
     r->height = desc->height > 0 ? desc->height : a->scene->height;
-    r->irr_size = desc->irradiance_size > 0 ? desc->irradiance_size : a->scene->irradiance_size;
-    r->shadow_size = desc->shadow_size > 0 ? desc->shadow_size : 1024;
+    r->irr_edge = desc->irradiance_size > 0 ? desc->irradiance_size : a->scene->irradiance_size;
+    r->shadow_edge = desc->shadow_size > 0 ? desc->shadow_size : 1024;
     r->taps = a->scene->blur_taps;
     r->scene.profile = r->profile;
     r->shadow_taps = desc->shadow_pcf_taps > 0 ? desc->shadow_pcf_taps : 4;
@@ -125,7 +125,7 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     int shift = desc->blur_reduce_shift > 0 ? desc->blur_reduce_shift : 1;
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
         bool reduced = desc->blur_reduce_from > 0 && k >= desc->blur_reduce_from;
-        r->level_size[k] = reduced ? r->irr_size >> shift : r->irr_size;
+        r->level_edge[k] = reduced ? r->irr_edge >> shift : r->irr_edge;
     }
 
     dm_result rc = DM_OK;
@@ -133,10 +133,10 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: output size %dx%d, expected 1..16384 per side", r->width,
                      r->height);
     else if (a->scene->effects[DM_EFFECT_SUBSURFACE] && a->scene->sss_technique == DM_SSS_TEXTURE_SPACE &&
-             (r->irr_size < 8 || r->irr_size > 8192))
-        rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d, expected 8..8192", r->irr_size);
-    else if (r->shadow_size < 16 || r->shadow_size > 8192)
-        rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow size %d, expected 16..8192", r->shadow_size);
+             (r->irr_edge < 8 || r->irr_edge > 8192))
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d, expected 8..8192", r->irr_edge);
+    else if (r->shadow_edge < 16 || r->shadow_edge > 8192)
+        rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow size %d, expected 16..8192", r->shadow_edge);
     else if (r->shadow_taps != 1 && r->shadow_taps != 4 && r->shadow_taps != 9)
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: shadow_pcf_taps %d, expected 0 (4), 1, 4 or 9", r->shadow_taps);
     else if (desc->blur_reduce_from < 0 || desc->blur_reduce_from >= DM_PROFILE_MAX_GAUSSIANS)
@@ -146,9 +146,9 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: blur_reduce_shift %d, expected 0 (1), 1, 2 or 3",
                      desc->blur_reduce_shift);
     else if (desc->blur_reduce_from > 0 && a->scene->effects[DM_EFFECT_SUBSURFACE] &&
-             a->scene->sss_technique == DM_SSS_TEXTURE_SPACE && (r->irr_size >> shift) < 8)
+             a->scene->sss_technique == DM_SSS_TEXTURE_SPACE && (r->irr_edge >> shift) < 8)
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d >> blur_reduce_shift %d is below 8 texels",
-                     r->irr_size, shift);
+                     r->irr_edge, shift);
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
     for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i)

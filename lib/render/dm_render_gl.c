@@ -159,7 +159,7 @@ static void set_sampler_units(GLuint p)
         GLint loc = glGetUniformLocation(p, name);
         if (loc >= 0) glUniform1i(loc, UNIT_ENV_LEVEL0 + k);
     }
-    for (int k = 0; k < 8; ++k) {
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) { /* common.glsl's u_level[8] */
         snprintf(name, sizeof name, "u_level[%d]", k);
         GLint loc = glGetUniformLocation(p, name);
         if (loc >= 0) glUniform1i(loc, UNIT_LEVEL0 + k);

@@ -74,9 +74,10 @@ struct dm_renderer {
     dm_profile profile;
     dm_render_desc desc;
     char shader_dir[4096];
-    int width, height, irr_size, shadow_size, taps;
+    /* Texture sizes here are edges: an N-texel edge is an N × N texture. */
+    int width, height, irr_edge, shadow_edge, taps;
     int shadow_taps;                            /* 1, 4 or 9 (DM_SHADOW_TAPS) */
-    int level_size[DM_PROFILE_MAX_GAUSSIANS];   /* texels per side of each irradiance level */
+    int level_edge[DM_PROFILE_MAX_GAUSSIANS];   /* texels per side of each irradiance level */
     GLenum level_format;                        /* GL_RGBA32F or GL_RGBA16F */
     bool ts_valid;                              /* texture-space results reusable (reuse_texture_space) */
     int ts_pass_count;                          /* shadow + irradiance + blur passes of the final plan */
@@ -87,8 +88,8 @@ struct dm_renderer {
     float env_sh[DM_RENDER_SH_COUNT][3];
     bool has_normal_map, has_roughness_map, has_mask;
     float center[3], radius;
-    float blur_offset[DM_PROFILE_MAX_GAUSSIANS][63]; /* mm, per level k (index k) */
-    float blur_weight[63];
+    float blur_offset[DM_PROFILE_MAX_GAUSSIANS][DM_BLUR_TAPS_MAX]; /* mm, per level k (index k) */
+    float blur_weight[DM_BLUR_TAPS_MAX];
     float blur_scale; /* variance scale the blur offsets were made for (1 at create) */
     float level_weight[DM_PROFILE_MAX_GAUSSIANS][3]; /* profile weights / their sum per channel */
 

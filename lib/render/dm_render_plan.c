@@ -35,7 +35,8 @@ bool dm_view_parse(const char *text, dm_view *view, int *index)
         if (!indexed) continue;
         char *end = NULL;
         long k = strtol(rest, &end, 10);
-        if (*end || k < 0 || k > 63 || rest[0] < '0' || rest[0] > '9') return false;
+        /* any index up to 999 parses; dm_render_plan_build says which exist */
+        if (*end || k < 0 || k > 999 || rest[0] < '0' || rest[0] > '9') return false;
         *view = (dm_view)v;
         *index = (int)k;
         return true;

@@ -16,7 +16,7 @@ void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradi
 {
     if (width) *width = r->width;
     if (height) *height = r->height;
-    if (irradiance_size) *irradiance_size = r->irr_size;
+    if (irradiance_size) *irradiance_size = r->irr_edge;
 }
 
 int dm_renderer_target_count(const dm_renderer *r)

@@ -19,7 +19,7 @@ dm_result dmr_shadow_targets(dm_renderer *r, dm_error *err)
     for (int i = 0; i < p->shadow_count; ++i) {
         glGenTextures(1, &r->shadow_tex[i]);
         glBindTexture(GL_TEXTURE_2D, r->shadow_tex[i]);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, r->shadow_size, r->shadow_size, 0, GL_DEPTH_COMPONENT,
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, r->shadow_edge, r->shadow_edge, 0, GL_DEPTH_COMPONENT,
                      GL_FLOAT, NULL);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -35,7 +35,7 @@ dm_result dmr_shadow_targets(dm_renderer *r, dm_error *err)
         snprintf(name, sizeof name, "shadow%d", i);
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             return dm_fail(err, DM_ERR_GL, "target %s: framebuffer incomplete", name);
-        dmr_add_target(r, name, r->shadow_fbo[i], r->shadow_size, r->shadow_size, 1);
+        dmr_add_target(r, name, r->shadow_fbo[i], r->shadow_edge, r->shadow_edge, 1);
     }
     return DM_OK;
 }
@@ -90,8 +90,8 @@ void dmr_set_light_uniforms(const dm_renderer *r, GLuint p)
     glUniform3fv(loc(p, "u_light_color"), s->light_count, &r->light_color[0][0]);
     glUniform1iv(loc(p, "u_light_shadow"), s->light_count, r->light_shadow);
     glUniformMatrix4fv(loc(p, "u_light_matrix"), s->light_count, GL_FALSE, &r->light_matrix[0][0]);
-    u1f(p, "u_shadow_normal_offset", 3.0f * r->radius / (float)r->shadow_size);
-    u1f(p, "u_shadow_texel", 1.0f / (float)r->shadow_size);
+    u1f(p, "u_shadow_normal_offset", 3.0f * r->radius / (float)r->shadow_edge);
+    u1f(p, "u_shadow_texel", 1.0f / (float)r->shadow_edge);
 }
 
 void dmr_pass_shadow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
@@ -100,7 +100,7 @@ void dmr_pass_shadow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *
     int j = ps->index;
     int i = r->plan.shadow_light[j];
     GLuint p = r->prog[DM_PASS_SHADOW];
-    dmr_target_begin(r->shadow_fbo[j], r->shadow_size, r->shadow_size);
+    dmr_target_begin(r->shadow_fbo[j], r->shadow_edge, r->shadow_edge);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);

@@ -18,7 +18,7 @@
  * end bin running to infinity), taps spread over ±3σ. */
 double dm_render_blur_kernel(int taps, float *offsets_sigma, float *weights)
 {
-    assert(taps >= 3 && taps <= 63 && taps % 2 == 1);
+    assert(taps >= 3 && taps <= DM_BLUR_TAPS_MAX && taps % 2 == 1);
     int h = (taps - 1) / 2;
     double step = 3.0 / h, var = 0.0, w[DM_BLUR_TAPS_MAX];
     dm_result rc = dm_blur_taps(taps, step, 1, w, NULL, NULL);
@@ -53,8 +53,9 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
                          dmr_format_name(a->stretch[k].format));
     }
     int taps = a->scene->blur_taps;
-    if (rc == DM_OK && (taps < 3 || taps > 63 || taps % 2 == 0))
-        rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, 63]", taps);
+    if (rc == DM_OK && (taps < 3 || taps > DM_BLUR_TAPS_MAX || taps % 2 == 0))
+        rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, %d]", taps,
+                     DM_BLUR_TAPS_MAX);
     return rc;
 }
 
@@ -86,16 +87,16 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
 }
 
 /* The automatic blur resolution (dm_render_desc.blur_auto_resolution): level k at
- * irr_size >> j, j the largest (<= 3, >= level k−1's, size >= 8) keeping its total σ at least
+ * irr_edge >> j, j the largest (<= 3, >= level k−1's, size >= 8) keeping its total σ at least
  * DM_BLUR_AUTO_SIGMA texels of that grid at the median stretch along the coarser axis (the
  * smaller of s_u, s_v). */
 static void auto_level_sizes(dm_renderer *r, double uv_per_mm)
 {
     int j = 0;
     for (int k = 1; k < r->profile.count && uv_per_mm > 0; ++k) {
-        double sigma_texels = sqrt(r->profile.variance_mm2[k]) * uv_per_mm * r->irr_size;
-        while (j < 3 && (r->irr_size >> (j + 1)) >= 8 && sigma_texels / (1 << (j + 1)) >= DM_BLUR_AUTO_SIGMA) ++j;
-        r->level_size[k] = r->irr_size >> j;
+        double sigma_texels = sqrt(r->profile.variance_mm2[k]) * uv_per_mm * r->irr_edge;
+        while (j < 3 && (r->irr_edge >> (j + 1)) >= 8 && sigma_texels / (1 << (j + 1)) >= DM_BLUR_AUTO_SIGMA) ++j;
+        r->level_edge[k] = r->irr_edge >> j;
     }
 }
 
@@ -121,14 +122,14 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
     char name[32];
     for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
         snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
-        rc = dmr_color_target(r, name, r->level_size[k], r->level_size[k], r->level_format, GL_CLAMP_TO_BORDER,
+        rc = dmr_color_target(r, name, r->level_edge[k], r->level_edge[k], r->level_format, GL_CLAMP_TO_BORDER,
                               &r->irr_tex[k], &r->irr_fbo[k], err);
     }
     /* the U pass of level k writes at level k's width and level k−1's height: its input still
      * holds detail along V that only the V pass may filter away. One target per size. */
     for (int k = 1; k < p->blur_levels && rc == DM_OK; ++k) {
-        int w = r->level_size[k], h = r->level_size[k - 1], j = 1;
-        while (j < k && !(r->level_size[j] == w && r->level_size[j - 1] == h)) ++j;
+        int w = r->level_edge[k], h = r->level_edge[k - 1], j = 1;
+        while (j < k && !(r->level_edge[j] == w && r->level_edge[j - 1] == h)) ++j;
         if (j < k) {
             r->tmp_tex[k] = r->tmp_tex[j], r->tmp_fbo[k] = r->tmp_fbo[j];
             continue;
@@ -142,7 +143,7 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
 
 void dmr_prepare_blur(dm_renderer *r, float scale)
 {
-    float off_sigma[63];
+    float off_sigma[DM_BLUR_TAPS_MAX];
     double var = dm_render_blur_kernel(r->taps, off_sigma, r->blur_weight);
     r->blur_scale = scale;
     for (int k = 1; k < r->profile.count; ++k) {
@@ -168,7 +169,7 @@ void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_optio
 {
     (void)ps, (void)opt;
     GLuint p = r->prog[DM_PASS_IRRADIANCE];
-    dmr_target_begin(r->irr_fbo[0], r->irr_size, r->irr_size);
+    dmr_target_begin(r->irr_fbo[0], r->irr_edge, r->irr_edge);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glClearColor(0, 0, 0, 0);
@@ -189,7 +190,7 @@ void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     bool along_v = ps->kind == DM_PASS_BLUR_V;
     GLuint p = r->prog[DM_PASS_BLUR_U];
     /* the U pass writes at level k's width and level k−1's height (the taps read by UV) */
-    int n = r->level_size[k], h = r->level_size[k - 1];
+    int n = r->level_edge[k], h = r->level_edge[k - 1];
     if (along_v) dmr_target_begin(r->irr_fbo[k], n, n);
     else dmr_target_begin(r->tmp_fbo[k], n, h);
     glDisable(GL_DEPTH_TEST);
@@ -209,5 +210,5 @@ void dmr_bind_levels(const dm_renderer *r, GLuint p)
 {
     int levels = r->plan.texture_space ? r->profile.count : 0;
     if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
-    for (int k = 0; k < 8; ++k) dmr_bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) dmr_bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
 }

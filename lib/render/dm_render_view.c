@@ -18,7 +18,7 @@ static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
     GLuint tex;
     *cov_shift = 0;
     if (pl->view == DM_VIEW_SHADOW) {
-        *w = *h = r->shadow_size;
+        *w = *h = r->shadow_edge;
         return r->shadow_tex[k];
     }
     if (pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE) {
@@ -29,8 +29,8 @@ static GLuint view_source(const dm_renderer *r, int *w, int *h, int *cov_shift)
         return tex;
     }
     int level = pl->view == DM_VIEW_BLUR ? k : 0; /* irradiance, diffusion: level 0's size */
-    *w = *h = r->level_size[level];
-    while ((r->level_size[level] << *cov_shift) < r->irr_size) ++*cov_shift;
+    *w = *h = r->level_edge[level];
+    while ((r->level_edge[level] << *cov_shift) < r->irr_edge) ++*cov_shift;
     return r->irr_tex[level];
 }
 

@@ -56,6 +56,22 @@ Test(scene, bundled_full_scene_has_every_effect_and_existing_files)
     cr_assert_eq(scene.profile.count, 6);
 }
 
+/* The scene file is read once: its content hash comes with the parse (the packer's
+ * provenance used to read the file a second time to hash it). */
+Test(scene, read_keeps_the_file_hash)
+{
+    read_bundled("lps-sss.json");
+    char hex[DM_HASH_HEX_SIZE];
+    dm_error err = {0};
+    cr_assert_eq(dm_hash_file_hex(SCENES "lps-sss.json", hex, &err), DM_OK, "%s", err.detail);
+    cr_assert_str_eq(scene.file_hash, hex);
+    char *json = NULL;
+    cr_assert_eq(dm_scene_to_json(&scene, &json, &err), DM_OK);
+    cr_assert_eq(dm_scene_parse(json, SCENES "lps-sss.json", &scene, &err), DM_OK, "%s", err.detail);
+    cr_assert_str_eq(scene.file_hash, ""); /* parsed from a string: no file */
+    free(json);
+}
+
 Test(scene, bundled_single_effect_scenes)
 {
     read_bundled("lps-specular.json");
