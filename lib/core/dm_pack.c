@@ -74,6 +74,8 @@ void dm_pack_close(dm_pack *pack)
     free(pack->manifest);
     free(pack->scene);
     pack->scene = NULL;
+    free(pack->profile);
+    pack->profile = NULL;
     free(pack->provenance_json);
     if (pack->mapped) munmap((void *)(uintptr_t)pack->base, pack->size);
     pack->entries = NULL;

@@ -47,7 +47,8 @@
  *                 Every index < that entry's vertex_count.
  *     "env.sh"    "sh_order" (0..4). Data: (order+1)² × RGB float32, coefficients in the
  *                 order (l, m) = (0,0), (1,−1), (1,0), (1,1), (2,−2) ..., finite.
- *     "profile"   Data: a profile JSON (dm_profile.h form).
+ *     "profile"   Data: a profile JSON (dm_profile.h form), the same Gaussians as the scene's
+ *                 (DM_ERR_MISMATCH otherwise; renderers take the scene's).
  *     "scene"     Data: a complete scene JSON (dm_scene_to_json). Exactly one, named "scene".
  *
  * VERIFIED ON OPEN, in this order; the first failure is reported, naming the file, the
@@ -191,6 +192,8 @@ typedef struct dm_pack {
     int entry_count;
     dm_pack_entry *entries; /* in manifest order */
     struct dm_scene *scene; /* the scene entry, parsed once while verifying (dm_pack_scene) */
+    struct dm_profile *profile; /* the "profile" entry, parsed while verifying; the same
+                                 * Gaussians as the scene's (verified), which renderers use */
 } dm_pack;
 
 /* Maps the file read-only and verifies all of it (see VERIFIED ON OPEN). On success the

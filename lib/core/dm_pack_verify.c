@@ -129,9 +129,12 @@ static dm_result check_contents(dm_pack *pack, const dm_pack_entry *e, dm_error 
         char what[1200];
         snprintf(what, sizeof what, "%s#%s", pack->what, e->name);
         dm_result r;
-        if (e->kind == DM_PACK_PROFILE) {
-            dm_profile prof;
-            r = dm_profile_from_json(text, what, &prof, err);
+        if (e->kind == DM_PACK_PROFILE) { /* kept for check_required's comparison with the scene's */
+            dm_profile *prof = malloc(sizeof *prof);
+            r = prof ? dm_profile_from_json(text, what, prof, err)
+                     : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", what);
+            if (r == DM_OK && !pack->profile && strcmp(e->name, "profile") == 0) pack->profile = prof, prof = NULL;
+            free(prof);
         } else { /* the scene is parsed here once and kept: dm_pack_scene hands out copies */
             dm_scene *sc = malloc(sizeof *sc);
             r = sc ? dm_scene_parse(text, what, sc, err) : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", what);
@@ -193,6 +196,15 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
             }
         }
     }
+    /* One route for the profile: the renderer takes the scene's; the "profile" entry (the
+     * file as it was, with its fit report) must hold the same Gaussians. */
+    const dm_profile *pe = pack->profile, *ps = &s->profile;
+    if (r == DM_OK && pe &&
+        (pe->count != ps->count || memcmp(pe->variance_mm2, ps->variance_mm2, sizeof ps->variance_mm2[0] * ps->count) ||
+         memcmp(pe->weight, ps->weight, sizeof ps->weight[0] * ps->count)))
+        r = dm_fail(err, DM_ERR_MISMATCH,
+                    "%s: entry \"profile\" ('%s', %d Gaussians) differs from the scene's profile ('%s', %d Gaussians)",
+                    pack->what, pe->name, pe->count, ps->name, ps->count);
     free(s);
     return r;
 }

@@ -157,17 +157,7 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
                        dm_render_env_count(pack) - 1, dm_render_env_count(pack));
     dm_result r = dm_pack_scene(pack, scene, err);
     if (r != DM_OK) return r;
-    *profile = scene->profile;
-    const dm_pack_entry *pe = dm_pack_find(pack, "profile");
-    if (pe) {
-        char *text = malloc(pe->size + 1);
-        if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", pack->what);
-        memcpy(text, pe->data, pe->size);
-        text[pe->size] = '\0';
-        r = dm_profile_from_json(text, pack->what, profile, err);
-        free(text);
-        if (r != DM_OK) return r;
-    }
+    *profile = scene->profile; /* the one route: the pack verified its "profile" entry agrees */
     assets->scene = scene;
     assets->profile = profile;
     if ((r = mesh(pack, assets, err)) != DM_OK) return r;

@@ -16,6 +16,7 @@
 #include "core/dm_lut_check.h"
 #include "core/dm_pack.h"
 #include "core/dm_pack_needs.h"
+#include "core/dm_profile.h"
 
 /* specular + energy conservation: needs scene, lut.beckmann (r8), lut.rho_dt (r32f) */
 static const char *scene_json = "{\"mesh\": {\"path\": \"head.obj\"}, "
@@ -23,6 +24,7 @@ static const char *scene_json = "{\"mesh\": {\"path\": \"head.obj\"}, "
 
 typedef struct fixture {
     bool skip_beckmann, nan_in_rho, bad_index, beckmann_as_float;
+    int profile; /* 0: no "profile" entry; 1: the scene's (gems3-skin); 2: another */
 } fixture;
 
 /* A three-vertex mesh in the dermis layout; bad_index puts an index out of range. */
@@ -109,6 +111,19 @@ static uint8_t *build(const fixture *fx, size_t *size)
     d.kind = DM_PACK_ENV_SH;
     d.sh_order = 2;
     cr_assert_eq(dm_pack_writer_add(&w, &d, sh, sizeof sh, &p, &err), DM_OK, "%s", err.detail);
+
+    if (fx->profile) {
+        dm_profile pr;
+        dm_profile_gems3_skin(&pr);
+        if (fx->profile == 2) pr.weight[5][0] *= 0.5;
+        char *text = NULL;
+        cr_assert_eq(dm_profile_to_json(&pr, &text, &err), DM_OK, "%s", err.detail);
+        memset(&d, 0, sizeof d);
+        snprintf(d.name, sizeof d.name, "profile");
+        d.kind = DM_PACK_PROFILE;
+        cr_assert_eq(dm_pack_writer_add(&w, &d, text, strlen(text), &p, &err), DM_OK, "%s", err.detail);
+        free(text);
+    }
 
     uint8_t *buf = NULL;
     cr_assert_eq(dm_pack_writer_build(&w, &p, &buf, size, &err), DM_OK, "%s", err.detail);
@@ -489,6 +504,24 @@ Test(pack_bad, required_entry_of_the_wrong_format)
     size_t size;
     uint8_t *buf = build(&fx, &size);
     expect_refused(buf, size, DM_ERR_FORMAT, "\"lut.beckmann\" is texture r32f, expected texture r8");
+    free(buf);
+}
+
+/* One route for the profile: the "profile" entry must hold the scene's Gaussians. */
+Test(pack_bad, profile_entry_differs_from_the_scene)
+{
+    size_t size;
+    fixture same = {.profile = 1}, other = {.profile = 2};
+    uint8_t *buf = build(&same, &size);
+    dm_pack pack;
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open_memory(buf, size, "same.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    cr_assert_not_null(pack.profile);
+    cr_assert_eq(pack.profile->count, 6);
+    dm_pack_close(&pack);
+    free(buf);
+    buf = build(&other, &size);
+    expect_refused(buf, size, DM_ERR_MISMATCH, "entry \"profile\" ('gems3-skin', 6 Gaussians) differs from the scene's profile");
     free(buf);
 }
 
