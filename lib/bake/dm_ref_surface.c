@@ -58,44 +58,15 @@ dm_result dm_ref_surface_desc_from_pack(const dm_pack *pack, const dm_scene *sce
     assert(pack && scene && profile && desc);
     memset(desc, 0, sizeof *desc);
     desc->scene = scene;
-    *profile = scene->profile;
-    const dm_pack_entry *pe = dm_pack_find(pack, "profile");
-    if (pe) {
-        char *text = malloc(pe->size + 1);
-        if (!text) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", pack->what);
-        memcpy(text, pe->data, pe->size);
-        text[pe->size] = '\0';
-        dm_result r = dm_profile_from_json(text, pack->what, profile, err);
-        free(text);
-        if (r != DM_OK) return r;
-    }
+    *profile = scene->profile; /* the one route: the pack verified its "profile" entry agrees */
     desc->profile = profile;
-    const dm_pack_entry *v = dm_pack_find(pack, "mesh.vertices"), *ix = dm_pack_find(pack, "mesh.indices");
-    if (!v || !ix) return dm_fail(err, DM_ERR_EMPTY, "%s: no mesh.vertices/mesh.indices entries", pack->what);
-    static const struct {
-        const char *name;
-        int offset, components;
-    } layout[] = {{"position", DM_PACK_VERTEX_POSITION, 3},
-                  {"normal", DM_PACK_VERTEX_NORMAL, 3},
-                  {"uv", DM_PACK_VERTEX_UV, 2},
-                  {"tangent", DM_PACK_VERTEX_TANGENT, 4}};
-    bool ok = v->stride == DM_PACK_VERTEX_STRIDE;
-    for (size_t k = 0; ok && k < sizeof layout / sizeof layout[0]; ++k) {
-        bool found = false;
-        for (int i = 0; i < v->attribute_count; ++i)
-            found |= !strcmp(v->attributes[i].name, layout[k].name) && v->attributes[i].offset == layout[k].offset &&
-                     v->attributes[i].components == layout[k].components;
-        ok = found;
-    }
-    if (!ok) return dm_fail(err, DM_ERR_FORMAT, "%s: mesh.vertices is not in the dermis layout", pack->what);
-    if (v->vertex_count > INT32_MAX || ix->index_count > INT32_MAX)
-        return dm_fail(err, DM_ERR_RANGE, "%s: mesh of %lld vertices, %lld indices is too large", pack->what,
-                       (long long)v->vertex_count, (long long)ix->index_count);
+    const dm_pack_entry *v, *ix;
+    dm_result r = dm_pack_mesh(pack, &v, &ix, err);
+    if (r != DM_OK) return r;
     desc->vertices = v->data;
     desc->vertex_count = (int32_t)v->vertex_count;
     desc->indices = ix->data;
     desc->index_count = (int32_t)ix->index_count;
-    dm_result r;
     if ((r = tex_entry(pack, "albedo", &desc->albedo, err)) != DM_OK) return r;
     if ((r = tex_entry(pack, "normal", &desc->normal_map, err)) != DM_OK) return r;
     if ((r = tex_entry(pack, "specular", &desc->specular_map, err)) != DM_OK) return r;

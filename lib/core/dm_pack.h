@@ -215,6 +215,12 @@ dm_result dm_pack_find_texture(const dm_pack *pack, const char *name, const dm_p
  * from its provenance "m0".."mK": m receives e->layers values. DM_ERR_FORMAT when one is
  * missing. */
 dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float *m, dm_error *err);
+/* The pack's mesh: its "mesh.vertices" and "mesh.indices" entries, the vertices in the
+ * dermis layout (DM_PACK_VERTEX_STRIDE, position, normal, uv, tangent at their offsets)
+ * and both counts within int32. DM_ERR_EMPTY without them, DM_ERR_FORMAT naming what the
+ * layout lacks, DM_ERR_RANGE when too large. */
+dm_result dm_pack_mesh(const dm_pack *pack, const dm_pack_entry **vertices, const dm_pack_entry **indices,
+                       dm_error *err);
 /* Parses the pack's "scene" entry. */
 dm_result dm_pack_scene(const dm_pack *pack, dm_scene *scene, dm_error *err);
 

@@ -27,31 +27,9 @@ static dm_texture layer(const dm_pack_entry *e, int k)
 
 static dm_result mesh(const dm_pack *pack, dm_render_assets *a, dm_error *err)
 {
-    const dm_pack_entry *v = dm_pack_find(pack, "mesh.vertices"), *ix = dm_pack_find(pack, "mesh.indices");
-    if (!v || !ix) return dm_fail(err, DM_ERR_EMPTY, "%s: no mesh.vertices/mesh.indices entries", pack->what);
-    if (v->stride != DM_VERTEX_STRIDE)
-        return dm_fail(err, DM_ERR_FORMAT, "%s: mesh.vertices stride %d, expected the dermis layout's %d",
-                       pack->what, v->stride, DM_VERTEX_STRIDE);
-    static const struct {
-        const char *name;
-        int offset, components;
-    } layout[] = {{"position", DM_PACK_VERTEX_POSITION, 3},
-                  {"normal", DM_PACK_VERTEX_NORMAL, 3},
-                  {"uv", DM_PACK_VERTEX_UV, 2},
-                  {"tangent", DM_PACK_VERTEX_TANGENT, 4}};
-    for (size_t k = 0; k < sizeof layout / sizeof layout[0]; ++k) {
-        int found = 0;
-        for (int i = 0; i < v->attribute_count; ++i)
-            if (!strcmp(v->attributes[i].name, layout[k].name) && v->attributes[i].offset == layout[k].offset &&
-                v->attributes[i].components == layout[k].components)
-                found = 1;
-        if (!found)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: mesh.vertices lacks \"%s\" at byte %d with %d floats", pack->what,
-                           layout[k].name, layout[k].offset, layout[k].components);
-    }
-    if (v->vertex_count > INT32_MAX || ix->index_count > INT32_MAX)
-        return dm_fail(err, DM_ERR_RANGE, "%s: mesh of %lld vertices, %lld indices is too large", pack->what,
-                       (long long)v->vertex_count, (long long)ix->index_count);
+    const dm_pack_entry *v, *ix;
+    dm_result r = dm_pack_mesh(pack, &v, &ix, err);
+    if (r != DM_OK) return r;
     a->vertices = v->data;
     a->vertex_count = (int)v->vertex_count;
     a->indices = ix->data;

@@ -23,12 +23,12 @@ static const char *scene_json = "{\"mesh\": {\"path\": \"head.obj\"}, "
                                 "\"effects\": {\"specular\": true, \"energy_conservation\": true}}";
 
 typedef struct fixture {
-    bool skip_beckmann, nan_in_rho, bad_index, beckmann_as_float;
+    bool skip_beckmann, nan_in_rho, bad_index, beckmann_as_float, no_tangent;
     int profile; /* 0: no "profile" entry; 1: the scene's (gems3-skin); 2: another */
 } fixture;
 
 /* A three-vertex mesh in the dermis layout; bad_index puts an index out of range. */
-static void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool bad_index)
+static void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool bad_index, bool no_tangent)
 {
     dm_error err = {0};
     dm_pack_entry d;
@@ -39,7 +39,7 @@ static void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool bad_index
     d.kind = DM_PACK_MESH_VERTICES;
     d.vertex_count = 3;
     d.stride = DM_PACK_VERTEX_STRIDE;
-    d.attribute_count = 4;
+    d.attribute_count = no_tangent ? 3 : 4;
     const char *an[4] = {"position", "normal", "uv", "tangent"};
     const int ao[4] = {DM_PACK_VERTEX_POSITION, DM_PACK_VERTEX_NORMAL, DM_PACK_VERTEX_UV, DM_PACK_VERTEX_TANGENT};
     const int ac[4] = {3, 3, 2, 4};
@@ -102,7 +102,7 @@ static uint8_t *build(const fixture *fx, size_t *size)
     d.levels = 3;
     cr_assert_eq(dm_pack_writer_add(&w, &d, half, sizeof half, &p, &err), DM_OK, "%s", err.detail);
 
-    add_mesh(&w, &p, fx->bad_index);
+    add_mesh(&w, &p, fx->bad_index, fx->no_tangent);
 
     float sh[27];
     for (int k = 0; k < 27; ++k) sh[k] = 0.1f * k;
@@ -263,7 +263,7 @@ Test(pack, writer_write_refuses_an_invalid_pack)
     snprintf(d.name, sizeof d.name, "scene");
     d.kind = DM_PACK_SCENE;
     cr_assert_eq(dm_pack_writer_add(&w, &d, scene_json, strlen(scene_json), &p, &err), DM_OK);
-    add_mesh(&w, &p, false);
+    add_mesh(&w, &p, false, false);
     char path[] = "/tmp/dermis-test-pack-w-XXXXXX";
     int fd = mkstemp(path);
     close(fd);
@@ -507,6 +507,30 @@ Test(pack_bad, required_entry_of_the_wrong_format)
     free(buf);
 }
 
+/* The one reader of the mesh entries' layout (renderer and reference alike). */
+Test(pack, mesh_layout)
+{
+    size_t size;
+    fixture good = {0}, bad = {.no_tangent = true};
+    dm_pack pack;
+    dm_error err = {0};
+    const dm_pack_entry *v, *ix;
+    uint8_t *buf = build(&good, &size);
+    cr_assert_eq(dm_pack_open_memory(buf, size, "good.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_pack_mesh(&pack, &v, &ix, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(v->vertex_count, 3);
+    cr_assert_eq(ix->index_count, 3);
+    dm_pack_close(&pack);
+    free(buf);
+    buf = build(&bad, &size);
+    cr_assert_eq(dm_pack_open_memory(buf, size, "bad.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_pack_mesh(&pack, &v, &ix, &err), DM_ERR_FORMAT);
+    cr_assert_null(v);
+    cr_assert(strstr(err.detail, "bad.dpk: mesh.vertices lacks \"tangent\" at byte 32 with 4 floats"), "%s", err.detail);
+    dm_pack_close(&pack);
+    free(buf);
+}
+
 /* One route for the profile: the "profile" entry must hold the scene's Gaussians. */
 Test(pack_bad, profile_entry_differs_from_the_scene)
 {
@@ -664,7 +688,7 @@ static uint8_t *build_env(const char *skip, size_t *size)
     snprintf(d.name, sizeof d.name, "scene");
     d.kind = DM_PACK_SCENE;
     cr_assert_eq(dm_pack_writer_add(&w, &d, json, strlen(json), &p, &err), DM_OK, "%s", err.detail);
-    add_mesh(&w, &p, false);
+    add_mesh(&w, &p, false, false);
     float rg[4 * 4 * 2] = {0}, rgba[4 * 2 * 4] = {0}, sh[27] = {0};
     d = dm_pack_texture_entry("lut.env_brdf", DM_TEX_RG32F, 4, 4);
     cr_assert_eq(dm_pack_writer_add(&w, &d, rg, sizeof rg, &p, &err), DM_OK, "%s", err.detail);
