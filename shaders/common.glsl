@@ -15,11 +15,14 @@ vec4 dm_fullscreen(out vec2 uv)
 }
 #ifdef DM_FULLSCREEN
 // The whole vertex stage of a pass file that has none (the loader defines DM_FULLSCREEN for
-// it): the full-screen triangle, uv to the fragment stage as v_uv.
+// it): the full-screen triangle, uv to the fragment stage as v_uv. It sits at the far plane:
+// passes that test GREATER against the head's depth (the screen-space blurs, the tonemap)
+// shade only the head's pixels; without a depth test its depth does not matter.
 out vec2 v_uv;
 void main()
 {
     gl_Position = dm_fullscreen(v_uv);
+    gl_Position.z = gl_Position.w;
 }
 #endif
 #endif

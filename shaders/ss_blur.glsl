@@ -3,8 +3,8 @@
 // mesh units (0: no skin). The kernel's offsets are mm on the surface: pixels = mm x
 // u_px_per_mm / depth. Follow-surface: a tap whose depth differs from the centre's by more than
 // its lateral distance fades to the centre's value (fully at twice it), so nothing bleeds
-// across silhouettes and the weights still sum to 1. The triangle sits at the far plane and
-// the depth test (GREATER) keeps it to skin pixels.
+// across silhouettes and the weights still sum to 1. common.glsl's full-screen triangle sits
+// at the far plane and the depth test (GREATER) keeps it to skin pixels.
 // u_combine 0: out = (blurred, depth); 1: out = blurred x u_aux + u_spec (u_mode 1: specular
 // only, 2: diffuse only), alpha 1.
 uniform sampler2D u_src;
@@ -17,14 +17,7 @@ uniform float u_px_per_mm;         // pixels per mm at eye depth 1 mesh unit
 uniform float u_ss_mm_per_unit;
 uniform int u_combine;
 uniform int u_mode;
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    gl_Position = dm_fullscreen(v_uv);
-    gl_Position.z = gl_Position.w; // the far plane
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle (at the far plane) */
 in vec2 v_uv;
 out vec4 o_color;
 void main()

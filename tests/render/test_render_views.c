@@ -24,16 +24,27 @@ typedef struct fixture {
     dm_renderer *r;
 } fixture;
 
-static void open_fixture(fixture *f, int blur_reduce_from)
+static void open_synth(fixture *f)
 {
     dm_error err = {0};
     memset(f, 0, sizeof *f);
     dm_synth_options so = {.beckmann_size = 128, .directional_size = 16, .stretch_size = 64};
     cr_assert_eq(dm_osmesa_create(&f->ctx, &err), DM_OK, "%s", err.detail);
     cr_assert_eq(dm_synth_create(&so, &f->synth, &err), DM_OK, "%s", err.detail);
+}
+
+static void open_renderer(fixture *f, int blur_reduce_from)
+{
+    dm_error err = {0};
     dm_render_desc d = {.width = 96, .height = 64, .irradiance_size = N, .shadow_size = 256,
                         .blur_reduce_from = blur_reduce_from};
     cr_assert_eq(dm_renderer_create(&f->synth->assets, &d, &f->r, &err), DM_OK, "%s", err.detail);
+}
+
+static void open_fixture(fixture *f, int blur_reduce_from)
+{
+    open_synth(f);
+    open_renderer(f, blur_reduce_from);
 }
 
 static void close_fixture(fixture *f)
@@ -389,4 +400,57 @@ Test(views, scalar_legend_draws_the_colour_bar)
         cr_expect(abs(r[c] - hi[c]) <= 8, "right %d: %d vs %d", c, r[c], hi[c]);
     }
     free(img);
+}
+
+/* Without a background or glow pass the tonemap shades only the head's pixels (the rest is
+ * the clear colour, which the curve takes to black): the display must still be the curve of
+ * every pixel, against a CPU reference in double (exposure, Hable's filmic curve with
+ * exposure bias 2 and white 11.2, sRGB) within one 8-bit step, and exactly black with alpha
+ * 255 off the head. */
+static double hable(double x)
+{
+    const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
+    return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F;
+}
+
+Test(views, tonemap_of_the_head_pixels_only_is_the_curve_everywhere)
+{
+    fixture f;
+    open_synth(&f);
+    dm_scene *s = &f.synth->scene;
+    s->env_background = false;
+    s->effects[DM_EFFECT_GLOW] = false;
+    s->effects[DM_EFFECT_TONEMAP] = true;
+    s->exposure = 0.75f;
+    open_renderer(&f, 0);
+    dm_error err = {0};
+    dm_frame_options o = {.view = DM_VIEW_FINAL};
+    cr_assert_eq(dm_render_frame(f.r, &o, &err), DM_OK, "%s", err.detail);
+    int w, h, irr;
+    dm_renderer_size(f.r, &w, &h, &irr);
+    float *lin = malloc((size_t)w * h * 4 * sizeof *lin);
+    uint8_t *disp = malloc((size_t)w * h * 4);
+    cr_assert_eq(dm_renderer_read_linear(f.r, lin, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_read_display(f.r, disp, &err), DM_OK, "%s", err.detail);
+    int head = 0, bg = 0;
+    for (int i = 0; i < w * h; ++i) {
+        const float *c = lin + (size_t)i * 4;
+        const uint8_t *d = disp + (size_t)i * 4;
+        cr_assert_eq(d[3], 255, "pixel %d alpha %d", i, d[3]);
+        if (c[3] == 0.0f) {
+            ++bg;
+            cr_assert(d[0] == 0 && d[1] == 0 && d[2] == 0, "background pixel %d is (%d %d %d)", i, d[0], d[1], d[2]);
+            continue;
+        }
+        ++head;
+        for (int k = 0; k < 3; ++k) {
+            double x = fmax(c[k] * exp2(0.75), 0.0), t = fmin(fmax(hable(2.0 * x) / hable(11.2), 0.0), 1.0);
+            double e = t < 0.0031308 ? 12.92 * t : 1.055 * pow(t, 1.0 / 2.4) - 0.055;
+            cr_assert(fabs(e * 255.0 - d[k]) <= 1.0, "head pixel %d channel %d: %d, curve %.3f", i, k, d[k], e * 255.0);
+        }
+    }
+    cr_expect_gt(head, 500);
+    cr_expect_gt(bg, 500);
+    free(lin), free(disp);
+    close_fixture(&f);
 }
