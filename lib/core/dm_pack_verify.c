@@ -199,9 +199,11 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
     /* One route for the profile: the renderer takes the scene's; the "profile" entry (the
      * file as it was, with its fit report) must hold the same Gaussians. */
     const dm_profile *pe = pack->profile, *ps = &s->profile;
-    if (r == DM_OK && pe &&
-        (pe->count != ps->count || memcmp(pe->variance_mm2, ps->variance_mm2, sizeof ps->variance_mm2[0] * ps->count) ||
-         memcmp(pe->weight, ps->weight, sizeof ps->weight[0] * ps->count)))
+    bool same = pe && pe->count == ps->count; /* by value: a -0 weight in a file is 0 in the scene JSON */
+    for (int k = 0; same && k < ps->count; ++k)
+        same = pe->variance_mm2[k] == ps->variance_mm2[k] && pe->weight[k][0] == ps->weight[k][0] &&
+               pe->weight[k][1] == ps->weight[k][1] && pe->weight[k][2] == ps->weight[k][2];
+    if (r == DM_OK && pe && !same)
         r = dm_fail(err, DM_ERR_MISMATCH,
                     "%s: entry \"profile\" ('%s', %d Gaussians) differs from the scene's profile ('%s', %d Gaussians)",
                     pack->what, pe->name, pe->count, ps->name, ps->count);

@@ -159,13 +159,20 @@ static bool read_gaussian(dm_jread *c, const cJSON *e, int k, dm_profile *p)
 
 dm_result dm_profile_from_json(const char *json, const char *what, dm_profile *p, dm_error *err)
 {
+    cJSON *root = cJSON_Parse(json);
+    dm_result r = dm_profile_from_cjson(root, what, p, err);
+    cJSON_Delete(root);
+    return r;
+}
+
+dm_result dm_profile_from_cjson(const cJSON *root, const char *what, dm_profile *p, dm_error *err)
+{
     /* what dermis-fit-profile, dermis-pack and dm_scene_to_json write (the fit's report is
      * carried, not read) */
     static const char *const top[] = {"format", "version", "name", "normalized", "gaussians", "blur_passes",
                                       "total_reflectance_rgb", "error", "source", "provenance", NULL};
     memset(p, 0, sizeof *p);
     dm_jread c = {what, err, DM_OK};
-    cJSON *root = cJSON_Parse(json);
     bool ok = cJSON_IsObject(root) ? dm_jread_keys(&c, root, "$", top)
                                    : dm_jread_fail(&c, DM_ERR_FORMAT, "$", NULL, "a JSON object (a profile)");
     const cJSON *fmt = ok ? dm_jread_get(root, "format") : NULL, *name = ok ? dm_jread_get(root, "name") : NULL;
@@ -186,7 +193,6 @@ dm_result dm_profile_from_json(const char *json, const char *what, dm_profile *p
         ok = read_gaussian(&c, cJSON_GetArrayItem(g, k), k, p);
         p->count = k + 1;
     }
-    cJSON_Delete(root);
     if (!ok) return c.r;
     return dm_profile_validate(p, what, err);
 }

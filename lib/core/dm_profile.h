@@ -81,6 +81,10 @@ dm_result dm_profile_validate(const dm_profile *p, const char *what, dm_error *e
 /* Parses the JSON form; `what` (usually the file name) prefixes error messages, which
  * name the JSON path, the value and what was expected. */
 dm_result dm_profile_from_json(const char *json, const char *what, dm_profile *p, dm_error *err);
+/* The same from a parsed JSON node (a scene's inline profile): the numbers as parsed, no
+ * printing and parsing again (cJSON prints 15 digits when they come within an ulp). */
+struct cJSON;
+dm_result dm_profile_from_cjson(const struct cJSON *node, const char *what, dm_profile *p, dm_error *err);
 /* Reads a profile JSON file. */
 dm_result dm_profile_read(const char *path, dm_profile *p, dm_error *err);
 

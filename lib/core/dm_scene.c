@@ -186,15 +186,9 @@ static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
 static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
 {
     if (cJSON_IsObject(v)) { /* inline, in the dm_profile.h JSON form (what dm_scene_to_json writes) */
-        char *text = cJSON_PrintUnformatted(v);
-        if (!text) {
-            c->j.r = dm_fail(c->j.err, DM_ERR_OUT_OF_MEMORY, "%s: %s: out of memory", c->j.where, jpath);
-            return false;
-        }
         char what[DM_SCENE_PATH_SIZE + DM_JPATH_SIZE];
         snprintf(what, sizeof what, "%s: %s", c->j.where, jpath);
-        dm_result r = dm_profile_from_json(text, what, &s->profile, c->j.err);
-        cJSON_free(text);
+        dm_result r = dm_profile_from_cjson(v, what, &s->profile, c->j.err);
         if (r != DM_OK) {
             c->j.r = r;
             return false;

@@ -14,13 +14,16 @@ static cJSON *vec3(const float v[3])
     return cJSON_CreateDoubleArray(d, 3);
 }
 
-/* The inline profile through the one profile writer (dm_profile_to_json), as a cJSON
- * tree: the same doubles, printed the scene's way. NULL when it cannot be written. */
+/* The inline profile as the one profile writer writes it (dm_profile_to_json), verbatim:
+ * 17 significant digits, so the scene's profile reads back exactly (cJSON's own printing
+ * keeps 15 when they come within an ulp). NULL when it cannot be written. */
 static cJSON *profile_json(const dm_profile *p)
 {
     char *text = NULL;
     if (dm_profile_to_json(p, &text, NULL) != DM_OK) return NULL;
-    cJSON *o = cJSON_Parse(text);
+    size_t n = strlen(text);
+    while (n && text[n - 1] == '\n') text[--n] = '\0';
+    cJSON *o = cJSON_CreateRaw(text);
     free(text);
     return o;
 }

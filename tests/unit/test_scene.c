@@ -56,6 +56,27 @@ Test(scene, bundled_full_scene_has_every_effect_and_existing_files)
     cr_assert_eq(scene.profile.count, 6);
 }
 
+/* An inline profile survives the scene's JSON bit for bit: 0.39354874902655007 printed with
+ * cJSON's 15 digits reads back one ulp off (cJSON keeps 15 when they come within an ulp), so
+ * the scene writes the profile with the profile writer's 17 and reads it from the node. */
+Test(scene, inline_profile_round_trips_bit_for_bit)
+{
+    const char *json = "{\"mesh\": {\"path\": \"head.obj\"}, \"effects\": {\"subsurface\": {\"profile\": "
+                       "{\"name\": \"fit\", \"gaussians\": [{\"variance_mm2\": 0.39354874902655007, "
+                       "\"weights\": [0.04516739832256841, 1, 0.5]}, {\"variance_mm2\": 10.882114324236698, "
+                       "\"weights\": [1, 0.25, 0.125]}]}}}}";
+    dm_error err = {0};
+    dm_scene a, b;
+    cr_assert_eq(dm_scene_parse(json, "/scenes/test.json", &a, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(a.profile.variance_mm2[0], 0.39354874902655007);
+    char *text = NULL;
+    cr_assert_eq(dm_scene_to_json(&a, &text, &err), DM_OK);
+    cr_assert_eq(dm_scene_parse(text, "/scenes/test.json", &b, &err), DM_OK, "%s\n%s", err.detail, text);
+    cr_assert_eq(memcmp(b.profile.variance_mm2, a.profile.variance_mm2, sizeof a.profile.variance_mm2), 0, "%s", text);
+    cr_assert_eq(memcmp(b.profile.weight, a.profile.weight, sizeof a.profile.weight), 0, "%s", text);
+    free(text);
+}
+
 /* The scene file is read once: its content hash comes with the parse (the packer's
  * provenance used to read the file a second time to hash it). */
 Test(scene, read_keeps_the_file_hash)
