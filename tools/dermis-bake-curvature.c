@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bake/dm_curvature.h"
+#include "bake/dm_bake_cli.h"
 #include "bake/dm_exr.h"
 #include "bake/dm_mesh.h"
 #include "core/dm_cli.h"
@@ -18,10 +19,8 @@
 #define MM_PER_UNIT_DEFAULT 50.0 /* the Lee Perry-Smith head (DESIGN.md), as dermis-bake-stretch */
 
 typedef struct args {
-    const char *mesh, *output, *profile, *mesh_name;
-    int64_t size, threads;
-    double mm_per_unit, smooth_mm; /* smooth_mm < 0: from the profile */
-    bool report, verbose, quiet;
+    dm_bake_cli c; /* the shared options (bake/dm_bake_cli.h) */
+    double smooth_mm; /* < 0: from the profile */
 } args;
 
 static void usage(FILE *f)
@@ -61,52 +60,24 @@ static void usage(FILE *f)
 /* Returns -1 to go on, else the exit code. */
 static int parse(int argc, char **argv, args *a)
 {
-    *a = (args){.size = DM_CURVATURE_SIZE_DEFAULT, .mm_per_unit = MM_PER_UNIT_DEFAULT, .smooth_mm = -1.0};
+    *a = (args){.c = {.size = DM_CURVATURE_SIZE_DEFAULT, .mm_per_unit = MM_PER_UNIT_DEFAULT}, .smooth_mm = -1.0};
     for (int i = 1; i < argc; ++i) {
         const char *s = argv[i], *v;
+        (void)v;
         if (dm_cli_version(s, TOOL)) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             usage(stdout);
             return DM_EXIT_OK;
-        } else if (!strcmp(s, "-o") || !strcmp(s, "--output")) {
-            if (!(a->output = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--size")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 16, DM_CURVATURE_SIZE_MAX, &a->size))
-                return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--mm-per-unit")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1e-6, 1e6, &a->mm_per_unit))
-                return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--smooth")) {
             if (!(v = dm_cli_value(argc, argv, &i)) ||
                 !dm_cli_double(s, v, 0.0, DM_CURVATURE_SMOOTH_MAX_MM, &a->smooth_mm))
                 return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--profile")) {
-            if (!(a->profile = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--mesh")) {
-            if (!(a->mesh_name = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--threads")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 0, 64, &a->threads)) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--report")) {
-            a->report = true;
-        } else if (!strcmp(s, "-v") || !strcmp(s, "--verbose")) {
-            a->verbose = true;
-        } else if (!strcmp(s, "--quiet")) {
-            a->quiet = true;
-        } else if (s[0] == '-' && s[1]) {
-            fprintf(stderr, "error: unknown option '%s' (see --help)\n", s);
-            return DM_EXIT_USAGE;
-        } else if (!a->mesh) {
-            a->mesh = s;
-        } else {
-            fprintf(stderr, "error: one mesh expected, got '%s' and '%s'\n", a->mesh, s);
+        } else if (!dm_bake_cli_option(argc, argv, &i, DM_CURVATURE_SIZE_MAX, &a->c)) {
             return DM_EXIT_USAGE;
         }
     }
-    const char *why = NULL;
-    if (!a->mesh) why = "no MESH given";
-    else if (!a->output) why = "no output given (-o OUT.exr)";
-    else if (a->quiet && (a->verbose || a->report)) why = a->verbose ? "--quiet conflicts with -v" : "--quiet conflicts with --report";
-    else if (a->profile && a->smooth_mm >= 0.0) why = "--smooth and --profile exclude each other";
+    const char *why = dm_bake_cli_check(&a->c);
+    if (!why && a->c.profile && a->smooth_mm >= 0.0) why = "--smooth and --profile exclude each other";
     if (why) {
         fprintf(stderr, "error: %s\n", why);
         usage(stderr);
@@ -148,52 +119,37 @@ int main(int argc, char **argv)
     dm_error err = {0};
     double t0 = dm_now_ms();
     dm_profile profile;
-    char profile_hash[DM_HASH_HEX_SIZE] = "builtin";
-    dm_profile_gems3_skin(&profile);
-    if (a.profile && (dm_profile_read(a.profile, &profile, &err) != DM_OK ||
-                      dm_hash_file_hex(a.profile, profile_hash, &err) != DM_OK)) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        return DM_EXIT_LOAD;
-    }
+    char profile_hash[DM_HASH_HEX_SIZE];
+    if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
     double smooth_mm = a.smooth_mm >= 0.0 ? a.smooth_mm : dm_curvature_profile_scale_mm(&profile);
     char mesh_hash[DM_HASH_HEX_SIZE];
     dm_mesh mesh;
-    dm_mesh_load_options load_opt = {.mesh_name = a.mesh_name};
-    if (dm_mesh_load(a.mesh, &load_opt, &mesh, &err) != DM_OK || dm_hash_file_hex(a.mesh, mesh_hash, &err) != DM_OK) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        dm_mesh_free(&mesh);
-        return DM_EXIT_LOAD;
-    }
+    if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;
     double load_ms = dm_now_ms() - t0;
-    if (a.verbose) fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.mesh, mesh.triangle_count, load_ms);
+    if (a.c.verbose) fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.c.mesh, mesh.triangle_count, load_ms);
 
     /* Process. */
-    dm_curvature_options opt = {.width = (int)a.size,
-                                .height = (int)a.size,
-                                .mm_per_unit = a.mm_per_unit,
+    dm_curvature_options opt = {.width = (int)a.c.size,
+                                .height = (int)a.c.size,
+                                .mm_per_unit = a.c.mm_per_unit,
                                 .smooth_mm = smooth_mm,
-                                .thread_count = (int)a.threads};
+                                .thread_count = (int)a.c.threads};
     dm_curvature_map map;
     if (dm_curvature_bake(&mesh, &opt, &map, &err) != DM_OK) {
-        fprintf(stderr, "error: %s: %s\n", a.mesh, err.detail);
+        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
         dm_curvature_map_free(&map);
         dm_mesh_free(&mesh);
         return DM_EXIT_PROCESS;
     }
     const dm_curvature_stats *s = &map.stats;
-    if (a.verbose)
+    if (a.c.verbose)
         fprintf(stderr, "baked %dx%d: vertices %.1f ms, smoothing %.1f ms, raster %.1f ms, fill %.1f ms\n", map.width,
                 map.height, s->vertex_ms, s->smooth_ms, s->raster_ms, s->fill_ms);
 
     /* Write. */
     t0 = dm_now_ms();
     dm_provenance prov;
-    dm_prov_init(&prov, TOOL);
-    snprintf(prov.input_hash, sizeof prov.input_hash, "%s", mesh_hash);
-    if (a.mesh_name) dm_prov_add_string(&prov, "mesh_name", a.mesh_name);
-    dm_prov_add_int(&prov, "width", map.width);
-    dm_prov_add_int(&prov, "height", map.height);
-    dm_prov_add_double(&prov, "mm_per_unit", a.mm_per_unit);
+    dm_bake_cli_prov(&a.c, TOOL, mesh_hash, &prov);
     dm_prov_add_double(&prov, "smooth_mm", smooth_mm);
     dm_prov_add_string(&prov, "profile", a.smooth_mm >= 0.0 ? "" : profile.name);
     dm_prov_add_string(&prov, "profile_hash", a.smooth_mm >= 0.0 ? "" : profile_hash);
@@ -206,16 +162,16 @@ int main(int argc, char **argv)
     dm_exr_channel ch[2] = {{"curvature", map.curvature, DM_EXR_FLOAT},
                             {"mask", map.mask, DM_EXR_HALF}}; /* 0 and 1 are exact in half */
     rc = DM_EXIT_OK;
-    if (dm_exr_write(a.output, map.width, map.height, ch, 2, &prov, &err) != DM_OK) {
+    if (dm_exr_write(a.c.output, map.width, map.height, ch, 2, &prov, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_SAVE;
     }
     double write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.report) print_report(a.mesh, &mesh, &map, smooth_mm, load_ms, write_ms);
-    else if (rc == DM_EXIT_OK && !a.quiet)
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, &mesh, &map, smooth_mm, load_ms, write_ms);
+    else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, coverage %.2f %%, curvature p5 %.3g p50 %.3g p95 %.3g /mm, smoothing %.3g mm, "
                "%d boundary vertices, %d degenerate, %d mirrored triangles\n",
-               a.output, map.width, map.height, 100.0 * s->coverage, s->percentile[1], s->percentile[2],
+               a.c.output, map.width, map.height, 100.0 * s->coverage, s->percentile[1], s->percentile[2],
                s->percentile[3], smooth_mm, s->boundary_vertices, s->degenerate_triangles, s->mirrored_triangles);
     dm_curvature_map_free(&map);
     dm_mesh_free(&mesh);

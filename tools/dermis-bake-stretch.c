@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/dm_bake_cli.h"
 #include "bake/dm_exr.h"
 #include "bake/dm_mesh.h"
 #include "bake/dm_mesh_plausible.h"
@@ -17,10 +18,8 @@
 #define TOOL "dermis-bake-stretch"
 
 typedef struct args {
-    const char *mesh, *output, *profile, *mesh_name;
-    int64_t size, levels, threads;
-    double mm_per_unit;
-    bool report, verbose, quiet;
+    dm_bake_cli c; /* the shared options (bake/dm_bake_cli.h) */
+    int64_t levels;
 } args;
 
 static void usage(FILE *f)
@@ -61,53 +60,25 @@ static void usage(FILE *f)
 /* Returns -1 to go on, else the exit code. */
 static int parse(int argc, char **argv, args *a)
 {
-    *a = (args){.size = DM_STRETCH_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT};
+    *a = (args){.c = {.size = DM_STRETCH_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT}};
     for (int i = 1; i < argc; ++i) {
         const char *s = argv[i], *v;
-        if (dm_cli_version(s, "dermis-bake-stretch")) exit(0);
+        (void)v;
+        if (dm_cli_version(s, TOOL)) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             usage(stdout);
             return DM_EXIT_OK;
-        } else if (!strcmp(s, "-o") || !strcmp(s, "--output")) {
-            if (!(a->output = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--size")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 16, DM_STRETCH_SIZE_MAX, &a->size))
-                return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--mm-per-unit")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1e-6, 1e6, &a->mm_per_unit))
-                return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--levels")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 1, DM_PROFILE_MAX_GAUSSIANS, &a->levels))
                 return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--mesh")) {
-            if (!(a->mesh_name = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--profile")) {
-            if (!(a->profile = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--threads")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 0, 64, &a->threads)) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--report")) {
-            a->report = true;
-        } else if (!strcmp(s, "-v") || !strcmp(s, "--verbose")) {
-            a->verbose = true;
-        } else if (!strcmp(s, "--quiet")) {
-            a->quiet = true;
-        } else if (s[0] == '-' && s[1]) {
-            fprintf(stderr, "error: unknown option '%s' (see --help)\n", s);
-            return DM_EXIT_USAGE;
-        } else if (!a->mesh) {
-            a->mesh = s;
-        } else {
-            fprintf(stderr, "error: one mesh expected, got '%s' and '%s'\n", a->mesh, s);
+        } else if (!dm_bake_cli_option(argc, argv, &i, DM_STRETCH_SIZE_MAX, &a->c)) {
             return DM_EXIT_USAGE;
         }
     }
-    if (!a->mesh || !a->output) {
-        fprintf(stderr, "error: %s\n", !a->mesh ? "no MESH given" : "no output given (-o OUT.exr)");
+    const char *why = dm_bake_cli_check(&a->c);
+    if (why) {
+        fprintf(stderr, "error: %s\n", why);
         usage(stderr);
-        return DM_EXIT_USAGE;
-    }
-    if (a->quiet && (a->verbose || a->report)) {
-        fprintf(stderr, "error: --quiet conflicts with %s\n", a->verbose ? "-v" : "--report");
         return DM_EXIT_USAGE;
     }
     return -1;
@@ -157,13 +128,8 @@ int main(int argc, char **argv)
     dm_error err = {0};
     double t0 = dm_now_ms();
     dm_profile profile;
-    char profile_hash[DM_HASH_HEX_SIZE] = "builtin";
-    dm_profile_gems3_skin(&profile);
-    if (a.profile && (dm_profile_read(a.profile, &profile, &err) != DM_OK ||
-                      dm_hash_file_hex(a.profile, profile_hash, &err) != DM_OK)) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        return DM_EXIT_LOAD;
-    }
+    char profile_hash[DM_HASH_HEX_SIZE];
+    if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
     if (a.levels > profile.count) {
         fprintf(stderr, "error: --levels %lld: profile '%s' has %d Gaussians, expected 1..%d\n", (long long)a.levels,
                 profile.name, profile.count, profile.count);
@@ -171,56 +137,46 @@ int main(int argc, char **argv)
     }
     char mesh_hash[DM_HASH_HEX_SIZE];
     dm_mesh mesh;
-    dm_mesh_load_options load_opt = {.mesh_name = a.mesh_name};
-    if (dm_mesh_load(a.mesh, &load_opt, &mesh, &err) != DM_OK || dm_hash_file_hex(a.mesh, mesh_hash, &err) != DM_OK) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        dm_mesh_free(&mesh);
-        return DM_EXIT_LOAD;
-    }
+    if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;
     double load_ms = dm_now_ms() - t0;
     char plausible[1024];
-    if (dm_mesh_plausible(&mesh, a.mm_per_unit, a.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
-    if (a.verbose)
-        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.mesh, mesh.triangle_count, load_ms);
+    if (dm_mesh_plausible(&mesh, a.c.mm_per_unit, a.c.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
+    if (a.c.verbose)
+        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.c.mesh, mesh.triangle_count, load_ms);
 
     /* Process. */
     dm_progress bar;
-    dm_progress_begin(&bar, "stretch", a.quiet || a.size < 2048);
-    dm_stretch_options opt = {.width = (int)a.size,
-                              .height = (int)a.size,
-                              .mm_per_unit = a.mm_per_unit,
+    dm_progress_begin(&bar, "stretch", a.c.quiet || a.c.size < 2048);
+    dm_stretch_options opt = {.width = (int)a.c.size,
+                              .height = (int)a.c.size,
+                              .mm_per_unit = a.c.mm_per_unit,
                               .profile = &profile,
                               .level_count = (int)a.levels,
-                              .thread_count = (int)a.threads,
+                              .thread_count = (int)a.c.threads,
                               .progress = on_progress,
                               .progress_ctx = &bar};
     dm_stretch_map map;
     if (dm_stretch_bake(&mesh, &opt, &map, &err) != DM_OK) {
         dm_progress_end(&bar);
-        fprintf(stderr, "error: %s: %s\n", a.mesh, err.detail);
+        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
         dm_mesh_free(&mesh);
         return DM_EXIT_PROCESS;
     }
     dm_progress_end(&bar);
     const dm_stretch_stats *s = &map.stats;
-    if (a.verbose)
+    if (a.c.verbose)
         fprintf(stderr, "baked %dx%d, %d levels: raster %.1f ms, fill %.1f ms, blur %.1f ms\n", map.width, map.height,
                 map.level_count, s->raster_ms, s->fill_ms, s->blur_ms);
-    if (!a.quiet && s->zero_uv_area_triangles + s->zero_area_triangles > 0)
+    if (!a.c.quiet && s->zero_uv_area_triangles + s->zero_area_triangles > 0)
         fprintf(stderr,
                 "warning: %s: %d triangles of zero UV area and %d of zero surface area cover no texel "
                 "(their texels, if any, are filled from neighbours)\n",
-                a.mesh, s->zero_uv_area_triangles, s->zero_area_triangles);
+                a.c.mesh, s->zero_uv_area_triangles, s->zero_area_triangles);
 
     /* Write. */
     t0 = dm_now_ms();
     dm_provenance prov;
-    dm_prov_init(&prov, TOOL);
-    snprintf(prov.input_hash, sizeof prov.input_hash, "%s", mesh_hash);
-    if (a.mesh_name) dm_prov_add_string(&prov, "mesh_name", a.mesh_name);
-    dm_prov_add_int(&prov, "width", map.width);
-    dm_prov_add_int(&prov, "height", map.height);
-    dm_prov_add_double(&prov, "mm_per_unit", a.mm_per_unit);
+    dm_bake_cli_prov(&a.c, TOOL, mesh_hash, &prov);
     dm_prov_add_int(&prov, "levels", map.level_count);
     dm_prov_add_string(&prov, "profile", profile.name);
     dm_prov_add_string(&prov, "profile_hash", profile_hash);
@@ -247,16 +203,16 @@ int main(int argc, char **argv)
     }
     ch[nch++] = (dm_exr_channel){"mask", map.mask, DM_EXR_HALF}; /* 0 and 1 are exact in half */
     rc = DM_EXIT_OK;
-    if (dm_exr_write(a.output, map.width, map.height, ch, nch, &prov, &err) != DM_OK) {
+    if (dm_exr_write(a.c.output, map.width, map.height, ch, nch, &prov, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_SAVE;
     }
     double write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.report) print_report(a.mesh, &mesh, &map, load_ms, write_ms);
-    else if (rc == DM_EXIT_OK && !a.quiet)
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, &mesh, &map, load_ms, write_ms);
+    else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, %d levels, coverage %.2f %%, median %.2f texels/mm, %d mirrored, %d+%d degenerate "
                "triangles\n",
-               a.output, map.width, map.height, map.level_count, 100.0 * s->coverage,
+               a.c.output, map.width, map.height, map.level_count, 100.0 * s->coverage,
                s->s_u_percentile[2] * map.width, s->mirrored_triangles, s->zero_uv_area_triangles,
                s->zero_area_triangles);
     dm_stretch_map_free(&map);

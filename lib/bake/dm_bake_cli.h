@@ -1,0 +1,50 @@
+/* dm_bake_cli.h — what the mesh bake tools (dermis-bake-stretch, dermis-bake-curvature)
+ * share on their command line: the operand MESH and the options -o, --size, --mm-per-unit,
+ * --profile, --mesh, --threads, --report, -v, --quiet; their checks; the loading of the
+ * profile and the mesh with their content hashes; and the provenance entries they both
+ * write. Each tool keeps its own --help text and its own options. */
+#ifndef DM_BAKE_CLI_H
+#define DM_BAKE_CLI_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "bake/dm_mesh.h"
+#include "core/dm_hash.h"
+#include "core/dm_profile.h"
+#include "core/dm_prov.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct dm_bake_cli {
+    const char *mesh, *output, *profile, *mesh_name;
+    int64_t size, threads;
+    double mm_per_unit;
+    bool report, verbose, quiet;
+} dm_bake_cli;
+
+/* Takes argv[*i] (and its value, advancing *i) when it is a shared option or the MESH
+ * operand: true. False, said on stderr, for a bad value, an unknown option or a second
+ * MESH. Tools test their own options first. --size takes 16..size_max. */
+bool dm_bake_cli_option(int argc, char **argv, int *i, int64_t size_max, dm_bake_cli *a);
+/* After the options: what is missing or conflicting (no MESH, no output, --quiet with -v
+ * or --report), or NULL. */
+const char *dm_bake_cli_check(const dm_bake_cli *a);
+
+/* The profile: --profile's file or gems3-skin (hash "builtin"). The mesh: MESH (--mesh
+ * picks glTF meshes). Each with its content hash; failures said on stderr as
+ * "error: ...", the mesh freed. */
+bool dm_bake_cli_profile(const dm_bake_cli *a, dm_profile *profile, char hash[DM_HASH_HEX_SIZE]);
+bool dm_bake_cli_mesh(const dm_bake_cli *a, dm_mesh *mesh, char hash[DM_HASH_HEX_SIZE]);
+
+/* Provenance for tool: input_hash the mesh's, then mesh_name (when given), width, height
+ * (size) and mm_per_unit; the tool adds its own after. */
+void dm_bake_cli_prov(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
+                      dm_provenance *prov);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
