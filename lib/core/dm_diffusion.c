@@ -142,40 +142,49 @@ static int pairs_or_default(int pairs)
     return pairs > 0 ? pairs : DM_MULTIPOLE_PAIRS_DEFAULT;
 }
 
-double dm_multipole(double sigma_a, double sigma_s_prime, double eta, double thickness_mm, int pairs, double r_mm)
+/* Σ over the multipole's image pairs i = −n..n (Donner & Jensen 2005: the real source at
+ * i·period + z_r, the virtual one at i·period − z_r − 2 z_b) of term(z_real, z_virtual),
+ * the small far images first (from |i| = n inwards) to keep rounding low. */
+typedef double (*image_term)(double zr, double zv, double sigma_tr, double r_mm);
+
+static double sum_images(const channel *ch, double thickness_mm, int pairs, image_term term, double r_mm)
 {
-    channel ch = channel_of(sigma_a, sigma_s_prime, eta);
     int n = pairs_or_default(pairs);
-    double period = 2.0 * (thickness_mm + 2.0 * ch.z_b);
-    /* Sum the small far images first (from |i| = n inwards) to keep rounding low. */
+    double period = 2.0 * (thickness_mm + 2.0 * ch->z_b);
     double sum = 0.0;
     for (int a = n; a >= 0; --a) {
         for (int sgn = (a ? -1 : 1); sgn <= 1; sgn += 2) {
             int i = sgn * a;
-            double zr = i * period + ch.z_r;
-            double zv = i * period - ch.z_r - 2.0 * ch.z_b;
-            sum += source_term(zr, ch.sigma_tr, r_mm) - source_term(zv, ch.sigma_tr, r_mm);
+            double zr = i * period + ch->z_r;
+            double zv = i * period - ch->z_r - 2.0 * ch->z_b;
+            sum += term(zr, zv, ch->sigma_tr, r_mm);
         }
     }
-    return ch.alpha_p / (4.0 * DM_PI) * sum;
+    return sum;
+}
+
+static double radiant_exitance_term(double zr, double zv, double sigma_tr, double r_mm)
+{
+    return source_term(zr, sigma_tr, r_mm) - source_term(zv, sigma_tr, r_mm);
+}
+
+/* ∫ 2πr z(σ d + 1)e^(−σd)/d³ dr = 2π sgn(z) e^(−σ|z|); the 2π meets the 4π. */
+static double total_term(double zr, double zv, double sigma_tr, double r_mm)
+{
+    (void)r_mm;
+    return copysign(exp(-sigma_tr * fabs(zr)), zr) - copysign(exp(-sigma_tr * fabs(zv)), zv);
+}
+
+double dm_multipole(double sigma_a, double sigma_s_prime, double eta, double thickness_mm, int pairs, double r_mm)
+{
+    channel ch = channel_of(sigma_a, sigma_s_prime, eta);
+    return ch.alpha_p / (4.0 * DM_PI) * sum_images(&ch, thickness_mm, pairs, radiant_exitance_term, r_mm);
 }
 
 double dm_multipole_total(double sigma_a, double sigma_s_prime, double eta, double thickness_mm, int pairs)
 {
     channel ch = channel_of(sigma_a, sigma_s_prime, eta);
-    int n = pairs_or_default(pairs);
-    double period = 2.0 * (thickness_mm + 2.0 * ch.z_b);
-    double sum = 0.0;
-    for (int a = n; a >= 0; --a) {
-        for (int sgn = (a ? -1 : 1); sgn <= 1; sgn += 2) {
-            int i = sgn * a;
-            double zr = i * period + ch.z_r;
-            double zv = i * period - ch.z_r - 2.0 * ch.z_b;
-            /* ∫ 2πr z(σ d + 1)e^(−σd)/d³ dr = 2π sgn(z) e^(−σ|z|); the 2π meets the 4π. */
-            sum += copysign(exp(-ch.sigma_tr * fabs(zr)), zr) - copysign(exp(-ch.sigma_tr * fabs(zv)), zv);
-        }
-    }
-    return 0.5 * ch.alpha_p * sum;
+    return 0.5 * ch.alpha_p * sum_images(&ch, thickness_mm, pairs, total_term, 0.0);
 }
 
 void dm_medium_eval(const dm_medium *m, double r_mm, double rgb[3])
