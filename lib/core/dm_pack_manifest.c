@@ -78,6 +78,20 @@ static bool mprov(mctx *c, const cJSON *obj, const char *jpath, char **out)
     return true;
 }
 
+/* The string at jp.key named by from_name (an enum value, < 0 when unknown): *out, or an
+ * error naming the key, the value and `want`. */
+static bool menum(dm_jread *c, const cJSON *j, const char *jp, const char *key, int (*from_name)(const char *),
+                  const char *want, int *out)
+{
+    const char *v = dm_jread_string(c, j, jp, key);
+    if (!v) return false;
+    *out = from_name(v);
+    if (*out >= 0) return true;
+    char p[96];
+    snprintf(p, sizeof p, "%s.%s", jp, key);
+    return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, key), want);
+}
+
 static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
 {
     static const char *const common[] = {"name", "kind", "offset", "size", "xxh3", "provenance", NULL};
@@ -93,15 +107,10 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
     memset(e, 0, sizeof *e);
     if (!cJSON_IsObject(j)) return dm_jread_fail(c, DM_ERR_FORMAT, jp, j, "an object");
     if (!mname(c, j, jp, "name", e->name)) return false;
-    const char *kind = dm_jread_string(c, j, jp, "kind");
-    if (!kind) return false;
-    int k = dm_pack_kind_from_name(kind);
-    if (k < 0) {
-        char p[96];
-        snprintf(p, sizeof p, "%s.kind", jp);
-        return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "kind"),
-                     "one of texture, mesh.vertices, mesh.indices, env.sh, profile, scene");
-    }
+    int k;
+    if (!menum(c, j, jp, "kind", dm_pack_kind_from_name,
+               "one of texture, mesh.vertices, mesh.indices, env.sh, profile, scene", &k))
+        return false;
     e->kind = (dm_pack_kind)k;
     const char *const *keys = e->kind == DM_PACK_TEXTURE         ? tex_keys
                               : e->kind == DM_PACK_MESH_VERTICES ? vtx_keys
@@ -128,15 +137,10 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
     if (!mprov(c, j, jp, &e->provenance_json)) return false;
 
     if (e->kind == DM_PACK_TEXTURE) {
-        const char *f = dm_jread_string(c, j, jp, "format");
-        if (!f) return false;
-        int fi = dm_tex_format_from_name(f);
-        if (fi < 0) {
-            char p[96];
-            snprintf(p, sizeof p, "%s.format", jp);
-            return dm_jread_fail(c, DM_ERR_FORMAT, p, cJSON_GetObjectItemCaseSensitive(j, "format"),
-                         "one of r8, rg8, rgba8, rgba8_srgb, r16f, rg16f, rgba16f, r32f, rg32f, rgba32f");
-        }
+        int fi;
+        if (!menum(c, j, jp, "format", dm_tex_format_from_name,
+                   "one of r8, rg8, rgba8, rgba8_srgb, r16f, rg16f, rgba16f, r32f, rg32f, rgba32f", &fi))
+            return false;
         e->format = (dm_tex_format)fi;
         if (!dm_jread_int32(c, j, jp, "width", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->width) ||
             !dm_jread_int32(c, j, jp, "height", 1, DM_PACK_TEXTURE_SIZE_MAX, &e->height) ||
