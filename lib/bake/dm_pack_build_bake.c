@@ -139,6 +139,9 @@ dm_result dmpb_step_preintegrated(dm_pack_build *j, dm_error *err)
     snprintf(src, sizeof src, "%dx%d, curvature 0..%g /mm, %.0f ms", lut.width, lut.height, lut.curvature_max_per_mm,
              lut.bake_ms);
     dm_pack_entry d = dm_pack_texture_entry("sss.preintegrated", DM_TEX_RGBA32F, lut.width, lut.height);
+    d.has_t_range = true; /* the rows' curvature, 1/mm: what the renderer needs of the layout */
+    d.t_range[0] = 0.0f;
+    d.t_range[1] = (float)lut.curvature_max_per_mm;
     r = dmpb_add(j, &d, rgba, texels * 4 * sizeof *rgba, &p, src, err);
     free(rgba);
     dm_preint_lut_free(&lut);
@@ -222,6 +225,8 @@ static dm_result bake_environment(dm_pack_build *j, int k, dm_error *err)
         if (r == DM_OK) {
             d = dm_pack_texture_entry(spec_name, DM_TEX_RGBA32F, env.spec_width, env.spec_height);
             d.layers = env.spec_layers;
+            d.layer_value_count = env.spec_layers;
+            memcpy(d.layer_values, env.spec_m, sizeof(float) * (size_t)env.spec_layers);
             r = dmpb_add(j, &d, env.spec_rgba, (size_t)env.spec_width * env.spec_height * env.spec_layers * 4 * sizeof(float),
                     &env.spec_prov, src, err);
         }

@@ -41,8 +41,9 @@ static void base_prov(dm_provenance *p, const char *tool, const char *what, cons
 static dm_result lighting_from_bake(const dm_env_bake *bake, const char *tool, const char *hash, const char *path,
                                     dm_pack_env *out, dm_error *err)
 {
-    if (bake->level_count < 1)
-        return dm_fail(err, DM_ERR_FORMAT, "%s: no prefiltered specular level, expected at least one", path);
+    if (bake->level_count < 1 || bake->level_count > DM_PACK_LAYER_VALUES_MAX)
+        return dm_fail(err, DM_ERR_FORMAT, "%s: %d prefiltered specular levels, expected 1..%d", path,
+                       bake->level_count, DM_PACK_LAYER_VALUES_MAX);
     for (int k = 0; k < 9; ++k)
         for (int c = 0; c < 3; ++c) out->sh[k][c] = (float)bake->sh[k][c];
     base_prov(&out->sh_prov, tool, "radiance SH, order 2", hash, path);
@@ -69,6 +70,7 @@ static dm_result lighting_from_bake(const dm_env_bake *bake, const char *tool, c
                                px);
                 px[3] = 1.0f;
             }
+        out->spec_m[k] = (float)lv->m;
         char name[32];
         snprintf(name, sizeof name, "m%d", k);
         dm_prov_add_double(&out->spec_prov, name, lv->m);

@@ -17,6 +17,7 @@
 #include <stdbool.h>
 
 #include "core/dm_prov.h"
+#include "core/dm_pack.h"
 #include "core/dm_result.h"
 
 #ifdef __cplusplus
@@ -28,6 +29,7 @@ typedef struct dm_pack_env {
     dm_provenance sh_prov;
     int spec_width, spec_height, spec_layers;
     float *spec_rgba; /* spec_layers × spec_height × spec_width × 4, bottom-up; owned */
+    float spec_m[DM_PACK_LAYER_VALUES_MAX]; /* the Beckmann m of each layer */
     dm_provenance spec_prov;
     int background_width, background_height;
     float *background_rgba; /* owned; NULL when not asked for */

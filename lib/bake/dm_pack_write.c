@@ -119,6 +119,14 @@ static cJSON *entry_json(const dm_pack_blob *b)
             cJSON *ch = cJSON_AddArrayToObject(o, "channels");
             for (int k = 0; k < e->channel_count; ++k) cJSON_AddItemToArray(ch, cJSON_CreateString(e->channels[k]));
         }
+        if (e->layer_value_count > 0) {
+            cJSON *lv = cJSON_AddArrayToObject(o, "layer_values");
+            for (int k = 0; k < e->layer_value_count; ++k) cJSON_AddItemToArray(lv, cJSON_CreateNumber(e->layer_values[k]));
+        }
+        if (e->has_t_range) {
+            cJSON *tr = cJSON_AddArrayToObject(o, "t_range");
+            for (int k = 0; k < 2; ++k) cJSON_AddItemToArray(tr, cJSON_CreateNumber(e->t_range[k]));
+        }
         break;
     case DM_PACK_MESH_VERTICES: {
         cJSON_AddNumberToObject(o, "vertex_count", (double)e->vertex_count);

@@ -109,18 +109,12 @@ dm_result dm_pack_find_texture(const dm_pack *pack, const char *name, const dm_p
 
 dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float *m, dm_error *err)
 {
-    dm_provenance p;
-    dm_result r = dm_prov_from_json(&p, e->provenance_json, pack->what, err);
-    if (r != DM_OK) return r;
-    for (int k = 0; k < e->layers; ++k) {
-        char name[16];
-        snprintf(name, sizeof name, "m%d", k);
-        const dm_param *q = dm_prov_find(&p, name);
-        if (!q || q->type == DM_PARAM_STRING)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: %s layer %d has no roughness \"%s\" in its provenance", pack->what,
-                           e->name, k, name);
-        m[k] = (float)q->d;
-    }
+    if (e->layer_value_count != e->layers)
+        return dm_fail(err, DM_ERR_FORMAT,
+                       "%s: %s has no \"layer_values\" (the Beckmann m of each of its %d layers); pack the scene "
+                       "again with this dermis-pack",
+                       pack->what, e->name, e->layers);
+    for (int k = 0; k < e->layers; ++k) m[k] = e->layer_values[k];
     return DM_OK;
 }
 

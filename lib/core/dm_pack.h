@@ -31,7 +31,12 @@
  *   Kinds and their extra keys (all required unless marked):
  *     "texture"   "format" (dm_tex_format names below), "width", "height" (1..16384),
  *                 "layers" (1..256), "levels" (1..1+log2(max(width, height))),
- *                 "channels" (optional: one name per component, e.g. ["scale", "bias"]).
+ *                 "channels" (optional: one name per component, e.g. ["scale", "bias"]),
+ *                 "layer_values" (optional: one finite number per layer, at most 16: what
+ *                 each layer stands for; env*.specular: the Beckmann m it is prefiltered
+ *                 for), "t_range" (optional: [first, last], finite: the quantity the
+ *                 rows span at their centres; sss.preintegrated: curvature in 1/mm).
+ *                 Data the renderer needs comes from these keys, never from provenance.
  *                 Data: level-major, then layer, then rows bottom-up (row 0 is v ≈ 0, so
  *                 an upload of the bytes as they are gives texture(t, uv) = image(uv)),
  *                 texels tightly packed: set GL_UNPACK_ALIGNMENT to 1. Level l is
@@ -82,6 +87,7 @@ enum {
     DM_PACK_NAME_SIZE = 64,
     DM_PACK_MAX_ATTRIBUTES = 8,
     DM_PACK_MAX_CHANNELS = 4,
+    DM_PACK_LAYER_VALUES_MAX = 16,
     DM_PACK_CHANNEL_NAME_SIZE = 24,
     DM_PACK_TEXTURE_SIZE_MAX = 16384,
     DM_PACK_LAYERS_MAX = 256,
@@ -161,6 +167,10 @@ typedef struct dm_pack_entry {
     int width, height, layers, levels;
     int channel_count; /* 0 when the manifest names none */
     char channels[DM_PACK_MAX_CHANNELS][DM_PACK_CHANNEL_NAME_SIZE];
+    int layer_value_count; /* 0, or layers: "layer_values" */
+    float layer_values[DM_PACK_LAYER_VALUES_MAX];
+    bool has_t_range;      /* "t_range" */
+    float t_range[2];
     /* mesh.vertices */
     int64_t vertex_count;
     int stride;
@@ -212,8 +222,8 @@ const dm_pack_entry *dm_pack_find(const dm_pack *pack, const char *name);
  * pack has none (DM_OK); DM_ERR_FORMAT, naming the entry, for any other shape. */
 dm_result dm_pack_find_texture(const dm_pack *pack, const char *name, const dm_pack_entry **out, dm_error *err);
 /* The Beckmann roughness of each layer of a prefiltered environment entry (env*.specular),
- * from its provenance "m0".."mK": m receives e->layers values. DM_ERR_FORMAT when one is
- * missing. */
+ * from its "layer_values": m receives e->layers values. DM_ERR_FORMAT when it has none
+ * (a pack from before they were written: pack the scene again). */
 dm_result dm_pack_env_level_m(const dm_pack *pack, const dm_pack_entry *e, float *m, dm_error *err);
 /* The pack's mesh: its "mesh.vertices" and "mesh.indices" entries, the vertices in the
  * dermis layout (DM_PACK_VERTEX_STRIDE, position, normal, uv, tangent at their offsets)

@@ -141,6 +141,10 @@ dm_result dm_pack_entry_expected_size(const dm_pack_entry *e, const char *what, 
             return dm_fail(err, DM_ERR_RANGE, "%s: %d channel names for format %s, expected %d", what,
                            e->channel_count, dm_tex_format_get(e->format)->name,
                            dm_tex_format_get(e->format)->components);
+        if (e->layer_value_count != 0 &&
+            (e->layer_value_count != e->layers || e->layer_value_count > DM_PACK_LAYER_VALUES_MAX))
+            return dm_fail(err, DM_ERR_RANGE, "%s: %d layer values for %d layers, expected one per layer (at most %d)",
+                           what, e->layer_value_count, e->layers, DM_PACK_LAYER_VALUES_MAX);
         *size = dm_pack_texture_level_offset(e, e->levels);
         return DM_OK;
     }

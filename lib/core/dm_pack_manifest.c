@@ -3,6 +3,7 @@
 #include "core/dm_pack.h"
 
 #include <errno.h>
+#include <float.h>
 #include <fcntl.h>
 #include <inttypes.h>
 #include <math.h>
@@ -78,6 +79,21 @@ static bool mprov(mctx *c, const cJSON *obj, const char *jpath, char **out)
     return true;
 }
 
+/* v (at jp.key) as exactly n finite numbers (n < 0: none will do) into out, or an error. */
+static bool mfloats(dm_jread *c, const cJSON *v, const char *jp, const char *key, int n, const char *want, float *out)
+{
+    char p[96];
+    snprintf(p, sizeof p, "%s.%s", jp, key);
+    if (n < 0 || !cJSON_IsArray(v) || cJSON_GetArraySize(v) != n) return dm_jread_fail(c, DM_ERR_FORMAT, p, v, want);
+    for (int k = 0; k < n; ++k) {
+        const cJSON *x = cJSON_GetArrayItem(v, k);
+        if (!cJSON_IsNumber(x) || !isfinite(x->valuedouble) || !(fabs(x->valuedouble) <= FLT_MAX))
+            return dm_jread_fail(c, DM_ERR_FORMAT, p, v, want);
+        out[k] = (float)x->valuedouble;
+    }
+    return true;
+}
+
 /* The string at jp.key named by from_name (an enum value, < 0 when unknown): *out, or an
  * error naming the key, the value and `want`. */
 static bool menum(dm_jread *c, const cJSON *j, const char *jp, const char *key, int (*from_name)(const char *),
@@ -96,7 +112,8 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
 {
     static const char *const common[] = {"name", "kind", "offset", "size", "xxh3", "provenance", NULL};
     static const char *const tex_keys[] = {"name", "kind",  "offset", "size",   "xxh3",     "provenance",
-                                           "format", "width", "height", "layers", "levels", "channels", NULL};
+                                           "format", "width", "height", "layers", "levels", "channels",
+                                           "layer_values", "t_range", NULL};
     static const char *const vtx_keys[] = {"name", "kind", "offset", "size", "xxh3", "provenance",
                                            "vertex_count", "stride", "attributes", NULL};
     static const char *const idx_keys[] = {"name", "kind", "offset", "size", "xxh3", "provenance",
@@ -161,6 +178,14 @@ static bool parse_entry(mctx *c, const cJSON *j, int index, dm_pack_entry *e)
             }
             e->channel_count = n;
         }
+        const cJSON *lv = cJSON_GetObjectItemCaseSensitive(j, "layer_values");
+        if (lv && !mfloats(c, lv, jp, "layer_values", e->layers > DM_PACK_LAYER_VALUES_MAX ? -1 : e->layers,
+                           "finite numbers, one per layer (at most 16 layers)", e->layer_values))
+            return false;
+        e->layer_value_count = lv ? e->layers : 0;
+        const cJSON *tr = cJSON_GetObjectItemCaseSensitive(j, "t_range");
+        if (tr && !mfloats(c, tr, jp, "t_range", 2, "[first, last]: two finite numbers", e->t_range)) return false;
+        e->has_t_range = tr != NULL;
     } else if (e->kind == DM_PACK_MESH_VERTICES) {
         if (!dm_jread_int64(c, j, jp, "vertex_count", 1, (int64_t)1 << 32, &e->vertex_count) ||
             !dm_jread_int32(c, j, jp, "stride", 4, 256, &e->stride))

@@ -159,10 +159,13 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
     if ((r = texture(pack, "sss.preintegrated", &assets->preintegrated, err)) != DM_OK) return r;
     if ((r = texture(pack, "sss.curvature", &assets->curvature, err)) != DM_OK) return r;
     const dm_pack_entry *pi = dm_pack_find(pack, "sss.preintegrated");
-    dm_provenance pp;
-    if (pi && pi->provenance_json && dm_prov_from_json(&pp, pi->provenance_json, pack->what, NULL) == DM_OK) {
-        const dm_param *km = dm_prov_find(&pp, "curvature_max_per_mm");
-        if (km && km->type != DM_PARAM_STRING) assets->preint_curvature_max_per_mm = (float)km->d;
+    if (pi) { /* its rows span curvature t_range[0] = 0 .. t_range[1] (1/mm) */
+        if (!pi->has_t_range || pi->t_range[0] != 0.0f || !(pi->t_range[1] > 0.0f))
+            return dm_fail(err, DM_ERR_FORMAT,
+                           "%s: sss.preintegrated has no \"t_range\" [0, curvature max] (its rows' curvature in "
+                           "1/mm); pack the scene again with this dermis-pack",
+                           pack->what);
+        assets->preint_curvature_max_per_mm = pi->t_range[1];
     }
     return environment(pack, env, assets, err);
 }

@@ -673,7 +673,8 @@ Test(lut_prov, provenance_survives_png_and_exr_files)
 
 /* Environment lighting with one alternative map and no background: needs scene, the mesh,
  * lut.env_brdf, env.sh, env.specular, env1.sh, env1.specular. skip names one to leave out. */
-static uint8_t *build_env(const char *skip, size_t *size)
+/* with_m: the specular entries carry their layers' Beckmann m ("layer_values") */
+static uint8_t *build_env(const char *skip, bool with_m, size_t *size)
 {
     static const char *json = "{\"mesh\": {\"path\": \"head.obj\"}, \"environment\": {\"path\": \"a.hdr\", "
                               "\"background\": false, \"alternatives\": [\"b.hdr\"]}, "
@@ -703,6 +704,10 @@ static uint8_t *build_env(const char *skip, size_t *size)
             cr_assert_eq(dm_pack_writer_add(&w, &d, sh, sizeof sh, &p, &err), DM_OK, "%s", err.detail);
         } else {
             d = dm_pack_texture_entry(names[k], DM_TEX_RGBA32F, 4, 2);
+            if (with_m) {
+                d.layer_value_count = 1;
+                d.layer_values[0] = 0.3f + 0.1f * (float)k;
+            }
             cr_assert_eq(dm_pack_writer_add(&w, &d, rgba, sizeof rgba, &p, &err), DM_OK, "%s", err.detail);
         }
     }
@@ -715,7 +720,7 @@ static uint8_t *build_env(const char *skip, size_t *size)
 Test(pack_env, alternatives_present_open_and_are_known)
 {
     size_t size;
-    uint8_t *buf = build_env(NULL, &size);
+    uint8_t *buf = build_env(NULL, true, &size);
     dm_pack pack;
     dm_error err = {0};
     cr_assert_eq(dm_pack_open_memory(buf, size, "t.dpk", &pack, &err), DM_OK, "%s", err.detail);
@@ -740,10 +745,56 @@ Test(pack_env, alternatives_present_open_and_are_known)
 Test(pack_env, missing_alternative_is_refused_by_name)
 {
     size_t size;
-    uint8_t *buf = build_env("env1.specular", &size);
+    uint8_t *buf = build_env("env1.specular", true, &size);
     expect_refused(buf, size, DM_ERR_FORMAT, "missing required entry \"env1.specular\"");
     free(buf);
-    buf = build_env("env1.sh", &size);
+    buf = build_env("env1.sh", true, &size);
     expect_refused(buf, size, DM_ERR_FORMAT, "missing required entry \"env1.sh\"");
+    free(buf);
+}
+
+/* Data the renderer needs is in the manifest, never read back from provenance: the layers'
+ * Beckmann m ("layer_values") and a table's row range ("t_range") round-trip exactly; a
+ * specular entry without them is refused by name; malformed values are refused. */
+Test(pack_env, layer_values_and_t_range_round_trip)
+{
+    size_t size;
+    uint8_t *buf = build_env(NULL, true, &size);
+    dm_pack pack;
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open_memory(buf, size, "m.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    float m[1];
+    cr_assert_eq(dm_pack_env_level_m(&pack, dm_pack_find(&pack, "env1.specular"), m, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(m[0], 0.3f + 0.1f * 3.0f);
+    dm_pack_close(&pack);
+    free(buf);
+
+    buf = build_env(NULL, false, &size);
+    cr_assert_eq(dm_pack_open_memory(buf, size, "old.dpk", &pack, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_pack_env_level_m(&pack, dm_pack_find(&pack, "env.specular"), m, &err), DM_ERR_FORMAT);
+    cr_assert(strstr(err.detail, "old.dpk: env.specular has no \"layer_values\""), "%s", err.detail);
+    dm_pack_close(&pack);
+    free(buf);
+
+    /* layer_values of the wrong length: the writer refuses, and so does the reader */
+    dm_pack_writer w;
+    dm_pack_writer_init(&w);
+    dm_provenance p;
+    dm_prov_init(&p, "test_pack");
+    dm_pack_entry d = dm_pack_texture_entry("t", DM_TEX_R32F, 2, 2);
+    d.layers = 2;
+    d.layer_value_count = 1;
+    float texels[8] = {0};
+    cr_assert_eq(dm_pack_writer_add(&w, &d, texels, sizeof texels, &p, &err), DM_ERR_RANGE);
+    dm_pack_writer_free(&w);
+    buf = build_env(NULL, true, &size);
+    char *man = manifest_of(buf);
+    char *lv = strstr(strstr(man, "\"env1.specular\""), "\"layer_values\"");
+    char *open = strchr(lv, '['), *close = strchr(lv, ']');
+    memset(open, ' ', (size_t)(close - open + 1));
+    memcpy(open, "[1,2]", 5);
+    set_manifest(buf, man);
+    free(man);
+    expect_refused(buf, size, DM_ERR_FORMAT, "layer_values");
     free(buf);
 }
