@@ -1,19 +1,12 @@
-// background.glsl - the environment behind the head: a full-screen triangle at the far plane
-// (depth test LEQUAL keeps the head), radiance looked up along each pixel's view ray.
+// background.glsl - the environment behind the head: common.glsl's full-screen triangle at the
+// far plane (depth test LEQUAL keeps the head), radiance looked up along each pixel's view ray.
 uniform vec3 u_cam_forward; // forward, right * tan(fov/2) * aspect, up * tan(fov/2)
 uniform vec3 u_cam_right;
 uniform vec3 u_cam_up;
 uniform float u_env_rotation;
 uniform float u_env_intensity;
 uniform sampler2D u_background;
-#ifdef DM_VERTEX
-out vec2 v_uv;
-void main()
-{
-    vec4 p = dm_fullscreen(v_uv);
-    gl_Position = vec4(p.xy, 1.0, 1.0);
-}
-#else
+#ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle (at the far plane) */
 in vec2 v_uv;
 out vec4 o_color;
 void main()
