@@ -31,7 +31,10 @@ typedef struct dm_exr_channel {
 dm_result dm_exr_write(const char *path, int width, int height, const dm_exr_channel *channels,
                        int channel_count, const dm_provenance *prov, dm_error *err);
 
-enum { DM_EXR_NAME_SIZE = 256 };
+/* What dm_exr_read accepts: sides up to the largest texture dermis makes, at most 2^30
+ * floats in all (an 8192² stretch chain of 13 channels is 0.87·2^30). */
+enum { DM_EXR_NAME_SIZE = 256, DM_EXR_SIDE_MAX = 16384 };
+#define DM_EXR_FLOATS_MAX ((int64_t)1 << 30)
 
 typedef struct dm_exr_image {
     int width, height;
@@ -43,7 +46,10 @@ typedef struct dm_exr_image {
 } dm_exr_image;
 
 /* Reads every channel of the first part of a scanline or tiled EXR as float. Free with
- * dm_exr_free, also after a failure (it is then empty). */
+ * dm_exr_free, also after a failure (it is then empty). DM_ERR_FORMAT for a side beyond
+ * DM_EXR_SIDE_MAX, more than DM_EXR_FLOATS_MAX values, or a chunk whose sizes the file
+ * cannot hold (more bytes than the file, more unpacked bytes than its pixels need): OpenEXR
+ * allocates what a chunk claims before it reads. */
 dm_result dm_exr_read(const char *path, dm_exr_image *out, dm_error *err);
 void dm_exr_free(dm_exr_image *img);
 /* The plane of the named channel, or NULL. */

@@ -21,8 +21,9 @@ static inline const char *test_tmpdir(char *buf, size_t size)
  * exit code, or -1 if it did not exit normally. */
 static inline int test_run(const char *cmd, const char *log)
 {
-    char line[8192];
-    snprintf(line, sizeof line, "%s >%s 2>&1", cmd, log ? log : "/dev/null");
+    char line[12288];
+    int n = snprintf(line, sizeof line, "%s >%s 2>&1", cmd, log ? log : "/dev/null");
+    if (n < 0 || (size_t)n >= sizeof line) return -1; /* too long to run as given */
     int st = system(line);
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }

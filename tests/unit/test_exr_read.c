@@ -179,3 +179,76 @@ Test(exr_read, refuses_what_it_does_not_support)
     free(c);
     free(data);
 }
+
+/* The offline reader (bake/dm_exr.h) and what fuzz_bake_exr found: OpenEXR allocates what a
+ * header or chunk claims before reading it, so a 1 KiB file claiming a data window 218
+ * million texels wide made it ask for 3 GB. Refused now: sides beyond DM_EXR_SIDE_MAX; a chunk
+ * claiming more bytes than the file holds is refused too (by OpenEXR's leader check, or by
+ * dm_exr_read's own claim check before decoding). */
+static uint8_t *patched(const char *path, size_t *size)
+{
+    uint8_t *d = NULL;
+    cr_assert_eq(dm_read_file(path, (char **)&d, size, NULL), DM_OK);
+    return d;
+}
+
+static void write_bytes(const char *path, const uint8_t *d, size_t size)
+{
+    FILE *fp = fopen(path, "wb");
+    cr_assert_not_null(fp);
+    cr_assert_eq(fwrite(d, 1, size, fp), size);
+    fclose(fp);
+}
+
+Test(exr_read, offline_reader_refuses_claims_the_file_cannot_hold)
+{
+    cr_assert_not_null(test_tmpdir(dir, sizeof dir));
+    char path[600], bad[600];
+    snprintf(path, sizeof path, "%s/t.exr", dir);
+    snprintf(bad, sizeof bad, "%s/bad.exr", dir);
+    float *planes[4];
+    write_test_file(path, 8, 4, planes);
+    dm_exr_image img;
+    dm_error err = {0};
+    cr_assert_eq(dm_exr_read(path, &img, &err), DM_OK, "%s", err.detail);
+    dm_exr_free(&img);
+
+    size_t size;
+    uint8_t *d = patched(path, &size);
+    uint8_t *dw = NULL; /* "dataWindow\0box2i\0", int32 size, then xmin ymin xmax ymax */
+    for (size_t i = 0; i + 17 < size && !dw; ++i)
+        if (!memcmp(d + i, "dataWindow\0box2i\0", 17)) dw = d + i + 17 + 4;
+    cr_assert_not_null(dw);
+    int32_t xmax = 218103815;
+    memcpy(dw + 8, &xmax, 4);
+    write_bytes(bad, d, size);
+    cr_assert_eq(dm_exr_read(bad, &img, &err), DM_ERR_FORMAT);
+    cr_assert(strstr(err.detail, "218103816x4") && strstr(err.detail, "out of range"), "%s", err.detail);
+    dm_exr_free(&img);
+    free(d);
+
+    /* the one chunk's packed size (after its int32 line number) made larger than the file */
+    d = patched(path, &size);
+    size_t end = 8; /* magic, version, then attributes up to an empty name */
+    while (end < size && d[end]) {
+        end += strlen((const char *)d + end) + 1; /* name */
+        end += strlen((const char *)d + end) + 1; /* type */
+        int32_t n;
+        memcpy(&n, d + end, 4);
+        end += 4 + (size_t)n;
+    }
+    uint64_t off;
+    memcpy(&off, d + end + 1, 8); /* the offset table after the header's terminating 0 */
+    cr_assert(off + 8 < size);
+    int32_t huge = 0x7fffffff;
+    memcpy(d + off + 4, &huge, 4);
+    write_bytes(bad, d, size);
+    cr_assert_eq(dm_exr_read(bad, &img, &err), DM_ERR_FORMAT);
+    cr_assert(strstr(err.detail, "bad.exr") && strstr(err.detail, "chunk"), "%s", err.detail); /* OpenEXR's own leader check */
+    dm_exr_free(&img);
+    free(d);
+    for (int c = 0; c < 4; ++c) free(planes[c]);
+    remove(path);
+    remove(bad);
+    rmdir(dir);
+}
