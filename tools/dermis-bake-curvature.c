@@ -63,7 +63,6 @@ static int parse(int argc, char **argv, args *a)
     *a = (args){.c = {.size = DM_CURVATURE_SIZE_DEFAULT, .mm_per_unit = MM_PER_UNIT_DEFAULT}, .smooth_mm = -1.0};
     for (int i = 1; i < argc; ++i) {
         const char *s = argv[i], *v;
-        (void)v;
         if (dm_cli_version(s, TOOL)) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             usage(stdout);

@@ -4,8 +4,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <errno.h>
-#include <sys/stat.h>
 
 #include <openexr.h>
 
@@ -220,8 +218,8 @@ const float *dm_exr_find(const dm_exr_image *img, const char *name)
     return NULL;
 }
 
-static dm_result read_chunks(exr_context_t f, const char *path, uint64_t file_size, dm_exr_image *out, int tiled,
-                             exr_msg *msg, dm_error *err)
+static dm_result read_chunks(exr_context_t f, const char *path, dm_exr_image *out, int tiled, exr_msg *msg,
+                             dm_error *err)
 {
     exr_attr_box2i_t dw;
     exr_result_t rv = exr_get_data_window(f, 0, &dw);
@@ -252,18 +250,6 @@ static dm_result read_chunks(exr_context_t f, const char *path, uint64_t file_si
         if (rv != EXR_ERR_SUCCESS) {
             if (dec_live) exr_decoding_destroy(f, &dec);
             return exr_fail(err, DM_ERR_FORMAT, path, "chunk table", rv, msg);
-        }
-        /* OpenEXR allocates what the chunk claims before reading it: the claim must fit the file
-         * and the chunk's pixels (at most 4 bytes a sample) */
-        uint64_t need = (uint64_t)(ci.width > 0 ? ci.width : 0) * (uint64_t)(ci.height > 0 ? ci.height : 0) *
-                        (uint64_t)out->channel_count * 4u;
-        if (ci.packed_size > file_size || ci.unpacked_size > need) {
-            if (dec_live) exr_decoding_destroy(f, &dec);
-            return dm_fail(err, DM_ERR_FORMAT,
-                           "%s: chunk %d claims %llu bytes packed, %llu unpacked; the file has %llu, its %dx%d "
-                           "pixels need at most %llu",
-                           path, idx, (unsigned long long)ci.packed_size, (unsigned long long)ci.unpacked_size,
-                           (unsigned long long)file_size, ci.width, ci.height, (unsigned long long)need);
         }
         rv = dec_live ? exr_decoding_update(f, 0, &ci, &dec) : exr_decoding_initialize(f, 0, &ci, &dec);
         if (rv != EXR_ERR_SUCCESS) {
@@ -342,11 +328,7 @@ dm_result dm_exr_read(const char *path, dm_exr_image *out, dm_error *err)
                     r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory for %lldx%lld", path, (long long)w,
                                 (long long)h);
             }
-            struct stat st;
-            if (r == DM_OK && stat(path, &st) != 0)
-                r = dm_fail(err, DM_ERR_FILE_READ, "%s: cannot stat (%s)", path, strerror(errno));
-            if (r == DM_OK)
-                r = read_chunks(f, path, (uint64_t)st.st_size, out, storage == EXR_STORAGE_TILED, &msg, err);
+            if (r == DM_OK) r = read_chunks(f, path, out, storage == EXR_STORAGE_TILED, &msg, err);
         }
     }
     if (r == DM_OK) {

@@ -47,9 +47,9 @@ typedef struct dm_exr_image {
 
 /* Reads every channel of the first part of a scanline or tiled EXR as float. Free with
  * dm_exr_free, also after a failure (it is then empty). DM_ERR_FORMAT for a side beyond
- * DM_EXR_SIDE_MAX, more than DM_EXR_FLOATS_MAX values, or a chunk whose sizes the file
- * cannot hold (more bytes than the file, more unpacked bytes than its pixels need): OpenEXR
- * allocates what a chunk claims before it reads. */
+ * DM_EXR_SIDE_MAX or more than DM_EXR_FLOATS_MAX values: OpenEXR allocates a chunk's
+ * buffers from the header before it reads (a chunk claiming more bytes than the file holds
+ * is refused by OpenEXR's own leader check). */
 dm_result dm_exr_read(const char *path, dm_exr_image *out, dm_error *err);
 void dm_exr_free(dm_exr_image *img);
 /* The plane of the named channel, or NULL. */

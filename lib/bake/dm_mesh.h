@@ -89,8 +89,8 @@ dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *opt, dm_mes
 
 /* Checks what OpenMesh's readers trust, before they read (dm_mesh_load calls it):
  *  .obj: text only (a NUL or other control character but tab and CR is DM_ERR_FORMAT:
- *        OpenMesh would read what this check did not), every v/vt/vn line has its numbers, all finite (else DM_ERR_NON_FINITE or
- *        DM_ERR_FORMAT), every face corner's v/vt/vn index is non-zero and refers to an
+ *        OpenMesh would read what this check did not), every v/vt/vn line has its
+ *        numbers, finite as floats (else DM_ERR_NON_FINITE or DM_ERR_FORMAT), every face corner's v/vt/vn index is non-zero and refers to an
  *        element already defined (DM_ERR_RANGE; negative indices count back), every
  *        face has 3 or more corners (DM_ERR_FORMAT): an index out of range is an
  *        out-of-bounds access inside OpenMesh. Messages are "FILE:LINE: ...".
@@ -120,8 +120,6 @@ void dm_mesh_compute_normals(dm_mesh *m);
  * File tangents are not carried over (out->tangents is NULL). */
 dm_result dm_mesh_subdivide(const dm_mesh *m, dm_mesh *out, dm_error *err);
 
-/* Surface area of a triangle and its signed UV area (positive: counter-clockwise in UV,
- * the same turn as the triangle in 3-D; negative: mirrored UVs). Double precision. */
 /* The UV Jacobian of a triangle: the one copy the stretch bake and the tangent frames
  * use, with one test for degenerate triangles. With D = det [uv1 − uv0, uv2 − uv0] and
  * the edges e1, e2 (positions × scale), a = e1 dv2 − e2 dv1 = D ∂P/∂u and
@@ -143,6 +141,8 @@ typedef struct dm_uv_jacobian {
 } dm_uv_jacobian;
 void dm_mesh_uv_jacobian(const dm_mesh *m, int32_t t, double scale, dm_uv_jacobian *out);
 
+/* Surface area of a triangle and its signed UV area (positive: counter-clockwise in UV,
+ * the same turn as the triangle in 3-D; negative: mirrored UVs). Double precision. */
 double dm_mesh_triangle_area(const dm_mesh *m, int32_t t);
 double dm_mesh_triangle_uv_area(const dm_mesh *m, int32_t t);
 

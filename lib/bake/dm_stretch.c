@@ -2,7 +2,6 @@
 #include "bake/dm_stretch.h"
 
 #include <assert.h>
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

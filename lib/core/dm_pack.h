@@ -202,8 +202,8 @@ typedef struct dm_pack {
     int entry_count;
     dm_pack_entry *entries; /* in manifest order */
     struct dm_scene *scene; /* the scene entry, parsed once while verifying (dm_pack_scene) */
-    struct dm_profile *profile; /* the "profile" entry, parsed while verifying; the same
-                                 * Gaussians as the scene's (verified), which renderers use */
+    struct dm_profile *profile; /* the "profile" entry, parsed while verifying and checked
+                                 * to hold the scene's Gaussians; renderers take the scene's */
 } dm_pack;
 
 /* Maps the file read-only and verifies all of it (see VERIFIED ON OPEN). On success the

@@ -183,8 +183,7 @@ Test(exr_read, refuses_what_it_does_not_support)
 /* The offline reader (bake/dm_exr.h) and what fuzz_bake_exr found: OpenEXR allocates what a
  * header or chunk claims before reading it, so a 1 KiB file claiming a data window 218
  * million texels wide made it ask for 3 GB. Refused now: sides beyond DM_EXR_SIDE_MAX; a chunk
- * claiming more bytes than the file holds is refused too (by OpenEXR's leader check, or by
- * dm_exr_read's own claim check before decoding). */
+ * claiming more bytes than the file holds is refused too (OpenEXR's leader check). */
 static uint8_t *patched(const char *path, size_t *size)
 {
     uint8_t *d = NULL;
