@@ -10,8 +10,15 @@
 // through thin parts joins the diffuse irradiance (without texture-space subsurface; with it,
 // the irradiance pass adds it). DM_PRE_INTEGRATED (lib/render/dm_render_preint.c): each light's
 // diffuse from the table D(N.L, curvature) per channel instead of N.L.
+// DM_GBUFFER (the ss_gbuffer pass): the head's surface (position, geometric and shading normal,
+// albedo, rho_s, roughness; the maps read here, at the mip level rasterising gives) into four
+// float targets instead of shading. DM_DEFERRED (the ss_shade pass after it): common.glsl's
+// full-screen triangle, each head pixel shaded from those targets: the same values, bit for
+// bit, so the same picture as shading while rasterising, but with every SIMD lane on a pixel
+// (llvmpipe shades 4x4 blocks: along the edges of the head's ~30-pixel triangles most lanes
+// of the expensive lighting were masked off).
 uniform mat4 u_view_proj;
-#ifdef DM_VERTEX
+#if defined(DM_VERTEX) && !defined(DM_DEFERRED)
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec4 a_tangent;
@@ -28,15 +35,32 @@ void main()
     v_uv = a_uv;
     gl_Position = u_view_proj * vec4(a_position, 1.0);
 }
+#elif defined(DM_FRAGMENT)
+#ifdef DM_DEFERRED
+uniform sampler2D u_gbuf0; // position
+uniform sampler2D u_gbuf1; // geometric normal
+uniform sampler2D u_gbuf2; // shading normal, rho_s
+uniform sampler2D u_gbuf3; // albedo, roughness m
+vec3 v_pos;
 #else
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
+#endif
+#ifdef DM_GBUFFER
+layout(location = 0) out vec4 o_g0;
+layout(location = 1) out vec4 o_g1;
+layout(location = 2) out vec4 o_g2;
+layout(location = 3) out vec4 o_g3;
+#else
 layout(location = 0) out vec4 o_color;
+#endif
 #ifdef DM_SCREEN_SPACE
+#ifndef DM_GBUFFER
 layout(location = 1) out vec4 o_aux;
 layout(location = 2) out vec4 o_spec;
+#endif
 uniform vec3 u_cam_forward;
 #endif
 uniform int u_mode;
@@ -111,6 +135,15 @@ vec3 env_specular(vec3 R, float m)
 
 void main()
 {
+#ifdef DM_DEFERRED
+    ivec2 q = ivec2(gl_FragCoord.xy);
+    v_pos = texelFetch(u_gbuf0, q, 0).xyz;
+    vec3 Ng = texelFetch(u_gbuf1, q, 0).xyz;
+    vec4 g2 = texelFetch(u_gbuf2, q, 0), g3 = texelFetch(u_gbuf3, q, 0);
+    vec3 N = g2.xyz, albedo = g3.rgb;
+    float rho_s = g2.w, m = g3.w;
+#else
+#ifndef DM_GBUFFER
     if (u_mode == 4) {
         o_color = vec4(1.0);
         return;
@@ -121,13 +154,22 @@ void main()
         o_color = vec4(mix(vec3(0.1), vec3(0.9), check) * vec3(v_uv, 1.0 - v_uv.x * 0.5), 1.0);
         return;
     }
+#endif
     vec3 Ng = normalize(v_nrm);
     vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
-    vec3 V = normalize(u_eye - v_pos);
-    float ndv = max(dot(N, V), 0.0);
     float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
     vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
+#endif
+#ifdef DM_GBUFFER
+    o_g0 = vec4(v_pos, 1.0);
+    o_g1 = vec4(Ng, 1.0);
+    o_g2 = vec4(N, rho_s);
+    o_g3 = vec4(albedo, m);
+    return;
+#else
+    vec3 V = normalize(u_eye - v_pos);
+    float ndv = max(dot(N, V), 0.0);
 
     vec3 diffuse = vec3(0.0), specular = vec3(0.0);
 #ifdef DM_SUBSURFACE
@@ -214,5 +256,6 @@ void main()
 #endif
     vec3 c = u_mode == 1 ? specular : u_mode == 2 ? diffuse : diffuse + specular;
     o_color = vec4(c, 1.0);
+#endif
 }
 #endif

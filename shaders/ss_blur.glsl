@@ -22,7 +22,10 @@ in vec2 v_uv;
 out vec4 o_color;
 void main()
 {
-    vec4 c = texture(u_src, v_uv);
+    // the pixel's own texels read exactly (a bilinear tap at the interpolated centre would
+    // mix in ~1e-4 of a neighbour: across a silhouette, of the background's depth 0)
+    ivec2 q = ivec2(gl_FragCoord.xy);
+    vec4 c = texelFetch(u_src, q, 0);
     vec3 sum = vec3(0.0);
     if (c.a > 0.0) {
         float px_per_mm = u_px_per_mm / c.a;
@@ -38,8 +41,8 @@ void main()
         o_color = vec4(sum, c.a);
         return;
     }
-    vec3 diffuse = u_mode == 1 ? vec3(0.0) : sum * texture(u_aux, v_uv).rgb;
-    vec3 spec = u_mode == 2 ? vec3(0.0) : texture(u_spec, v_uv).rgb;
+    vec3 diffuse = u_mode == 1 ? vec3(0.0) : sum * texelFetch(u_aux, q, 0).rgb;
+    vec3 spec = u_mode == 2 ? vec3(0.0) : texelFetch(u_spec, q, 0).rgb;
     o_color = vec4(diffuse + spec, c.a > 0.0 ? 1.0 : 0.0);
 }
 #endif

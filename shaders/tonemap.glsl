@@ -11,7 +11,7 @@ vec3 hable(vec3 x)
 }
 void main()
 {
-    vec3 c = max(texture(u_src, v_uv).rgb * u_exposure_scale, vec3(0.0));
+    vec3 c = max(texelFetch(u_src, ivec2(gl_FragCoord.xy), 0).rgb * u_exposure_scale, vec3(0.0));
     // exposure bias 2 as in Hable's published curve, normalised by the white point
     vec3 t = hable(2.0 * c) / hable(vec3(11.2));
     o_color = vec4(dm_srgb_encode(t), 1.0);

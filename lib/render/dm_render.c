@@ -168,13 +168,17 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     if (rc == DM_OK && r->plan.screen_space) rc = dmr_ssss_setup(r, a, err);
     if (rc == DM_OK) dmr_profile_weights(r);
     if (rc == DM_OK) dmr_translucency_setup(r);
-    /* one program per shader file among the kinds the plan needs (the table's order) */
+    /* one program per shader file and extra defines among the kinds the plan needs */
     for (int k = 0; k < DM_PASS_KIND_COUNT && rc == DM_OK; ++k) {
         if (!dmr_pass_needed(r, (dm_pass_kind)k)) continue;
-        const char *file = dmr_pass_get((dm_pass_kind)k)->shader;
-        for (int j = 0; j < k && !r->prog[k]; ++j)
-            if (r->prog[j] && strcmp(dmr_pass_get((dm_pass_kind)j)->shader, file) == 0) r->prog[k] = r->prog[j];
-        if (!r->prog[k]) rc = dmr_build_program(r, file, &r->prog[k], err);
+        const dmr_pass_info *pk = dmr_pass_get((dm_pass_kind)k);
+        for (int j = 0; j < k && !r->prog[k]; ++j) {
+            const dmr_pass_info *pj = dmr_pass_get((dm_pass_kind)j);
+            if (r->prog[j] && strcmp(pj->shader, pk->shader) == 0 &&
+                strcmp(pj->defines ? pj->defines : "", pk->defines ? pk->defines : "") == 0)
+                r->prog[k] = r->prog[j];
+        }
+        if (!r->prog[k]) rc = dmr_build_program(r, pk->shader, pk->defines, &r->prog[k], err);
     }
     if (rc == DM_OK) {
         if (!r->timing_cpu) glGenQueries(DM_PLAN_MAX_PASSES, r->queries);
@@ -201,7 +205,8 @@ void dm_renderer_destroy(dm_renderer *r)
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
                     r->tex_white,     r->tex_black, r->tex_env_array,      r->screen_tex, r->view_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex, r->ss_diff_tex, r->ss_aux_tex, r->ss_spec_tex,
-                    r->ss_tmp_tex, r->tex_preint, r->tex_curvature};
+                    r->ss_tmp_tex, r->tex_preint, r->tex_curvature, r->ss_gbuf_tex[0], r->ss_gbuf_tex[1],
+                    r->ss_gbuf_tex[2], r->ss_gbuf_tex[3]};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
@@ -220,7 +225,7 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
     GLuint fbo[] = {r->screen_fbo, r->glow_fbo[0],
-                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo};
+                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo, r->ss_gbuf_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);

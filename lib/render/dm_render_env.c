@@ -67,7 +67,6 @@ void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_optio
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE); /* the background is not skin: alpha stays 0 */
     glUseProgram(p);
     glUniform3fv(loc(p, "u_cam_forward"), 1, r->cam_fwd);
     glUniform3fv(loc(p, "u_cam_right"), 1, r->cam_right);
@@ -76,7 +75,6 @@ void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_optio
     u1f(p, "u_env_intensity", r->scene.env_intensity);
     dmr_bind(UNIT_BACKGROUND, GL_TEXTURE_2D, r->tex_background);
     dmr_draw_fullscreen(r);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
 }

@@ -147,7 +147,9 @@ static void set_sampler_units(GLuint p)
                  {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
                  {"u_env_array", UNIT_ENV_ARRAY}, {"u_aux", UNIT_SS_AUX},   {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
-                 {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE}};
+                 {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE},
+                 {"u_gbuf0", UNIT_GBUF0},         {"u_gbuf1", UNIT_GBUF0 + 1}, {"u_gbuf2", UNIT_GBUF0 + 2},
+                 {"u_gbuf3", UNIT_GBUF0 + 3}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
@@ -166,7 +168,7 @@ static void set_sampler_units(GLuint p)
     }
 }
 
-dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_error *err)
+dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra, GLuint *out, dm_error *err)
 {
     char defines[768];
     const dm_render_plan *p = &r->plan;
@@ -186,8 +188,9 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_er
                               r->ss_taps);
     if (p->pre_integrated) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_PRE_INTEGRATED 1\n");
     if (p->translucency_active)
-        snprintf(defines + n, sizeof defines - n, "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n",
-                 r->profile.count);
+        n += (size_t)snprintf(defines + n, sizeof defines - n,
+                              "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n", r->profile.count);
+    if (extra) snprintf(defines + n, sizeof defines - n, "%s", extra);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;
     dm_result rc = dm_render_shader_source(dir, "common.glsl", &common, err);

@@ -58,7 +58,9 @@ enum {
     UNIT_TDEPTH0 = UNIT_SRC, /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
     /* the pre-integrated technique has no blur levels: its table and curvature take the last two */
     UNIT_PREINT = UNIT_LEVEL0 + 6,
-    UNIT_CURVATURE = UNIT_LEVEL0 + 7
+    UNIT_CURVATURE = UNIT_LEVEL0 + 7,
+    /* nor has the screen-space technique: its G-buffer takes the first four */
+    UNIT_GBUF0 = UNIT_LEVEL0
 };
 
 typedef struct target {
@@ -98,6 +100,7 @@ struct dm_renderer {
     int ss_taps;
     float ss_kernel[DM_SSSS_MAX_TAPS][4];       /* rgb weight, a = offset mm */
     GLuint ss_diff_tex, ss_aux_tex, ss_spec_tex, ss_fbo, ss_tmp_tex, ss_tmp_fbo;
+    GLuint ss_gbuf_tex[4], ss_gbuf_fbo;         /* the G-buffer: four RGBA32F targets, one FBO */
     /* pre-integrated technique (dm_render_preint.c) */
     GLuint tex_preint, tex_curvature;
     int preint_height;
@@ -190,8 +193,9 @@ static inline void dmr_target_begin(GLuint fbo, int w, int h)
 /* ---- dm_render_gl.c ---- */
 const char *dmr_format_name(dm_tex_format f);
 dm_result dmr_gl_check(const char *what, dm_error *err);
-/* Compiles shaders/<file> with common.glsl and the plan's defines; sampler units set. */
-dm_result dmr_build_program(dm_renderer *r, const char *file, GLuint *out, dm_error *err);
+/* Compiles shaders/<file> with common.glsl, the plan's defines and `extra` (or NULL);
+ * sampler units set. */
+dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra, GLuint *out, dm_error *err);
 dm_result dmr_upload(const dm_texture *t, const char *what, bool mipmaps, GLenum filter, GLuint *out, dm_error *err);
 GLuint dmr_solid_texture(uint8_t v);
 void dmr_mat_mul(float *o, const float *a, const float *b);
@@ -211,6 +215,10 @@ dm_result dmr_color_target(dm_renderer *r, const char *name, int w, int h, GLenu
 /* Every target the plan needs, in a fixed order (the target indices of dm_render.h). */
 dm_result dmr_make_targets(dm_renderer *r, dm_error *err);
 void dmr_frame_camera(dm_renderer *r);
+/* Clears the bound screen target for a pass drawing the head into it: `extra` (depth, or 0)
+ * and the colour to (0, 0, 0, 0), unless the plan's background pass writes every pixel the
+ * head leaves (alpha 0 too, as the clear would): 16 bytes a pixel not written twice. */
+void dmr_screen_clear(const dm_renderer *r, GLbitfield extra);
 void dmr_set_surface_uniforms(const dm_renderer *r, GLuint p);
 void dmr_bind_surface(const dm_renderer *r);
 void dmr_mesh_bounds(dm_renderer *r, const float *v, int n);
@@ -243,6 +251,7 @@ void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
 /* ---- dm_render_ssss.c ---- */
 dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err);
+void dmr_pass_ss_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_ss_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 
@@ -260,8 +269,10 @@ void dmr_translucency_unbind(const dm_renderer *r);
 
 /* ---- dm_render_shade.c, dm_render_env.c, dm_render_glow.c, dm_render_tonemap.c, dm_render_view.c ---- */
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
-/* The head drawn with program p (final.glsl) into the bound target: uniforms, bindings, mesh. */
+/* The head drawn with program p (final.glsl) into the bound target: uniforms, bindings, mesh.
+ * dmr_shade_begin is all of it but the draw (then dmr_translucency_unbind after the draw). */
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode);
+void dmr_shade_begin(dm_renderer *r, GLuint p, int mode);
 void dmr_depth_prepass(dm_renderer *r);
 dm_result dmr_env_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
@@ -278,6 +289,7 @@ typedef struct dmr_pass_info {
     const char *module;   /* the file that owns it */
     dmr_pass_fn run;
     bool texture_space;   /* its result depends on lights and scene only (reuse may skip it) */
+    const char *defines;  /* appended to the plan's defines for this kind's program, or NULL */
 } dmr_pass_info;
 const dmr_pass_info *dmr_pass_get(dm_pass_kind kind);
 /* Whether the plan made at create needs this kind's program. */

@@ -3,7 +3,8 @@
  * the scene and the lights, so reuse_texture_space may skip it). The plan
  * (dm_render_plan.c) decides which passes a scene's effects call for and why; --explain
  * prints the plan, the timings are per plan pass, and create compiles the programs of the
- * kinds the plan holds, all through this table. */
+ * kinds the plan holds, all through this table. Kinds that share a shader file and its
+ * extra defines share one program. */
 #include <string.h>
 
 #include "render/dm_render_internal.h"
@@ -21,7 +22,9 @@ static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
     [DM_PASS_GLOW_ADD] = {"glow_add.glsl", "dm_render_glow.c", dmr_pass_glow, false},
     [DM_PASS_TONEMAP] = {"tonemap.glsl", "dm_render_tonemap.c", dmr_pass_tonemap, false},
     [DM_PASS_VIEW] = {"view.glsl", "dm_render_view.c", dmr_pass_view, false},
-    [DM_PASS_SS_SHADE] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_shade, false},
+    [DM_PASS_SS_GBUFFER] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_gbuffer, false, "#define DM_GBUFFER 1\n"},
+    [DM_PASS_SS_SHADE] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_shade, false,
+                          "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
     [DM_PASS_SS_BLUR_H] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false},
     [DM_PASS_SS_BLUR_V] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false},
 };
@@ -41,6 +44,7 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
     case DM_PASS_IRRADIANCE:
     case DM_PASS_BLUR_U:
     case DM_PASS_BLUR_V: return p->texture_space;
+    case DM_PASS_SS_GBUFFER:
     case DM_PASS_SS_SHADE:
     case DM_PASS_SS_BLUR_H:
     case DM_PASS_SS_BLUR_V: return p->screen_space;

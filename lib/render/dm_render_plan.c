@@ -178,6 +178,9 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
                                                   : " [debug view: wireframe]";
     const bool ss_view = ssss && (view == DM_VIEW_FINAL || view == DM_VIEW_SPECULAR || view == DM_VIEW_DIFFUSE);
     if (ss_view) {
+        add(p, DM_PASS_SS_GBUFFER, 0, "ss_gbuffer",
+            "subsurface [screen-space]: the head's surface per pixel (position, normals, albedo, rho_s, "
+            "roughness), shaded once per pixel by ss_shade");
         add(p, DM_PASS_SS_SHADE, 0, "ss_shade",
             "subsurface [screen-space]: lights x N.L%s%s%s%s, pre-scatter albedo^%.2g, eye depth; post-scatter "
             "albedo^(1-mix)%s; specular%s%s apart%s",

@@ -11,8 +11,10 @@
  *   final            always (draws the head: diffuse, specular, environment terms; with the
  *                    pre-integrated technique its diffuse comes from the table); with
  *                    the screen-space technique only for the uv and wireframe views
- *   ss_shade         subsurface on, technique screen-space: the head into three screen
- *                    targets (pre-scatter diffuse + eye depth, post-scatter factor, specular)
+ *   ss_gbuffer       subsurface on, technique screen-space: the head's surface inputs
+ *                    (position, normal, tangent, uv and its derivatives) into a G-buffer
+ *   ss_shade         the same: each head pixel shaded from it into three screen targets
+ *                    (pre-scatter diffuse + eye depth, post-scatter factor, specular)
  *   ss_blur_h, ss_blur_v   the same: the separable kernel along x, then y (+ combine), on
  *                    skin pixels only
  *   background       environment given and shown (scene->env_background), and
@@ -79,6 +81,7 @@ typedef enum dm_pass_kind {
     DM_PASS_SS_SHADE,
     DM_PASS_SS_BLUR_H,
     DM_PASS_SS_BLUR_V,
+    DM_PASS_SS_GBUFFER,
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 

@@ -8,7 +8,7 @@
 #include "render/dm_render_internal.h"
 #include "core/dm_sort.h"
 
-void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
+void dmr_shade_begin(dm_renderer *r, GLuint p, int mode)
 {
     glUseProgram(p);
     glUniformMatrix4fv(loc(p, "u_view_proj"), 1, GL_FALSE, r->view_proj);
@@ -22,6 +22,11 @@ void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
     dmr_preint_bind(r, p); /* after the levels: it takes two of their units */
     if (r->plan.screen_space) glUniform3fv(loc(p, "u_cam_forward"), 1, r->cam_fwd);
     dmr_translucency_bind(r, p);
+}
+
+void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
+{
+    dmr_shade_begin(r, p, mode);
     dmr_draw_mesh(r);
     dmr_translucency_unbind(r);
 }
@@ -78,9 +83,8 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
     int mode = modes[r->plan.view];
     GLuint p = r->prog[DM_PASS_FINAL];
     dmr_target_begin(r->screen_fbo, r->width, r->height);
-    glClearColor(0, 0, 0, 0); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
     glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    dmr_screen_clear(r, GL_DEPTH_BUFFER_BIT); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     if (mode == 4) {

@@ -67,6 +67,14 @@ dm_result dmr_make_targets(dm_renderer *r, dm_error *err)
     return rc;
 }
 
+void dmr_screen_clear(const dm_renderer *r, GLbitfield extra)
+{
+    GLbitfield bits = extra;
+    if (dm_render_plan_find(&r->plan, "background") < 0) bits |= GL_COLOR_BUFFER_BIT;
+    glClearColor(0, 0, 0, 0);
+    if (bits) glClear(bits);
+}
+
 void dmr_frame_camera(dm_renderer *r)
 {
     const dm_scene *s = &r->scene;

@@ -1,7 +1,8 @@
 /* Screen-space separable SSS and translucency (issue 13): the kernel against an independent
  * reference, scene errors naming the key, and the hard cases on the synthetic sphere under
  * llvmpipe: a silhouette next to the background (no halo), a head filling the screen and one
- * of 20 pixels, zero thickness, a light exactly behind, a one-Gaussian profile. */
+ * of 20 pixels, zero thickness, a light exactly behind, a one-Gaussian profile; the
+ * G-buffer the deferred shading reads, against the camera and the sphere. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -207,6 +208,74 @@ Test(ssss_render, one_gaussian_profile)
     close_fixture(&f);
 }
 
+static float *read_named(fixture *f, const char *name)
+{
+    dm_error err = {0};
+    int t = dm_renderer_find_target(f->r, name);
+    cr_assert_geq(t, 0, "no target %s", name);
+    float *v = malloc((size_t)f->w * f->h * 4 * sizeof *v);
+    cr_assert_eq(dm_renderer_read_target(f->r, t, v, &err), DM_OK, "%s", err.detail);
+    return v;
+}
+
+/* The G-buffer the shading pass reads holds the visible surface at each pixel's centre,
+ * checked against the camera and the sphere computed here: the stored position projects to
+ * the pixel's centre and lies on the sphere (radius 1; a flat cell of 96 x 96 sags by up to
+ * 1 - cos(pi/96) + 1 - cos(pi/192) = 6.7e-4), the
+ * geometric normal is radial, the shading normal unit length, albedo, rho_s and roughness
+ * the material's; the shade pass's eye depth is the position's distance along the view. */
+Test(ssss_render, gbuffer_holds_the_surface_at_each_pixel_centre)
+{
+    fixture f;
+    open_fixture(&f);
+    dm_scene *s = &f.synth->scene;
+    free(render(&f, 160, 120));
+    float *g[4], *diff = read_named(&f, "ss_diffuse");
+    for (int i = 0; i < 4; ++i) {
+        char name[32];
+        snprintf(name, sizeof name, "ss_gbuffer%d", i);
+        g[i] = read_named(&f, name);
+    }
+    double fw[3], rt[3], up[3], n = 0;
+    for (int k = 0; k < 3; ++k) fw[k] = s->camera_target[k] - s->camera_eye[k], n += fw[k] * fw[k];
+    for (int k = 0; k < 3; ++k) fw[k] /= sqrt(n);
+    rt[0] = fw[1] * s->camera_up[2] - fw[2] * s->camera_up[1];
+    rt[1] = fw[2] * s->camera_up[0] - fw[0] * s->camera_up[2];
+    rt[2] = fw[0] * s->camera_up[1] - fw[1] * s->camera_up[0];
+    n = sqrt(rt[0] * rt[0] + rt[1] * rt[1] + rt[2] * rt[2]);
+    for (int k = 0; k < 3; ++k) rt[k] /= n;
+    up[0] = rt[1] * fw[2] - rt[2] * fw[1], up[1] = rt[2] * fw[0] - rt[0] * fw[2], up[2] = rt[0] * fw[1] - rt[1] * fw[0];
+    double t = tan(0.5 * s->fov_y_deg * 3.14159265358979323846 / 180.0), aspect = (double)f.w / f.h;
+    int skin = 0;
+    for (int y = 0; y < f.h; ++y)
+        for (int x = 0; x < f.w; ++x) {
+            size_t i = ((size_t)y * f.w + x) * 4;
+            if (diff[i + 3] <= 0) continue;
+            ++skin;
+            const float *p = &g[0][i], *ng = &g[1][i], *sn = &g[2][i], *al = &g[3][i];
+            double d[3], z = 0, u = 0, v = 0, r = 0, radial = 0, nn = 0;
+            for (int k = 0; k < 3; ++k) d[k] = p[k] - s->camera_eye[k];
+            for (int k = 0; k < 3; ++k) z += d[k] * fw[k], u += d[k] * rt[k], v += d[k] * up[k], r += (double)p[k] * p[k];
+            r = sqrt(r);
+            double px = (u / (z * t * aspect) + 1) * 0.5 * f.w, py = (v / (z * t) + 1) * 0.5 * f.h;
+            cr_assert(fabs(px - (x + 0.5)) < 2e-3 && fabs(py - (y + 0.5)) < 2e-3,
+                      "pixel %d,%d: its position projects to %.5f,%.5f", x, y, px, py);
+            cr_assert(r > 1 - 7e-4 && r < 1 + 1e-5, "pixel %d,%d: |position| %.7f, not on the sphere", x, y, r);
+            for (int k = 0; k < 3; ++k) radial += ng[k] * p[k] / r, nn += (double)sn[k] * sn[k];
+            cr_assert_gt(radial, 0.999, "pixel %d,%d: geometric normal not radial (%.5f)", x, y, radial);
+            cr_assert(fabs(nn - 1) < 1e-5, "pixel %d,%d: shading normal length^2 %.7f", x, y, nn);
+            cr_assert(sn[3] >= 0 && sn[3] <= s->rho_s * (1 + 1e-6), "pixel %d,%d: rho_s %g", x, y, (double)sn[3]);
+            for (int k = 0; k < 3; ++k) cr_assert(al[k] >= 0 && al[k] <= 1, "pixel %d,%d: albedo %g", x, y, (double)al[k]);
+            cr_assert(fabs(al[3] - fmin(s->roughness, 1.0)) < 1e-6, "pixel %d,%d: roughness %g", x, y, (double)al[3]);
+            cr_assert(fabs(diff[i + 3] - z) < 1e-5 * z, "pixel %d,%d: eye depth %g, expected %g", x, y,
+                      (double)diff[i + 3], z);
+        }
+    cr_expect_gt(skin, 2000);
+    for (int i = 0; i < 4; ++i) free(g[i]);
+    free(diff);
+    close_fixture(&f);
+}
+
 /* A light exactly behind the sphere (camera on +z, light towards −z): the visible side gets
  * only transmitted light, which is finite; on a sphere of 50 mm radius the thickness is tens
  * of mm, so T(d) is ~0 there, and a thin limb transmits red more than blue. Then zero
@@ -248,7 +317,7 @@ Test(ssss_plan, passes_explain_and_refused_views)
     char list[512] = "";
     for (int i = 0; i < p.pass_count; ++i)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? " " : "", p.passes[i].name);
-    cr_expect_str_eq(list, "shadow0 ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
+    cr_expect_str_eq(list, "shadow0 ss_gbuffer ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
                            "glow_add tonemap");
     char text[8192];
     dm_render_plan_explain(&p, text, sizeof text);
