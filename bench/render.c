@@ -249,15 +249,15 @@ int main(int argc, char **argv)
     fprintf(md, "Frame ms: wall clock (what a viewer sees); CPU ms: process CPU time per frame, every llvmpipe "
                 "thread summed (less sensitive to other users of the shared cores; 2 cores give at best half of "
                 "it as wall time).\n\n");
-    fprintf(md, "| setting | what | frame ms | CPU ms | irradiance | blur (10 passes) | final | output max / mean |Δ| | "
+    fprintf(md, "| setting | what | frame ms | CPU ms | irradiance | blur (10 passes) | G-buffer + final | output max / mean |Δ| | "
                 "display steps | blur max / mean |Δ| |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (int c = 0; c < NSET; ++c) {
         double irr_ms = 0, blur_ms = 0, final_ms = 0;
         for (int p = 0; p < st[c].plan.pass_count; ++p) {
             dm_pass_kind k = st[c].plan.passes[p].kind;
-            if (k == DM_PASS_IRRADIANCE) irr_ms += st[c].pass_ms[p];
+            if (k == DM_PASS_IRRADIANCE || k == DM_PASS_TS_GBUFFER) irr_ms += st[c].pass_ms[p];
             if (k == DM_PASS_BLUR_U || k == DM_PASS_BLUR_V) blur_ms += st[c].pass_ms[p];
-            if (k == DM_PASS_FINAL) final_ms += st[c].pass_ms[p];
+            if (k == DM_PASS_FINAL || k == DM_PASS_GBUFFER) final_ms += st[c].pass_ms[p];
         }
         fprintf(md, "| %s | %s | **%.1f** | %.0f | %.1f | %.1f | %.1f | %.2e / %.2e | %d | %.2e / %.2e |\n", settings[c].name,
                 settings[c].what, st[c].frame_ms, st[c].cpu_ms, irr_ms, blur_ms, final_ms, e[c].out_max, e[c].out_mean,

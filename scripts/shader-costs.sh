@@ -28,7 +28,6 @@ PY
 mkdir -p "$work/base" && cp shaders/*.glsl "$work/base/"
 variant irr-no-shadow irradiance.glsl 'float k = ndl * dm_shadow(i, v_pos, Ng);' 'float k = ndl;'
 variant irr-no-energy irradiance.glsl 'k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);' ''
-variant irr-no-normal-map irradiance.glsl 'vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);' 'vec3 N = Ng;'
 variant irr-no-sh irradiance.glsl 'e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;' ''
 variant final-no-levels final.glsl 'diffuse = dm_diffusion(v_uv) * pow(albedo, vec3(1.0 - u_mix));' 'diffuse = vec3(0.0);'
 variant final-no-light-specular final.glsl 'specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));' ''
@@ -42,14 +41,14 @@ run() { # NAME ARGS...: one line of per-pass medians
   "$BUILD/bin/dermis-render" "$pack" -o "$work/out.exr" --frames "$frames" --cpu-timings --quiet "$@" |
     awk -v n="$name" '/^[a-z_0-9]+ +[0-9.]+$/ { v[$1] = $2; if ($1 ~ /^blur_/) b += $2; if ($1 ~ /^glow/) g += $2 }
       END { printf "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | **%.0f** |\n", n, v["shadow0"], v["irradiance"], b,
-            v["final"], g + v["background"] + v["tonemap"], v["tonemap"], v["frame"] }'
+            v["gbuffer"] + v["final"], g + v["background"] + v["tonemap"], v["tonemap"], v["frame"] }'
 }
 echo "Per-pass process CPU ms, median of $frames frames, $pack; $(nproc) cores; load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
-echo "| variant | shadow | irradiance | blur (all) | final | background+glow+tonemap | tonemap | frame |"
+echo "| variant | shadow | irradiance | blur (all) | G-buffer + final | background+glow+tonemap | tonemap | frame |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 run base --shader-dir "$work/base"
-for v in irr-no-shadow irr-no-energy irr-no-normal-map irr-no-sh final-no-levels final-no-light-specular \
+for v in irr-no-shadow irr-no-energy irr-no-sh final-no-levels final-no-light-specular \
          final-no-env-specular blur-1-tap blur-3-taps blur-no-stretch-fetch; do
   run "$v" --shader-dir "$work/$v"
 done

@@ -10,13 +10,14 @@
 // through thin parts joins the diffuse irradiance (without texture-space subsurface; with it,
 // the irradiance pass adds it). DM_PRE_INTEGRATED (lib/render/dm_render_preint.c): each light's
 // diffuse from the table D(N.L, curvature) per channel instead of N.L.
-// DM_GBUFFER (the ss_gbuffer pass): the head's surface (position, geometric and shading normal,
-// albedo, rho_s, roughness; the maps read here, at the mip level rasterising gives) into four
-// float targets instead of shading. DM_DEFERRED (the ss_shade pass after it): common.glsl's
-// full-screen triangle, each head pixel shaded from those targets: the same values, bit for
-// bit, so the same picture as shading while rasterising, but with every SIMD lane on a pixel
-// (llvmpipe shades 4x4 blocks: along the edges of the head's ~30-pixel triangles most lanes
-// of the expensive lighting were masked off).
+// DM_GBUFFER (the gbuffer pass): the head's surface (position and uv, geometric and shading
+// normal, albedo, rho_s, roughness; the maps read here, at the mip level rasterising gives)
+// into four float targets instead of shading. DM_DEFERRED (the final or ss_shade pass after
+// it): common.glsl's full-screen triangle, each head pixel shaded from those targets: the same
+// values, bit for bit, so the same picture as shading while rasterising, but with every SIMD
+// lane on a pixel (llvmpipe shades 4x4 blocks: along the edges of the head's ~30-pixel
+// triangles most lanes of the expensive lighting were masked off). Without either (the uv and
+// wireframe views) the mesh is drawn and shaded directly.
 uniform mat4 u_view_proj;
 #if defined(DM_VERTEX) && !defined(DM_DEFERRED)
 layout(location = 0) in vec3 a_position;
@@ -37,11 +38,12 @@ void main()
 }
 #elif defined(DM_FRAGMENT)
 #ifdef DM_DEFERRED
-uniform sampler2D u_gbuf0; // position
-uniform sampler2D u_gbuf1; // geometric normal
+uniform sampler2D u_gbuf0; // position, u
+uniform sampler2D u_gbuf1; // geometric normal, v
 uniform sampler2D u_gbuf2; // shading normal, rho_s
 uniform sampler2D u_gbuf3; // albedo, roughness m
 vec3 v_pos;
+vec2 v_uv;
 #else
 in vec3 v_pos;
 in vec3 v_nrm;
@@ -137,8 +139,10 @@ void main()
 {
 #ifdef DM_DEFERRED
     ivec2 q = ivec2(gl_FragCoord.xy);
-    v_pos = texelFetch(u_gbuf0, q, 0).xyz;
-    vec3 Ng = texelFetch(u_gbuf1, q, 0).xyz;
+    vec4 g0 = texelFetch(u_gbuf0, q, 0), g1 = texelFetch(u_gbuf1, q, 0);
+    v_pos = g0.xyz;
+    v_uv = vec2(g0.w, g1.w);
+    vec3 Ng = g1.xyz;
     vec4 g2 = texelFetch(u_gbuf2, q, 0), g3 = texelFetch(u_gbuf3, q, 0);
     vec3 N = g2.xyz, albedo = g3.rgb;
     float rho_s = g2.w, m = g3.w;
@@ -162,8 +166,8 @@ void main()
     vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
 #endif
 #ifdef DM_GBUFFER
-    o_g0 = vec4(v_pos, 1.0);
-    o_g1 = vec4(Ng, 1.0);
+    o_g0 = vec4(v_pos, v_uv.x);
+    o_g1 = vec4(Ng, v_uv.y);
     o_g2 = vec4(N, rho_s);
     o_g3 = vec4(albedo, m);
     return;

@@ -3,7 +3,14 @@
 // texel centre, cleared to 0 in gutters): the blurs treat rgb as premultiplied by it, so taps
 // in gutters drop out and the kernel renormalises over the chart (seams do not darken).
 // Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse), DM_TRANSLUCENCY (light through thin parts).
-#ifdef DM_VERTEX
+// DM_GBUFFER (the ts_gbuffer pass, once): the surface per texel (position, geometric and
+// shading normal, rho_s, roughness before the frame's scale, albedo) into four float targets,
+// depth 0.5 where a triangle covers the texel. DM_DEFERRED (the irradiance pass, each frame):
+// common.glsl's full-screen triangle at the far plane, depth test GREATER, each covered texel
+// lit from those targets: the same values, so the same result bit for bit, with no raster, no
+// map fetches and every SIMD lane on a texel (llvmpipe shades 4x4 blocks; the atlas's
+// triangles are ~50 texels, and along their edges most lanes were masked off).
+#if defined(DM_VERTEX) && !defined(DM_DEFERRED)
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec4 a_tangent;
@@ -20,12 +27,26 @@ void main()
     v_uv = a_uv;
     gl_Position = vec4(a_uv * 2.0 - 1.0, 0.0, 1.0);
 }
+#elif defined(DM_FRAGMENT)
+#ifdef DM_DEFERRED
+uniform sampler2D u_gbuf0; // position, 1
+uniform sampler2D u_gbuf1; // geometric normal, roughness before the frame's scale
+uniform sampler2D u_gbuf2; // shading normal, rho_s
+uniform sampler2D u_gbuf3; // albedo
 #else
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
+#endif
+#ifdef DM_GBUFFER
+layout(location = 0) out vec4 o_g0;
+layout(location = 1) out vec4 o_g1;
+layout(location = 2) out vec4 o_g2;
+layout(location = 3) out vec4 o_g3;
+#else
 out vec4 o_color;
+#endif
 uniform sampler2D u_albedo;
 uniform sampler2D u_normal_map;
 uniform bool u_has_normal_map;
@@ -42,10 +63,25 @@ uniform float u_env_rotation;
 uniform float u_mix;
 void main()
 {
+#ifdef DM_DEFERRED
+    ivec2 q = ivec2(gl_FragCoord.xy);
+    vec4 g1 = texelFetch(u_gbuf1, q, 0), g2 = texelFetch(u_gbuf2, q, 0);
+    vec3 v_pos = texelFetch(u_gbuf0, q, 0).xyz, Ng = g1.xyz, N = g2.xyz, albedo = texelFetch(u_gbuf3, q, 0).rgb;
+    float m0 = g1.w, rho_s = g2.w;
+#else
     vec3 Ng = normalize(v_nrm);
     vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
-    float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
+    float m0 = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
+    vec3 albedo = texture(u_albedo, v_uv).rgb;
+#endif
+#ifdef DM_GBUFFER
+    o_g0 = vec4(v_pos, 1.0);
+    o_g1 = vec4(Ng, m0);
+    o_g2 = vec4(N, rho_s);
+    o_g3 = vec4(albedo, 1.0);
+#else
+    float m = min(m0 * u_roughness_scale, 1.0);
     vec3 e = vec3(0.0);
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
@@ -63,7 +99,7 @@ void main()
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
 #endif
-    vec3 albedo = texture(u_albedo, v_uv).rgb;
     o_color = vec4(e * pow(max(albedo, vec3(0.0)), vec3(u_mix)), 1.0);
+#endif
 }
 #endif

@@ -205,8 +205,9 @@ void dm_renderer_destroy(dm_renderer *r)
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
                     r->tex_white,     r->tex_black, r->tex_env_array,      r->screen_tex, r->view_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex, r->ss_diff_tex, r->ss_aux_tex, r->ss_spec_tex,
-                    r->ss_tmp_tex, r->tex_preint, r->tex_curvature, r->ss_gbuf_tex[0], r->ss_gbuf_tex[1],
-                    r->ss_gbuf_tex[2], r->ss_gbuf_tex[3]};
+                    r->ss_tmp_tex, r->tex_preint, r->tex_curvature, r->gbuf_tex[0], r->gbuf_tex[1],
+                    r->gbuf_tex[2], r->gbuf_tex[3], r->ts_gbuf_tex[0], r->ts_gbuf_tex[1],
+                    r->ts_gbuf_tex[2], r->ts_gbuf_tex[3]};
     for (size_t i = 0; i < sizeof tex / sizeof tex[0]; ++i)
         if (tex[i]) glDeleteTextures(1, &tex[i]);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
@@ -225,10 +226,11 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
     GLuint fbo[] = {r->screen_fbo, r->glow_fbo[0],
-                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo, r->ss_gbuf_fbo};
+                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo, r->gbuf_fbo, r->ts_gbuf_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);
+    if (r->ts_depth) glDeleteRenderbuffers(1, &r->ts_depth);
     if (r->vbo) glDeleteBuffers(1, &r->vbo);
     if (r->ebo) glDeleteBuffers(1, &r->ebo);
     if (r->vao_mesh) glDeleteVertexArrays(1, &r->vao_mesh);
@@ -311,6 +313,7 @@ dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *s, dm_error *err
                        what);
     r->scene = *s;
     r->ts_valid = false; /* lights, material, environment: texture space is stale */
+    r->ts_gbuf_valid = false;
     r->scene.profile = r->profile;
     return DM_OK;
 }

@@ -147,15 +147,18 @@ static void set_sampler_units(GLuint p)
                  {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
                  {"u_env_array", UNIT_ENV_ARRAY}, {"u_aux", UNIT_SS_AUX},   {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
-                 {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE},
-                 {"u_gbuf0", UNIT_GBUF0},         {"u_gbuf1", UNIT_GBUF0 + 1}, {"u_gbuf2", UNIT_GBUF0 + 2},
-                 {"u_gbuf3", UNIT_GBUF0 + 3}};
+                 {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
         if (loc >= 0) glUniform1i(loc, units[i].unit);
     }
     char name[32];
+    for (int i = 0; i < 4; ++i) {
+        snprintf(name, sizeof name, "u_gbuf%d", i);
+        GLint loc = glGetUniformLocation(p, name);
+        if (loc >= 0) glUniform1i(loc, dmr_gbuffer_unit(p) + i);
+    }
     for (int k = 0; k < DM_RENDER_ENV_LEVELS_MAX; ++k) {
         snprintf(name, sizeof name, "u_env_level[%d]", k);
         GLint loc = glGetUniformLocation(p, name);

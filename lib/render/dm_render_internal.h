@@ -58,9 +58,7 @@ enum {
     UNIT_TDEPTH0 = UNIT_SRC, /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
     /* the pre-integrated technique has no blur levels: its table and curvature take the last two */
     UNIT_PREINT = UNIT_LEVEL0 + 6,
-    UNIT_CURVATURE = UNIT_LEVEL0 + 7,
-    /* nor has the screen-space technique: its G-buffer takes the first four */
-    UNIT_GBUF0 = UNIT_LEVEL0
+    UNIT_CURVATURE = UNIT_LEVEL0 + 7
 };
 
 typedef struct target {
@@ -100,7 +98,6 @@ struct dm_renderer {
     int ss_taps;
     float ss_kernel[DM_SSSS_MAX_TAPS][4];       /* rgb weight, a = offset mm */
     GLuint ss_diff_tex, ss_aux_tex, ss_spec_tex, ss_fbo, ss_tmp_tex, ss_tmp_fbo;
-    GLuint ss_gbuf_tex[4], ss_gbuf_fbo;         /* the G-buffer: four RGBA32F targets, one FBO */
     /* pre-integrated technique (dm_render_preint.c) */
     GLuint tex_preint, tex_curvature;
     int preint_height;
@@ -121,9 +118,12 @@ struct dm_renderer {
     GLuint tex_env_array; /* the env levels as one 2D array when they share size and format */
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS];
+    GLuint ts_gbuf_tex[4], ts_gbuf_fbo, ts_depth; /* the texture-space G-buffer and its coverage depth */
+    bool ts_gbuf_valid;                           /* made for the current scene */
     GLuint tmp_tex[DM_PROFILE_MAX_GAUSSIANS], tmp_fbo[DM_PROFILE_MAX_GAUSSIANS]; /* level k's U pass target
                                                    (shared between levels of one size) */
     GLuint screen_tex, screen_depth, screen_fbo;
+    GLuint gbuf_tex[4], gbuf_fbo;  /* the head's G-buffer (shaded views), with the screen's depth */
     GLuint view_tex, view_fbo; /* texture views at their own size, RGBA32F (resized on demand) */
     int view_target;           /* its index in targets */
     GLuint view_range_of;      /* the map view_lo, view_hi were measured on (stretch/curvature views) */
@@ -212,6 +212,18 @@ void dmr_ortho(float *m, float half, float n, float f);
 void dmr_add_target(dm_renderer *r, const char *name, GLuint fbo, int w, int h, int channels);
 dm_result dmr_color_target(dm_renderer *r, const char *name, int w, int h, GLenum internal, GLenum wrap, GLuint *tex,
                            GLuint *fbo, dm_error *err);
+/* A G-buffer (deferred shading: a pass rasterises the surface into it, the next shades each
+ * pixel or texel once from it, with every SIMD lane on one): four RGBA32F targets named
+ * <prefix>0..3, w x h, in one FBO drawing to all four with the depth renderbuffer `depth`,
+ * cleared to 0 once (frames write and read only what the surface covers). */
+dm_result dmr_gbuffer_targets(dm_renderer *r, const char *prefix, int w, int h, GLuint depth, GLuint tex[4],
+                              GLuint *fbo, dm_error *err);
+/* The first of the four units of program p's u_gbuf0..3: the blur levels' units, or, in a
+ * program that samples the levels (texture-space final), the blur inputs' (UNIT_SRC..). */
+int dmr_gbuffer_unit(GLuint p);
+/* Binds them to those units. */
+void dmr_bind_gbuffer(GLuint p, const GLuint tex[4]);
+extern const GLenum dmr_draw_buffers[4]; /* colour attachments 0..3, for glDrawBuffers */
 /* Every target the plan needs, in a fixed order (the target indices of dm_render.h). */
 dm_result dmr_make_targets(dm_renderer *r, dm_error *err);
 void dmr_frame_camera(dm_renderer *r);
@@ -245,13 +257,13 @@ void dmr_prepare_blur(dm_renderer *r, float scale);
  * translucency's T(d)). */
 void dmr_profile_weights(dm_renderer *r);
 void dmr_bind_levels(const dm_renderer *r, GLuint p);
+void dmr_pass_ts_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 
 /* ---- dm_render_ssss.c ---- */
 dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err);
-void dmr_pass_ss_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_ss_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 
@@ -268,12 +280,13 @@ void dmr_translucency_bind(const dm_renderer *r, GLuint p);
 void dmr_translucency_unbind(const dm_renderer *r);
 
 /* ---- dm_render_shade.c, dm_render_env.c, dm_render_glow.c, dm_render_tonemap.c, dm_render_view.c ---- */
+void dmr_pass_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
+void dmr_pass_mesh_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 /* The head drawn with program p (final.glsl) into the bound target: uniforms, bindings, mesh.
  * dmr_shade_begin is all of it but the draw (then dmr_translucency_unbind after the draw). */
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode);
 void dmr_shade_begin(dm_renderer *r, GLuint p, int mode);
-void dmr_depth_prepass(dm_renderer *r);
 dm_result dmr_env_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 dm_result dmr_glow_targets(dm_renderer *r, dm_error *err);

@@ -11,10 +11,15 @@
 
 static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
     [DM_PASS_SHADOW] = {"shadow.glsl", "dm_render_shadow.c", dmr_pass_shadow, true},
-    [DM_PASS_IRRADIANCE] = {"irradiance.glsl", "dm_render_tsd.c", dmr_pass_irradiance, true},
+    [DM_PASS_TS_GBUFFER] = {"irradiance.glsl", "dm_render_tsd.c", dmr_pass_ts_gbuffer, true, "#define DM_GBUFFER 1\n"},
+    [DM_PASS_IRRADIANCE] = {"irradiance.glsl", "dm_render_tsd.c", dmr_pass_irradiance, true,
+                            "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
     [DM_PASS_BLUR_U] = {"blur.glsl", "dm_render_tsd.c", dmr_pass_blur, true},
     [DM_PASS_BLUR_V] = {"blur.glsl", "dm_render_tsd.c", dmr_pass_blur, true},
-    [DM_PASS_FINAL] = {"final.glsl", "dm_render_shade.c", dmr_pass_final, false},
+    [DM_PASS_GBUFFER] = {"final.glsl", "dm_render_shade.c", dmr_pass_gbuffer, false, "#define DM_GBUFFER 1\n"},
+    [DM_PASS_FINAL] = {"final.glsl", "dm_render_shade.c", dmr_pass_final, false,
+                       "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
+    [DM_PASS_MESH_VIEW] = {"final.glsl", "dm_render_shade.c", dmr_pass_mesh_view, false},
     [DM_PASS_BACKGROUND] = {"background.glsl", "dm_render_env.c", dmr_pass_background, false},
     [DM_PASS_GLOW_BRIGHT] = {"glow_bright.glsl", "dm_render_glow.c", dmr_pass_glow, false},
     [DM_PASS_GLOW_BLUR_U] = {"glow_blur.glsl", "dm_render_glow.c", dmr_pass_glow, false},
@@ -22,7 +27,6 @@ static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
     [DM_PASS_GLOW_ADD] = {"glow_add.glsl", "dm_render_glow.c", dmr_pass_glow, false},
     [DM_PASS_TONEMAP] = {"tonemap.glsl", "dm_render_tonemap.c", dmr_pass_tonemap, false},
     [DM_PASS_VIEW] = {"view.glsl", "dm_render_view.c", dmr_pass_view, false},
-    [DM_PASS_SS_GBUFFER] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_gbuffer, false, "#define DM_GBUFFER 1\n"},
     [DM_PASS_SS_SHADE] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_shade, false,
                           "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
     [DM_PASS_SS_BLUR_H] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false},
@@ -38,13 +42,15 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
 {
     const dm_render_plan *p = &r->plan;
     switch (k) {
+    case DM_PASS_GBUFFER:
     case DM_PASS_FINAL:
+    case DM_PASS_MESH_VIEW:
     case DM_PASS_VIEW: return true; /* debug views need them whatever the effects */
-    case DM_PASS_SHADOW: return true; /* also the final pass's depth pre-pass */
+    case DM_PASS_SHADOW: return p->shadow_count > 0;
+    case DM_PASS_TS_GBUFFER:
     case DM_PASS_IRRADIANCE:
     case DM_PASS_BLUR_U:
     case DM_PASS_BLUR_V: return p->texture_space;
-    case DM_PASS_SS_GBUFFER:
     case DM_PASS_SS_SHADE:
     case DM_PASS_SS_BLUR_H:
     case DM_PASS_SS_BLUR_V: return p->screen_space;

@@ -143,8 +143,11 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     const bool shaded_view = !texture_view && view != DM_VIEW_UV_TEST && view != DM_VIEW_WIREFRAME;
     if (sss && (shaded_view || view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_DIFFUSION) &&
         view != DM_VIEW_SPECULAR) {
+        add(p, DM_PASS_TS_GBUFFER, 0, "ts_gbuffer",
+            "subsurface: the surface per texel (position, normals with the normal map, albedo, rho_s, "
+            "roughness) for the irradiance pass; made once, again after a scene change (0 ms otherwise)");
         add(p, DM_PASS_IRRADIANCE, 0, "irradiance",
-            "subsurface: lights x N.L (normal map)%s%s%s%s, pre-scatter albedo^%.2g",
+            "subsurface: lights x N.L (normal map)%s%s%s%s, pre-scatter albedo^%.2g; each covered texel once",
             p->shadow_count ? " x shadow" : "",
             p->energy_conservation_active ? " x (1 - rho_s rho_dt) [energy_conservation]" : "",
             env ? " + SH diffuse [environment_lighting]" : "", trans, (double)s->mix);
@@ -177,10 +180,11 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
                        : view == DM_VIEW_UV_TEST  ? " [debug view: UV checker]"
                                                   : " [debug view: wireframe]";
     const bool ss_view = ssss && (view == DM_VIEW_FINAL || view == DM_VIEW_SPECULAR || view == DM_VIEW_DIFFUSE);
+    if (shaded_view)
+        add(p, DM_PASS_GBUFFER, 0, "gbuffer",
+            "always: the head's surface per pixel (position, normals with the normal map, uv, albedo, rho_s, "
+            "roughness), for %s to shade each pixel once", ss_view ? "ss_shade" : "final");
     if (ss_view) {
-        add(p, DM_PASS_SS_GBUFFER, 0, "ss_gbuffer",
-            "subsurface [screen-space]: the head's surface per pixel (position, normals, albedo, rho_s, "
-            "roughness), shaded once per pixel by ss_shade");
         add(p, DM_PASS_SS_SHADE, 0, "ss_shade",
             "subsurface [screen-space]: lights x N.L%s%s%s%s, pre-scatter albedo^%.2g, eye depth; post-scatter "
             "albedo^(1-mix)%s; specular%s%s apart%s",
@@ -206,7 +210,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             p->env_specular_active ? " + env split-sum specular [environment_lighting]" : "",
             env && !sss ? " + SH diffuse [environment_lighting]" : "", !sss ? trans : "", mode);
     else
-        add(p, DM_PASS_FINAL, 0, "final", "always: draws the mesh%s", mode);
+        add(p, DM_PASS_MESH_VIEW, 0, "final", "always: draws the mesh%s", mode);
     if (env && s->env_background && s->environment[0] && shaded_view)
         add(p, DM_PASS_BACKGROUND, 0, "background",
             "environment_lighting with env_background: equirect radiance behind the head");

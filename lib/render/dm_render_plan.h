@@ -6,15 +6,19 @@
  * Passes, in frame order, and the rule that puts each in the plan:
  *   shadow L         shadows on, light L casts (one per casting light, the first
  *                    DM_PLAN_MAX_SHADOWS = 4 casting lights; explain notes any beyond)
- *   irradiance       subsurface on (texture space: lights, shadow, env SH, albedo^mix)
+ *   ts_gbuffer       subsurface on (texture space): the surface per texel (position, normals,
+ *                    material) into a G-buffer; runs once, and again after a scene change
+ *   irradiance       the same: each covered texel lit from it (lights, shadow, env SH, albedo^mix)
  *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
- *   final            always (draws the head: diffuse, specular, environment terms; with the
- *                    pre-integrated technique its diffuse comes from the table); with
- *                    the screen-space technique only for the uv and wireframe views
- *   ss_gbuffer       subsurface on, technique screen-space: the head's surface inputs
- *                    (position, normal, tangent, uv and its derivatives) into a G-buffer
- *   ss_shade         the same: each head pixel shaded from it into three screen targets
- *                    (pre-scatter diffuse + eye depth, post-scatter factor, specular)
+ *   gbuffer          shaded views (final, specular, diffuse): the head's surface per pixel
+ *                    (position, normals with the normal map, uv, albedo, rho_s, roughness)
+ *   final            always: shades each head pixel once from the G-buffer (diffuse,
+ *                    specular, environment terms; with the pre-integrated technique its
+ *                    diffuse comes from the table); not with the screen-space technique,
+ *                    except for the uv and wireframe views, where it draws the mesh itself
+ *   ss_shade         subsurface on, technique screen-space: each head pixel shaded from the
+ *                    G-buffer into three screen targets (pre-scatter diffuse + eye depth,
+ *                    post-scatter factor, specular)
  *   ss_blur_h, ss_blur_v   the same: the separable kernel along x, then y (+ combine), on
  *                    skin pixels only
  *   background       environment given and shown (scene->env_background), and
@@ -81,7 +85,9 @@ typedef enum dm_pass_kind {
     DM_PASS_SS_SHADE,
     DM_PASS_SS_BLUR_H,
     DM_PASS_SS_BLUR_V,
-    DM_PASS_SS_GBUFFER,
+    DM_PASS_GBUFFER,
+    DM_PASS_TS_GBUFFER,
+    DM_PASS_MESH_VIEW,
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 

@@ -31,22 +31,6 @@ void dmr_shade_head(dm_renderer *r, GLuint p, int mode)
     dmr_translucency_unbind(r);
 }
 
-/* Depth first with the shadow maps' depth-only program (the same vertex transform, so the
- * same depths), then depth test LEQUAL without writes: the shading that follows runs once per
- * pixel, not once per overlapping surface (ears, nose, lips over the cheek), and the picture
- * is identical. Expects the depth test on and the target's depth cleared. */
-void dmr_depth_prepass(dm_renderer *r)
-{
-    GLuint z = r->prog[DM_PASS_SHADOW];
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glUseProgram(z);
-    glUniformMatrix4fv(loc(z, "u_matrix"), 1, GL_FALSE, r->view_proj);
-    dmr_draw_mesh(r);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthFunc(GL_LEQUAL);
-    glDepthMask(GL_FALSE);
-}
-
 /* The specular view exposed to be read: the head's specular is a few percent of its
  * radiance, dark at the scene's exposure. Its pixels (alpha 1) are scaled so their 99th
  * percentile (largest channel) lands near display white: tonemap input 4 (0.92 of white
@@ -74,17 +58,60 @@ static void expose_specular(dm_renderer *r)
     free(px), free(v);
 }
 
+static const int view_modes[DM_VIEW_COUNT] = {[DM_VIEW_FINAL] = 0,   [DM_VIEW_SPECULAR] = 1,
+                                              [DM_VIEW_DIFFUSE] = 2, [DM_VIEW_UV_TEST] = 3,
+                                              [DM_VIEW_WIREFRAME] = 4};
+
+/* The head's nearest surface per pixel (final.glsl with DM_GBUFFER): position and uv,
+ * geometric and shading normal, albedo, rho_s and roughness, and the screen's depth. The
+ * colour is not cleared: the passes after it read only the pixels drawn here. */
+void dmr_pass_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    dmr_target_begin(r->gbuf_fbo, r->width, r->height);
+    glDrawBuffers(4, dmr_draw_buffers);
+    glDepthMask(GL_TRUE);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    dmr_shade_head(r, r->prog[DM_PASS_GBUFFER], 0);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DEPTH_TEST);
+}
+
+/* Each head pixel shaded once from the G-buffer (final.glsl with DM_DEFERRED): the full-screen
+ * triangle at the far plane, depth test GREATER against the head's depth. */
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
-    static const int modes[DM_VIEW_COUNT] = {[DM_VIEW_FINAL] = 0,   [DM_VIEW_SPECULAR] = 1,
-                                             [DM_VIEW_DIFFUSE] = 2, [DM_VIEW_UV_TEST] = 3,
-                                             [DM_VIEW_WIREFRAME] = 4};
-    int mode = modes[r->plan.view];
+    int mode = view_modes[r->plan.view];
     GLuint p = r->prog[DM_PASS_FINAL];
     dmr_target_begin(r->screen_fbo, r->width, r->height);
+    dmr_screen_clear(r, 0); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
+    dmr_shade_begin(r, p, mode);
+    dmr_bind_gbuffer(p, r->gbuf_tex);
+    dmr_draw_fullscreen(r);
+    dmr_translucency_unbind(r);
     glDepthMask(GL_TRUE);
-    dmr_screen_clear(r, GL_DEPTH_BUFFER_BIT); /* alpha: 1 where the head is drawn, 0 elsewhere (coverage) */
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    r->view_gain = 1.0f;
+    if (mode == 1) expose_specular(r);
+}
+
+/* The uv and wireframe views: the mesh drawn (final.glsl's modes 3 and 4). */
+void dmr_pass_mesh_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    int mode = view_modes[r->plan.view];
+    dmr_target_begin(r->screen_fbo, r->width, r->height);
+    glDepthMask(GL_TRUE);
+    dmr_screen_clear(r, GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     if (mode == 4) {
@@ -93,12 +120,9 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }
-    if (mode != 4) dmr_depth_prepass(r);
-    dmr_shade_head(r, p, mode);
-    glDepthMask(GL_TRUE);
+    dmr_shade_head(r, r->prog[DM_PASS_MESH_VIEW], mode);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DEPTH_TEST);
     r->view_gain = 1.0f;
-    if (mode == 1) expose_specular(r);
 }

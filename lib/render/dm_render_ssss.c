@@ -40,9 +40,6 @@ dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *er
     return DM_OK;
 }
 
-static const GLenum draw_bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                     GL_COLOR_ATTACHMENT3};
-
 /* The targets; the G-buffer and the shade pass's post-scatter and specular targets are cleared
  * here once: frames write and read only the head's pixels of them, the rest stays defined. */
 dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err)
@@ -59,22 +56,7 @@ dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err)
     if (rc == DM_OK)
         rc = dmr_color_target(r, "ss_tmp", r->width, r->height, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->ss_tmp_tex,
                               &r->ss_tmp_fbo, err);
-    static const char *gbuf_name[4] = {"ss_gbuffer0", "ss_gbuffer1", "ss_gbuffer2", "ss_gbuffer3"};
-    for (int i = 0; i < 4 && rc == DM_OK; ++i) {
-        GLuint fbo = 0;
-        rc = dmr_color_target(r, gbuf_name[i], r->width, r->height, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->ss_gbuf_tex[i],
-                              i == 0 ? &r->ss_gbuf_fbo : &fbo, err);
-    }
     if (rc != DM_OK) return rc;
-    glBindFramebuffer(GL_FRAMEBUFFER, r->ss_gbuf_fbo);
-    for (int i = 1; i < 4; ++i)
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, r->ss_gbuf_tex[i], 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->screen_depth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        return dm_fail(err, DM_ERR_GL, "target ss_gbuffer0..3 with depth: framebuffer incomplete");
-    glDrawBuffers(4, draw_bufs);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
     /* the single-target FBOs stay for read-back (dm_renderer_read_target); the shade pass
      * writes all three through ss_fbo, which shares the screen's depth buffer */
     glBindFramebuffer(GL_FRAMEBUFFER, r->ss_fbo);
@@ -83,32 +65,13 @@ dm_result dmr_ssss_targets(dm_renderer *r, dm_error *err)
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->screen_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return dm_fail(err, DM_ERR_GL, "target ss_diffuse+aux+specular: framebuffer incomplete");
-    glDrawBuffers(3, draw_bufs);
+    glDrawBuffers(3, dmr_draw_buffers);
     glClear(GL_COLOR_BUFFER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, r->ss_tmp_fbo);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->screen_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return dm_fail(err, DM_ERR_GL, "target ss_tmp with depth: framebuffer incomplete");
     return dmr_gl_check("screen-space targets", err);
-}
-
-/* The head's nearest surface per pixel (final.glsl with DM_GBUFFER): position, geometric and
- * shading normal, albedo, rho_s and roughness, and the screen's depth. */
-void dmr_pass_ss_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
-{
-    (void)ps, (void)opt;
-    GLuint p = r->prog[DM_PASS_SS_GBUFFER];
-    dmr_target_begin(r->ss_gbuf_fbo, r->width, r->height);
-    glDrawBuffers(4, draw_bufs);
-    glDepthMask(GL_TRUE);
-    glClear(GL_DEPTH_BUFFER_BIT); /* not the colour: ss_shade reads only pixels drawn here */
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    dmr_shade_head(r, p, 0);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_DEPTH_TEST);
 }
 
 /* Each head pixel shaded from the G-buffer (final.glsl with DM_DEFERRED): the full-screen
@@ -118,7 +81,7 @@ void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options
     (void)ps, (void)opt;
     GLuint p = r->prog[DM_PASS_SS_SHADE];
     dmr_target_begin(r->ss_fbo, r->width, r->height);
-    glDrawBuffers(3, draw_bufs);
+    glDrawBuffers(3, dmr_draw_buffers);
     /* ss_diffuse only (alpha 0: no skin, which the blurs' taps read); the post-scatter and
      * specular targets are read on the head's pixels alone, all written here */
     static const float zero[4] = {0, 0, 0, 0};
@@ -127,7 +90,7 @@ void dmr_pass_ss_shade(dm_renderer *r, const dm_pass *ps, const dm_frame_options
     glDepthFunc(GL_GREATER);
     glDepthMask(GL_FALSE);
     dmr_shade_begin(r, p, 0);
-    for (int i = 0; i < 4; ++i) dmr_bind(UNIT_GBUF0 + i, GL_TEXTURE_2D, r->ss_gbuf_tex[i]);
+    dmr_bind_gbuffer(p, r->gbuf_tex);
     dmr_draw_fullscreen(r);
     dmr_translucency_unbind(r);
     glDepthMask(GL_TRUE);

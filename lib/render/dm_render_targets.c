@@ -41,6 +41,43 @@ dm_result dmr_color_target(dm_renderer *r, const char *name, int w, int h, GLenu
     return dmr_gl_check(name, err);
 }
 
+const GLenum dmr_draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                    GL_COLOR_ATTACHMENT3};
+
+dm_result dmr_gbuffer_targets(dm_renderer *r, const char *prefix, int w, int h, GLuint depth, GLuint tex[4],
+                              GLuint *fbo, dm_error *err)
+{
+    dm_result rc = DM_OK;
+    char name[32];
+    for (int i = 0; i < 4 && rc == DM_OK; ++i) {
+        GLuint own = 0; /* each texture's single-target FBO stays for read-back */
+        snprintf(name, sizeof name, "%s%d", prefix, i);
+        rc = dmr_color_target(r, name, w, h, GL_RGBA32F, GL_CLAMP_TO_EDGE, &tex[i], i == 0 ? fbo : &own, err);
+    }
+    if (rc != DM_OK) return rc;
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo);
+    for (int i = 1; i < 4; ++i)
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, tex[i], 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return dm_fail(err, DM_ERR_GL, "target %s0..3 with depth: framebuffer incomplete", prefix);
+    glDrawBuffers(4, dmr_draw_buffers);
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    return dmr_gl_check(prefix, err);
+}
+
+int dmr_gbuffer_unit(GLuint p)
+{
+    return glGetUniformLocation(p, "u_level_weight") >= 0 ? UNIT_SRC : UNIT_LEVEL0;
+}
+
+void dmr_bind_gbuffer(GLuint p, const GLuint tex[4])
+{
+    int unit = dmr_gbuffer_unit(p);
+    for (int i = 0; i < 4; ++i) dmr_bind(unit + i, GL_TEXTURE_2D, tex[i]);
+}
+
 dm_result dmr_make_targets(dm_renderer *r, dm_error *err)
 {
     const dm_render_plan *p = &r->plan;
@@ -61,7 +98,8 @@ dm_result dmr_make_targets(dm_renderer *r, dm_error *err)
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->screen_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return dm_fail(err, DM_ERR_GL, "target screen: framebuffer with depth incomplete");
-    if (p->screen_space) rc = dmr_ssss_targets(r, err);
+    rc = dmr_gbuffer_targets(r, "gbuffer", r->width, r->height, r->screen_depth, r->gbuf_tex, &r->gbuf_fbo, err);
+    if (rc == DM_OK && p->screen_space) rc = dmr_ssss_targets(r, err);
     if (rc == DM_OK && p->effects[DM_EFFECT_GLOW]) rc = dmr_glow_targets(r, err);
     if (rc == DM_OK && p->effects[DM_EFFECT_TONEMAP]) rc = dmr_tonemap_targets(r, err);
     return rc;

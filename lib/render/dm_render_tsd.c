@@ -138,7 +138,22 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
         rc = dmr_color_target(r, name, w, h, r->level_format, GL_CLAMP_TO_BORDER, &r->tmp_tex[k], &r->tmp_fbo[k],
                               err);
     }
-    return rc;
+    if (rc != DM_OK) return rc;
+    /* the G-buffer's depth marks covered texels (0.5; 1 in gutters); the irradiance target
+     * shares it, and keeps its once-cleared gutters (frames write covered texels only) */
+    glGenRenderbuffers(1, &r->ts_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->ts_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, r->irr_edge, r->irr_edge);
+    rc = dmr_gbuffer_targets(r, "ts_gbuffer", r->irr_edge, r->irr_edge, r->ts_depth, r->ts_gbuf_tex, &r->ts_gbuf_fbo,
+                             err);
+    if (rc != DM_OK) return rc;
+    glBindFramebuffer(GL_FRAMEBUFFER, r->irr_fbo[0]);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->ts_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return dm_fail(err, DM_ERR_GL, "target irradiance with depth: framebuffer incomplete");
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    return DM_OK;
 }
 
 void dmr_prepare_blur(dm_renderer *r, float scale)
@@ -165,22 +180,54 @@ void dmr_profile_weights(dm_renderer *r)
     }
 }
 
+/* The mesh unwrapped into the atlas (irradiance.glsl with DM_GBUFFER): what each texel's
+ * lighting needs that no light, camera or frame setting changes. Depth test ALWAYS with writes,
+ * so that where triangles overlap in UV the last one drawn holds the texel, as the colour
+ * does. Made once; dm_renderer_set_scene (material values) makes it stale. */
+void dmr_pass_ts_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    if (r->ts_gbuf_valid) return;
+    GLuint p = r->prog[DM_PASS_TS_GBUFFER];
+    dmr_target_begin(r->ts_gbuf_fbo, r->irr_edge, r->irr_edge);
+    glDrawBuffers(4, dmr_draw_buffers);
+    glClearColor(0, 0, 0, 0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(p);
+    dmr_set_surface_uniforms(r, p);
+    dmr_bind_surface(r);
+    dmr_draw_mesh(r);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    r->ts_gbuf_valid = true;
+}
+
+/* Each covered texel lit from the G-buffer (irradiance.glsl with DM_DEFERRED): the full-screen
+ * triangle at the far plane, depth test GREATER against the coverage depth. */
 void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
     GLuint p = r->prog[DM_PASS_IRRADIANCE];
     dmr_target_begin(r->irr_fbo[0], r->irr_edge, r->irr_edge);
-    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDepthMask(GL_FALSE);
     glDisable(GL_CULL_FACE);
-    glClearColor(0, 0, 0, 0);
-    glClear(GL_COLOR_BUFFER_BIT);
     glUseProgram(p);
     dmr_set_light_uniforms(r, p);
     dmr_set_surface_uniforms(r, p);
     dmr_bind_surface(r);
+    dmr_bind_gbuffer(p, r->ts_gbuf_tex);
     dmr_translucency_bind(r, p);
-    dmr_draw_mesh(r);
+    dmr_draw_fullscreen(r);
     dmr_translucency_unbind(r);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
 }
 
 void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)

@@ -295,6 +295,53 @@ Test(render, neutral_scales_and_same_scene_give_identical_frames)
     close_fixture(&f);
 }
 
+/* The texture-space G-buffer the irradiance pass lights: every texel a triangle covers holds a
+ * point on the sphere (radius 1; 32 x 24 flat cells sag by up to 1 - cos(pi/32) +
+ * 1 - cos(pi/48) = 7.0e-3) and a radial geometric normal, and the irradiance's coverage alpha
+ * is 1 exactly there. It is made once per scene: after set_scene with another rho_s and
+ * roughness the irradiance equals that of a renderer created with them, texel for texel. */
+Test(render, texture_space_gbuffer_holds_the_surface_and_follows_the_scene)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_IRRADIANCE, 0);
+    dm_target_info gi, ii;
+    float *pos = read_target(&f, "ts_gbuffer0", &gi), *nrm = read_target(&f, "ts_gbuffer1", &gi);
+    float *irr = read_target(&f, "irradiance", &ii);
+    cr_assert(gi.width == ii.width && gi.height == ii.height);
+    int covered = 0;
+    for (int i = 0; i < gi.width * gi.height; ++i) {
+        const float *p = &pos[i * 4], *n = &nrm[i * 4];
+        cr_assert_eq(irr[i * 4 + 3] == 1.0f, p[3] == 1.0f, "texel %d: coverage %g, G-buffer %g", i,
+                     (double)irr[i * 4 + 3], (double)p[3]);
+        if (p[3] != 1.0f) continue;
+        ++covered;
+        double r = sqrt((double)p[0] * p[0] + (double)p[1] * p[1] + (double)p[2] * p[2]);
+        cr_assert(r > 1 - 7.1e-3 && r < 1 + 1e-5, "texel %d: |position| %.6f", i, r);
+        double radial = (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / r;
+        cr_assert_gt(radial, 0.99, "texel %d: geometric normal not radial (%.4f)", i, radial);
+    }
+    cr_expect_gt(covered, gi.width * gi.height / 2);
+    free(pos), free(nrm), free(irr);
+
+    dm_error err = {0};
+    dm_scene s = f.synth->scene;
+    s.rho_s = 0.6f, s.roughness = 0.8f;
+    cr_assert_eq(dm_renderer_set_scene(f.r, &s, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_IRRADIANCE, 0);
+    float *changed = read_target(&f, "irradiance", &ii);
+    dm_renderer_destroy(f.r);
+    f.synth->scene = s;
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_IRRADIANCE, 0);
+    float *fresh = read_target(&f, "irradiance", &ii);
+    cr_expect_eq(memcmp(changed, fresh, (size_t)ii.width * ii.height * 4 * sizeof *fresh), 0,
+                 "irradiance after set_scene differs from a renderer made with that scene");
+    free(changed), free(fresh);
+    close_fixture(&f);
+}
+
 Test(render, set_scene_moves_the_camera_and_refuses_structural_changes)
 {
     fixture f;

@@ -221,8 +221,10 @@ Test(head, specular_scene_runs_exactly_the_specular_passes)
         cr_expect_eq(s.effects[e], e == DM_EFFECT_SPECULAR, "%s", dm_effect_name((dm_effect)e));
     dm_render_plan plan;
     cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &plan, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(plan.pass_count, 1, "specular alone is the final pass only, got %d passes", plan.pass_count);
-    cr_expect_str_eq(plan.passes[0].name, "final");
+    cr_assert_eq(plan.pass_count, 2, "specular alone is the G-buffer and final passes only, got %d passes",
+                 plan.pass_count);
+    cr_expect_str_eq(plan.passes[0].name, "gbuffer");
+    cr_expect_str_eq(plan.passes[1].name, "final");
 }
 
 static void light_from_behind(dm_scene *s)

@@ -36,7 +36,7 @@ Test(render_plan, specular_only_runs_exactly_the_specular_passes)
     scene_with(&s, on, 1);
     char list[1024];
     plan_of(&s, list, sizeof list);
-    cr_expect_str_eq(list, "final");
+    cr_expect_str_eq(list, "gbuffer final");
     dm_render_plan p;
     cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
     cr_expect(!p.energy_conservation_active && !p.env_specular_active && p.blur_levels == 0);
@@ -48,32 +48,32 @@ Test(render_plan, all_effects_full_chain)
     dm_synth_scene(&s, 4.5f);
     char list[1024];
     plan_of(&s, list, sizeof list);
-    cr_expect_str_eq(list, "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                           "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v glow_add tonemap");
+    cr_expect_str_eq(list, "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
+                           "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add tonemap");
 }
 
 /* Turning off each effect removes exactly its passes (and nothing else). */
 Test(render_plan, each_effect_off_removes_its_passes)
 {
     static const char *expect[DM_EFFECT_COUNT] = {
-        [DM_EFFECT_SPECULAR] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                               "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
-        [DM_EFFECT_SUBSURFACE] = "shadow0 final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
-        [DM_EFFECT_ENERGY_CONSERVATION] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
-                                          "blur_u4 blur_v4 blur_u5 blur_v5 final background glow_bright "
+        [DM_EFFECT_SPECULAR] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
+                               "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
+        [DM_EFFECT_SUBSURFACE] = "shadow0 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
+        [DM_EFFECT_ENERGY_CONSERVATION] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
+                                          "blur_u4 blur_v4 blur_u5 blur_v5 gbuffer final background glow_bright "
                                           "glow_blur_u glow_blur_v glow_add tonemap",
-        [DM_EFFECT_SHADOWS] = "irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 blur_u5 "
-                              "blur_v5 final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
-        [DM_EFFECT_ENVIRONMENT_LIGHTING] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
-                                           "blur_u4 blur_v4 blur_u5 blur_v5 final glow_bright glow_blur_u "
+        [DM_EFFECT_SHADOWS] = "ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 blur_u5 "
+                              "blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add tonemap",
+        [DM_EFFECT_ENVIRONMENT_LIGHTING] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
+                                           "blur_u4 blur_v4 blur_u5 blur_v5 gbuffer final glow_bright glow_blur_u "
                                            "glow_blur_v glow_add tonemap",
-        [DM_EFFECT_GLOW] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                           "blur_u5 blur_v5 final background tonemap",
-        [DM_EFFECT_TONEMAP] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                              "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v glow_add",
+        [DM_EFFECT_GLOW] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
+                           "blur_u5 blur_v5 gbuffer final background tonemap",
+        [DM_EFFECT_TONEMAP] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
+                              "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add",
         /* translucency adds no pass (it changes the irradiance shader): off changes nothing */
-        [DM_EFFECT_TRANSLUCENCY] = "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 "
-                                   "blur_v4 blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v "
+        [DM_EFFECT_TRANSLUCENCY] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 "
+                                   "blur_v4 blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v "
                                    "glow_add tonemap",
     };
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
@@ -138,7 +138,7 @@ Test(render_plan, views_refuse_what_the_scene_lacks)
     cr_expect_eq(dm_render_plan_build(&s, DM_VIEW_BLUR, 2, &p, &err), DM_OK);
     char list[1024];
     names(&p, list, sizeof list);
-    cr_expect_str_eq(list, "shadow0 irradiance blur_u1 blur_v1 blur_u2 blur_v2 view");
+    cr_expect_str_eq(list, "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 view");
     cr_expect_eq(dm_render_plan_build(&s, DM_VIEW_STRETCH, 0, &p, &err), DM_OK);
     names(&p, list, sizeof list);
     cr_expect_str_eq(list, "view");

@@ -137,7 +137,7 @@ Test(preint_render, one_pass_plan_and_missing_assets)
     char list[512] = "";
     for (int i = 0; i < p.pass_count; ++i)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? " " : "", p.passes[i].name);
-    cr_expect_str_eq(list, "shadow0 final");
+    cr_expect_str_eq(list, "shadow0 gbuffer final");
     cr_expect(p.pre_integrated && !p.texture_space && !p.screen_space);
     char text[8192];
     dm_render_plan_explain(&p, text, sizeof text);

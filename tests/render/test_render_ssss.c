@@ -233,7 +233,7 @@ Test(ssss_render, gbuffer_holds_the_surface_at_each_pixel_centre)
     float *g[4], *diff = read_named(&f, "ss_diffuse");
     for (int i = 0; i < 4; ++i) {
         char name[32];
-        snprintf(name, sizeof name, "ss_gbuffer%d", i);
+        snprintf(name, sizeof name, "gbuffer%d", i);
         g[i] = read_named(&f, name);
     }
     double fw[3], rt[3], up[3], n = 0;
@@ -317,7 +317,7 @@ Test(ssss_plan, passes_explain_and_refused_views)
     char list[512] = "";
     for (int i = 0; i < p.pass_count; ++i)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? " " : "", p.passes[i].name);
-    cr_expect_str_eq(list, "shadow0 ss_gbuffer ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
+    cr_expect_str_eq(list, "shadow0 gbuffer ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
                            "glow_add tonemap");
     char text[8192];
     dm_render_plan_explain(&p, text, sizeof text);
