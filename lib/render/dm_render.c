@@ -256,6 +256,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
     double t_frame;
     dmr_timing_frame_begin(r, &t_frame);
     r->tonemapped = false;
+    r->glow_pending = false;
     r->view_in_target = false;
     /* reuse_texture_space: the shadow maps, irradiance and blur levels depend on the scene
      * (dm_renderer_set_scene invalidates them), the light rotation and the blur and
@@ -282,6 +283,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         if (rc != DM_OK) return rc;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    r->glow_pending = r->plan.glow_in_tonemap && r->tonemapped;
     if (!reuse) { /* valid only when this frame made every texture-space result */
         r->ts_valid = ts_passes == r->ts_pass_count;
         r->ts_rotation = opt->light_rotation_deg;

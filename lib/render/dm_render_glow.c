@@ -1,5 +1,6 @@
 /* dm_render_glow.c — glow: a bright pass at half resolution, a separable Gaussian, added back
- * onto the screen. */
+ * onto the screen. With a tonemap the tonemap pass adds it (the same float sum, one full-screen
+ * pass fewer) and the screen gets it only when it is read (dmr_glow_settle). */
 #include "render/dm_render_internal.h"
 
 dm_result dmr_glow_targets(dm_renderer *r, dm_error *err)
@@ -42,4 +43,12 @@ void dmr_pass_glow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     }
     dmr_draw_fullscreen(r);
     glDisable(GL_BLEND);
+}
+
+void dmr_glow_settle(dm_renderer *r)
+{
+    if (!r->glow_pending) return;
+    r->glow_pending = false;
+    dmr_pass_glow(r, &(dm_pass){.kind = DM_PASS_GLOW_ADD}, NULL);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -54,6 +54,7 @@ enum {
     /* passes that never bind the blur/view inputs reuse their units: the screen-space combine
      * pass (u_aux, u_spec) and translucency's raw shadow depths (u_tdepth0..3, sampler object) */
     UNIT_SS_AUX = UNIT_STRETCH,
+    UNIT_GLOW = UNIT_STRETCH, /* the tonemap pass's glow */
     UNIT_SS_SPEC = UNIT_MASK,
     UNIT_TDEPTH0 = UNIT_SRC, /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
     /* the pre-integrated technique has no blur levels: its table and curvature take the last two */
@@ -108,6 +109,7 @@ struct dm_renderer {
 
     dm_render_plan plan;
     bool tonemapped; /* the last frame's display came from the tonemap pass */
+    bool glow_pending; /* the tonemap added the glow; the screen gets it when read (dmr_glow_settle) */
 
     GLuint vao_mesh, vbo, ebo, vao_empty;
     int index_count;
@@ -291,6 +293,8 @@ dm_result dmr_env_upload(dm_renderer *r, const dm_render_assets *a, dm_error *er
 void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 dm_result dmr_glow_targets(dm_renderer *r, dm_error *err);
 void dmr_pass_glow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
+/* Adds the glow to the screen if the last frame's tonemap added it to the display only. */
+void dmr_glow_settle(dm_renderer *r);
 dm_result dmr_tonemap_targets(dm_renderer *r, dm_error *err);
 void dmr_pass_tonemap(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);

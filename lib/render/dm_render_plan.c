@@ -219,11 +219,15 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             (double)s->glow_threshold);
         add(p, DM_PASS_GLOW_BLUR_U, 0, "glow_blur_u", "glow: Gaussian along x at half resolution");
         add(p, DM_PASS_GLOW_BLUR_V, 0, "glow_blur_v", "glow: Gaussian along y at half resolution");
-        add(p, DM_PASS_GLOW_ADD, 0, "glow_add", "glow: adds %.3g x the blurred bright pass", (double)s->glow_intensity);
+        p->glow_in_tonemap = fx[DM_EFFECT_TONEMAP];
+        if (!p->glow_in_tonemap)
+            add(p, DM_PASS_GLOW_ADD, 0, "glow_add", "glow: adds %.3g x the blurred bright pass",
+                (double)s->glow_intensity);
     }
     if (fx[DM_EFFECT_TONEMAP] && shaded_view)
-        add(p, DM_PASS_TONEMAP, 0, "tonemap", "tonemap: exposure %+.2g stops, filmic curve, sRGB",
-            (double)s->exposure);
+        add(p, DM_PASS_TONEMAP, 0, "tonemap", "tonemap: exposure %+.2g stops, filmic curve, sRGB%s",
+            (double)s->exposure,
+            p->glow_in_tonemap ? "; first adds the glow (its intensity x the blurred bright pass) [glow]" : "");
     return DM_OK;
 }
 

@@ -23,8 +23,8 @@
  *                    skin pixels only
  *   background       environment given and shown (scene->env_background), and
  *                    environment_lighting on
- *   glow_bright, glow_blur_u, glow_blur_v, glow_add   glow on
- *   tonemap          tonemap on (exposure, filmic, sRGB)
+ *   glow_bright, glow_blur_u, glow_blur_v   glow on; glow_add too when tonemap is off
+ *   tonemap          tonemap on (exposure, filmic, sRGB; adds the glow)
  * Debug views replace final..tonemap by the passes they need (a `view` pass copying the
  * texture to the screen for texture views; final with a mode for shaded views).
  * Effects that only change a shader (energy_conservation, environment_lighting's SH and
@@ -107,6 +107,8 @@ typedef struct dm_render_plan {
     bool effects[DM_EFFECT_COUNT]; /* as in the scene */
     bool energy_conservation_active; /* energy_conservation and specular both on */
     bool env_specular_active;        /* environment_lighting and specular both on */
+    bool glow_in_tonemap;            /* glow and tonemap both on: the tonemap pass adds the glow
+                                      * (no glow_add pass; the linear screen gets it when read) */
     int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */
     int casting_lights;              /* all lights that cast (more than shadow_count: no map) */
     int shadow_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */

@@ -26,7 +26,7 @@ void dmr_pass_tonemap(dm_renderer *r, const dm_pass *ps, const dm_frame_options 
 {
     (void)ps, (void)opt;
     GLuint p = r->prog[DM_PASS_TONEMAP];
-    bool head_only = dm_render_plan_find(&r->plan, "background") < 0 && dm_render_plan_find(&r->plan, "glow_add") < 0;
+    bool head_only = dm_render_plan_find(&r->plan, "background") < 0 && dm_render_plan_find(&r->plan, "glow_bright") < 0;
     dmr_target_begin(r->display_fbo, r->width, r->height);
     if (head_only) {
         glClearColor(0, 0, 0, 1);
@@ -40,6 +40,10 @@ void dmr_pass_tonemap(dm_renderer *r, const dm_pass *ps, const dm_frame_options 
     glUseProgram(p);
     dmr_bind(UNIT_SRC, GL_TEXTURE_2D, r->screen_tex);
     u1f(p, "u_exposure_scale", exp2f(r->scene.exposure));
+    if (r->plan.glow_in_tonemap) {
+        dmr_bind(UNIT_GLOW, GL_TEXTURE_2D, r->glow_tex[0]);
+        u1f(p, "u_glow_intensity", r->scene.glow_intensity);
+    }
     dmr_draw_fullscreen(r);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);

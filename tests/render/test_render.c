@@ -342,6 +342,33 @@ Test(render, texture_space_gbuffer_holds_the_surface_and_follows_the_scene)
     close_fixture(&f);
 }
 
+/* With a tonemap the glow is added by the tonemap pass, and the linear screen gets it only when
+ * read: that linear picture equals, float for float, the one of the same scene without a
+ * tonemap, where the glow_add pass adds it during the frame. */
+Test(render, glow_in_the_tonemap_leaves_the_linear_picture_unchanged)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    f.synth->scene.glow_threshold = 0.05f; /* a glow that reaches most of the sphere */
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert(dm_renderer_plan(f.r)->glow_in_tonemap);
+    cr_assert_lt(dm_render_plan_find(dm_renderer_plan(f.r), "glow_add"), 0);
+    size_t n = 64 * 48 * 4;
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    dm_error err = {0};
+    cr_assert_eq(dm_renderer_read_linear(f.r, a, &err), DM_OK, "%s", err.detail);
+    dm_renderer_destroy(f.r);
+    f.synth->scene.effects[DM_EFFECT_TONEMAP] = false;
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_geq(dm_render_plan_find(dm_renderer_plan(f.r), "glow_add"), 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(memcmp(a, b, n * sizeof *a), 0, "the linear picture changed with the glow in the tonemap");
+    free(a), free(b);
+    close_fixture(&f);
+}
+
 Test(render, set_scene_moves_the_camera_and_refuses_structural_changes)
 {
     fixture f;

@@ -318,7 +318,7 @@ Test(ssss_plan, passes_explain_and_refused_views)
     for (int i = 0; i < p.pass_count; ++i)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? " " : "", p.passes[i].name);
     cr_expect_str_eq(list, "shadow0 gbuffer ss_shade ss_blur_h ss_blur_v background glow_bright glow_blur_u glow_blur_v "
-                           "glow_add tonemap");
+                           "tonemap");
     char text[8192];
     dm_render_plan_explain(&p, text, sizeof text);
     cr_expect(strstr(text, "subsurface technique: screen-space"), "%s", text);
