@@ -284,7 +284,7 @@ void dmr_translucency_unbind(const dm_renderer *r);
 /* ---- dm_render_shade.c, dm_render_env.c, dm_render_glow.c, dm_render_tonemap.c, dm_render_view.c ---- */
 void dmr_pass_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
-void dmr_pass_mesh_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
+void dmr_pass_final_forward(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 /* The head drawn with program p (final.glsl) into the bound target: uniforms, bindings, mesh.
  * dmr_shade_begin is all of it but the draw (then dmr_translucency_unbind after the draw). */
 void dmr_shade_head(dm_renderer *r, GLuint p, int mode);

@@ -19,7 +19,7 @@ static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
     [DM_PASS_GBUFFER] = {"final.glsl", "dm_render_shade.c", dmr_pass_gbuffer, false, "#define DM_GBUFFER 1\n"},
     [DM_PASS_FINAL] = {"final.glsl", "dm_render_shade.c", dmr_pass_final, false,
                        "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
-    [DM_PASS_MESH_VIEW] = {"final.glsl", "dm_render_shade.c", dmr_pass_mesh_view, false},
+    [DM_PASS_FINAL_FORWARD] = {"final.glsl", "dm_render_shade.c", dmr_pass_final_forward, false},
     [DM_PASS_BACKGROUND] = {"background.glsl", "dm_render_env.c", dmr_pass_background, false},
     [DM_PASS_GLOW_BRIGHT] = {"glow_bright.glsl", "dm_render_glow.c", dmr_pass_glow, false},
     [DM_PASS_GLOW_BLUR_U] = {"glow_blur.glsl", "dm_render_glow.c", dmr_pass_glow, false},
@@ -44,7 +44,7 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
     switch (k) {
     case DM_PASS_GBUFFER:
     case DM_PASS_FINAL:
-    case DM_PASS_MESH_VIEW:
+    case DM_PASS_FINAL_FORWARD:
     case DM_PASS_VIEW: return true; /* debug views need them whatever the effects */
     case DM_PASS_SHADOW: return p->shadow_count > 0;
     case DM_PASS_TS_GBUFFER:

@@ -180,7 +180,12 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
                        : view == DM_VIEW_UV_TEST  ? " [debug view: UV checker]"
                                                   : " [debug view: wireframe]";
     const bool ss_view = ssss && (view == DM_VIEW_FINAL || view == DM_VIEW_SPECULAR || view == DM_VIEW_DIFFUSE);
-    if (shaded_view)
+    /* Deferred shading pays where the per-pixel shading outweighs the G-buffer (a raster into
+     * four float targets): lights evaluated per pixel, i.e. specular, or the diffuse of every
+     * technique but texture-space, whose diffuse is the levels' sum. Texture-space without
+     * specular shades while rasterising: six level fetches and the albedo cost less. */
+    const bool deferred = shaded_view && (ss_view || spec || !sss);
+    if (deferred)
         add(p, DM_PASS_GBUFFER, 0, "gbuffer",
             "always: the head's surface per pixel (position, normals with the normal map, uv, albedo, rho_s, "
             "roughness), for %s to shade each pixel once", ss_view ? "ss_shade" : "final");
@@ -200,7 +205,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
         add(p, DM_PASS_SS_BLUR_V, 0, "ss_blur_v",
             "subsurface [screen-space]: the same along y, x post-scatter albedo, + specular");
     } else if (shaded_view)
-        add(p, DM_PASS_FINAL, 0, "final", "always: %s diffuse%s%s%s%s%s%s",
+        add(p, deferred ? DM_PASS_FINAL : DM_PASS_FINAL_FORWARD, 0, "final", "always: %s diffuse%s%s%s%s%s%s%s",
             sss   ? "6-level weighted sum x post-scatter albedo^(1-mix)"
             : pre ? "pre-integrated (Penner): lights x table(N.L per channel, curvature) x shadow, x albedo "
                     "[subsurface, pre-integrated]"
@@ -208,9 +213,10 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             spec ? " + KS specular (Beckmann LUT, Schlick F0 0.028, spec map) [specular]" : "",
             p->energy_conservation_active ? " x (1 - rho_s rho_dt(N.V)) [energy_conservation]" : "",
             p->env_specular_active ? " + env split-sum specular [environment_lighting]" : "",
-            env && !sss ? " + SH diffuse [environment_lighting]" : "", !sss ? trans : "", mode);
+            env && !sss ? " + SH diffuse [environment_lighting]" : "", !sss ? trans : "",
+            deferred ? "; each pixel once, from the G-buffer" : "; while rasterising", mode);
     else
-        add(p, DM_PASS_MESH_VIEW, 0, "final", "always: draws the mesh%s", mode);
+        add(p, DM_PASS_FINAL_FORWARD, 0, "final", "always: draws the mesh%s", mode);
     if (env && s->env_background && s->environment[0] && shaded_view)
         add(p, DM_PASS_BACKGROUND, 0, "background",
             "environment_lighting with env_background: equirect radiance behind the head");

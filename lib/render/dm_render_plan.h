@@ -10,12 +10,15 @@
  *                    material) into a G-buffer; runs once, and again after a scene change
  *   irradiance       the same: each covered texel lit from it (lights, shadow, env SH, albedo^mix)
  *   blur_u k, blur_v k   subsurface on, k = 1..profile.count−1
- *   gbuffer          shaded views (final, specular, diffuse): the head's surface per pixel
- *                    (position, normals with the normal map, uv, albedo, rho_s, roughness)
- *   final            always: shades each head pixel once from the G-buffer (diffuse,
- *                    specular, environment terms; with the pre-integrated technique its
- *                    diffuse comes from the table); not with the screen-space technique,
- *                    except for the uv and wireframe views, where it draws the mesh itself
+ *   gbuffer          shaded views (final, specular, diffuse) whose shading evaluates lights
+ *                    per pixel (specular on, or any technique but texture-space): the head's
+ *                    surface per pixel (position, normals with the normal map, uv, albedo,
+ *                    rho_s, roughness)
+ *   final            always: shades each head pixel once from the G-buffer, or while
+ *                    rasterising without one (diffuse, specular, environment terms; with the
+ *                    pre-integrated technique its diffuse comes from the table); not with the
+ *                    screen-space technique, except for the uv and wireframe views, where it
+ *                    draws the mesh itself
  *   ss_shade         subsurface on, technique screen-space: each head pixel shaded from the
  *                    G-buffer into three screen targets (pre-scatter diffuse + eye depth,
  *                    post-scatter factor, specular)
@@ -87,7 +90,7 @@ typedef enum dm_pass_kind {
     DM_PASS_SS_BLUR_V,
     DM_PASS_GBUFFER,
     DM_PASS_TS_GBUFFER,
-    DM_PASS_MESH_VIEW,
+    DM_PASS_FINAL_FORWARD,
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 

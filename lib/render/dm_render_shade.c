@@ -104,8 +104,10 @@ void dmr_pass_final(dm_renderer *r, const dm_pass *ps, const dm_frame_options *o
     if (mode == 1) expose_specular(r);
 }
 
-/* The uv and wireframe views: the mesh drawn (final.glsl's modes 3 and 4). */
-void dmr_pass_mesh_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+/* The head shaded while rasterising (final.glsl without DM_DEFERRED): where its shading is
+ * cheaper than a G-buffer (texture-space without specular), and the uv and wireframe views
+ * (modes 3 and 4), which draw the mesh itself. */
+void dmr_pass_final_forward(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
     int mode = view_modes[r->plan.view];
@@ -120,9 +122,10 @@ void dmr_pass_mesh_view(dm_renderer *r, const dm_pass *ps, const dm_frame_option
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }
-    dmr_shade_head(r, r->prog[DM_PASS_MESH_VIEW], mode);
+    dmr_shade_head(r, r->prog[DM_PASS_FINAL_FORWARD], mode);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_CULL_FACE);
     glDisable(GL_DEPTH_TEST);
     r->view_gain = 1.0f;
+    if (mode == 1) expose_specular(r);
 }

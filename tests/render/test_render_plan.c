@@ -57,8 +57,9 @@ Test(render_plan, all_effects_full_chain)
 Test(render_plan, each_effect_off_removes_its_passes)
 {
     static const char *expect[DM_EFFECT_COUNT] = {
+        /* texture-space without specular shades while rasterising: no G-buffer */
         [DM_EFFECT_SPECULAR] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                               "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap",
+                               "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_SUBSURFACE] = "shadow0 gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_ENERGY_CONSERVATION] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
                                           "blur_u4 blur_v4 blur_u5 blur_v5 gbuffer final background glow_bright "
