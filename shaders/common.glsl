@@ -27,6 +27,21 @@ void main()
 #endif
 #endif
 
+#if defined(DM_FRAGMENT) && defined(DM_GBUFFER)
+// Deferred shading (dmr_gbuffer_targets): a pass compiled with DM_GBUFFER writes the surface
+// into four float targets, one compiled with DM_DEFERRED reads them back per pixel; the pass
+// file says what each holds.
+layout(location = 0) out vec4 o_g0;
+layout(location = 1) out vec4 o_g1;
+layout(location = 2) out vec4 o_g2;
+layout(location = 3) out vec4 o_g3;
+#elif defined(DM_FRAGMENT) && defined(DM_DEFERRED)
+uniform sampler2D u_gbuf0;
+uniform sampler2D u_gbuf1;
+uniform sampler2D u_gbuf2;
+uniform sampler2D u_gbuf3;
+#endif
+
 #ifdef DM_FRAGMENT
 // Texture-space diffusion levels (irradiance = level 0, blur k = level k), premultiplied by
 // chart coverage in alpha. One copy for the final pass and the diffusion view, so the view

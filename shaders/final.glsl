@@ -37,11 +37,7 @@ void main()
     gl_Position = u_view_proj * vec4(a_position, 1.0);
 }
 #elif defined(DM_FRAGMENT)
-#ifdef DM_DEFERRED
-uniform sampler2D u_gbuf0; // position, u
-uniform sampler2D u_gbuf1; // geometric normal, v
-uniform sampler2D u_gbuf2; // shading normal, rho_s
-uniform sampler2D u_gbuf3; // albedo, roughness m
+#ifdef DM_DEFERRED /* G-buffer: position, u | geometric normal, v | shading normal, rho_s | albedo, m */
 vec3 v_pos;
 vec2 v_uv;
 #else
@@ -50,12 +46,7 @@ in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
 #endif
-#ifdef DM_GBUFFER
-layout(location = 0) out vec4 o_g0;
-layout(location = 1) out vec4 o_g1;
-layout(location = 2) out vec4 o_g2;
-layout(location = 3) out vec4 o_g3;
-#else
+#ifndef DM_GBUFFER
 layout(location = 0) out vec4 o_color;
 #endif
 #ifdef DM_SCREEN_SPACE

@@ -28,23 +28,13 @@ void main()
     gl_Position = vec4(a_uv * 2.0 - 1.0, 0.0, 1.0);
 }
 #elif defined(DM_FRAGMENT)
-#ifdef DM_DEFERRED
-uniform sampler2D u_gbuf0; // position, 1
-uniform sampler2D u_gbuf1; // geometric normal, roughness before the frame's scale
-uniform sampler2D u_gbuf2; // shading normal, rho_s
-uniform sampler2D u_gbuf3; // albedo
-#else
+#ifndef DM_DEFERRED /* G-buffer: position, 1 | geometric normal, roughness before the frame's scale | shading normal, rho_s | albedo */
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
 #endif
-#ifdef DM_GBUFFER
-layout(location = 0) out vec4 o_g0;
-layout(location = 1) out vec4 o_g1;
-layout(location = 2) out vec4 o_g2;
-layout(location = 3) out vec4 o_g3;
-#else
+#ifndef DM_GBUFFER
 out vec4 o_color;
 #endif
 uniform sampler2D u_albedo;
