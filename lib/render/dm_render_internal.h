@@ -9,10 +9,10 @@
  *   dm_render_timing.c       per-pass timing (CPU clock around glFinish, or GL queries)
  *   dm_render_readback.c     read-back of targets, display, views
  *   dm_render_shadow.c       lights, light matrices and shadow maps
- *   dm_render_tsd.c          texture-space diffusion (irradiance, stretch-corrected blurs)
+ *   dm_render_tsd.c          texture-space diffusion (surface, irradiance, stretch-corrected blurs)
  *   dm_render_ssss.c         screen-space separable SSS (Jimenez et al. 2015)
  *   dm_render_translucency.c light through thin parts (shadow-map thickness)
- *   dm_render_shade.c        the final pass: the head on screen
+ *   dm_render_shade.c        the head on screen: G-buffer and final pass
  *   dm_render_env.c          environment uploads and the background pass
  *   dm_render_glow.c, dm_render_tonemap.c, dm_render_view.c   the post passes and debug views
  * Functions are prefixed dmr_; every one needs the renderer's GL context current.

@@ -1,7 +1,9 @@
-/* dm_render_shade.c — the final pass: the head on screen with the diffuse term of the active
- * technique (texture-space levels, the pre-integrated table, or Lambert without subsurface), KS specular, environment
- * specular; the specular/diffuse/uv/wireframe debug modes. Screen-space subsurface shades the
- * head in its own pass (dm_render_ssss.c) from the same shader file. */
+/* dm_render_shade.c — the head on screen: the G-buffer pass (the surface per pixel) and the
+ * final pass, which shades each head pixel once from it (or, where that is cheaper, while
+ * rasterising) with the diffuse term of the active technique (texture-space levels, the
+ * pre-integrated table, or Lambert without subsurface), KS specular, environment specular;
+ * the specular/diffuse/uv/wireframe debug modes. Screen-space subsurface shades from the same
+ * G-buffer in its own pass (dm_render_ssss.c), from the same shader file. */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,11 +1,12 @@
 /* dm_render_ssss.c — screen-space separable subsurface scattering (Jimenez et al. 2015).
  *
- *   ss_shade   the head (final.glsl with DM_SCREEN_SPACE) into three targets at once:
+ *   ss_shade   each head pixel of the G-buffer (dm_render_shade.c's gbuffer pass) shaded by
+ *              final.glsl with DM_SCREEN_SPACE and DM_DEFERRED into three targets at once:
  *              ss_diffuse = diffuse irradiance x albedo^mix (same lights, shadows, energy
  *              conservation, SH and translucency as the texture-space irradiance pass), alpha =
  *              eye depth in mesh units (0: no skin); ss_aux = albedo^(1-mix) x (1 - rho_s
- *              rho_dt(N.V)); ss_spec = KS + environment specular. Depth goes to the screen's
- *              depth buffer, which the background pass then tests against.
+ *              rho_dt(N.V)); ss_spec = KS + environment specular. The G-buffer pass left the
+ *              head's depth in the screen's depth buffer, which every pass after tests.
  *   ss_blur_h  ss_diffuse blurred along x into ss_tmp;
  *   ss_blur_v  ss_tmp blurred along y, times ss_aux, plus ss_spec, into "screen".
  * The 1-D kernel (core/dm_ssss_kernel.h) comes from the pack (dermis-pack fits it to the

@@ -1,5 +1,6 @@
 /* dm_render_tsd.c — texture-space diffusion (d'Eon & Luebke, GPU Gems 3 ch. 14): the
- * irradiance pass unwraps the lit head into the UV atlas, then each Gaussian level k is made
+ * ts_gbuffer pass unwraps the surface into the UV atlas once per scene, the irradiance pass
+ * lights each covered texel of it every frame, then each Gaussian level k is made
  * from level k−1 by a U and a V blur of variance v_k − v_{k−1}, tap offsets in mm turned into
  * UV by the stretch chain. The final pass sums the levels (dm_diffusion, shaders/common.glsl).
  * Owns the stretch uploads, the level targets and the blur kernel. */
