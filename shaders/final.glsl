@@ -151,9 +151,14 @@ void main()
     }
 #endif
     vec3 Ng = normalize(v_nrm);
-    vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
+    vec4 nmap = texture(u_normal_map, v_uv);
+    vec3 N = dm_shading_normal(v_nrm, v_tan, nmap.rgb, u_has_normal_map);
     float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
+#ifdef DM_SPEC_IN_NORMAL
+    float rho_s = u_rho_s * nmap.a; // the specular map rides in the normal map's alpha (dm_render.c)
+#else
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
+#endif
     vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
 #endif
 #ifdef DM_GBUFFER

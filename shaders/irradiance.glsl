@@ -60,9 +60,14 @@ void main()
     float m0 = g1.w, rho_s = g2.w;
 #else
     vec3 Ng = normalize(v_nrm);
-    vec3 N = dm_shading_normal(v_nrm, v_tan, texture(u_normal_map, v_uv).rgb, u_has_normal_map);
+    vec4 nmap = texture(u_normal_map, v_uv);
+    vec3 N = dm_shading_normal(v_nrm, v_tan, nmap.rgb, u_has_normal_map);
     float m0 = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
+#ifdef DM_SPEC_IN_NORMAL
+    float rho_s = u_rho_s * nmap.a; // the specular map rides in the normal map's alpha (dm_render.c)
+#else
     float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
+#endif
     vec3 albedo = texture(u_albedo, v_uv).rgb;
 #endif
 #ifdef DM_GBUFFER

@@ -55,6 +55,32 @@ static dm_result check_assets(const dm_render_assets *a, const dm_render_plan *p
     return rc;
 }
 
+/* The normal map, and the specular map in its alpha when both are there at one size (the
+ * normal map's alpha is unused): one trilinear fetch fewer wherever the surface is read, and
+ * the same values (both linear 8-bit; mip levels are made per channel). */
+static dm_result upload_normal_specular(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    const dm_texture *nm = &a->normal_map, *sp = &a->specular_map;
+    r->spec_in_normal = nm->texels && sp->texels && nm->format == DM_TEX_RGBA8 && sp->format == DM_TEX_R8 &&
+                        nm->width == sp->width && nm->height == sp->height;
+    if (!r->spec_in_normal) {
+        dm_result rc = DM_OK;
+        if (nm->texels) rc = dmr_upload(nm, "normal_map", true, GL_LINEAR, &r->tex_normal, err);
+        if (rc == DM_OK && sp->texels) rc = dmr_upload(sp, "specular_map", true, GL_LINEAR, &r->tex_spec, err);
+        return rc;
+    }
+    size_t n = (size_t)nm->width * (size_t)nm->height;
+    uint8_t *both = malloc(n * 4);
+    if (!both) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "normal map with specular: %zu bytes", n * 4);
+    memcpy(both, nm->texels, n * 4);
+    for (size_t i = 0; i < n; ++i) both[i * 4 + 3] = ((const uint8_t *)sp->texels)[i];
+    dm_texture t = *nm;
+    t.texels = both;
+    dm_result rc = dmr_upload(&t, "normal map with specular", true, GL_LINEAR, &r->tex_normal, err);
+    free(both);
+    return rc;
+}
+
 static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_error *err)
 {
     glGenVertexArrays(1, &r->vao_mesh);
@@ -83,8 +109,7 @@ static dm_result upload_assets(dm_renderer *r, const dm_render_assets *a, dm_err
 #define UP(field, what, mips, filt, dst)                                                                          \
     if (rc == DM_OK && a->field.texels) rc = dmr_upload(&a->field, what, mips, filt, &r->dst, err)
     UP(albedo, "albedo", true, GL_LINEAR, tex_albedo);
-    UP(normal_map, "normal_map", true, GL_LINEAR, tex_normal);
-    UP(specular_map, "specular_map", true, GL_LINEAR, tex_spec);
+    if (rc == DM_OK) rc = upload_normal_specular(r, a, err);
     UP(roughness_map, "roughness_map", true, GL_LINEAR, tex_rough);
     const dm_render_plan *p = &r->plan;
     if (p->effects[DM_EFFECT_SPECULAR]) UP(beckmann, "beckmann", false, GL_LINEAR, tex_beckmann);

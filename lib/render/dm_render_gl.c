@@ -194,6 +194,7 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra,
         n += (size_t)snprintf(defines + n, sizeof defines - n,
                               "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n", r->profile.count);
     if (p->glow_in_tonemap) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_GLOW 1\n");
+    if (r->spec_in_normal) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SPEC_IN_NORMAL 1\n");
     if (extra) snprintf(defines + n, sizeof defines - n, "%s", extra);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;

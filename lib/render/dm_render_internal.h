@@ -88,6 +88,7 @@ struct dm_renderer {
     float env_level_m[DM_RENDER_ENV_LEVELS_MAX];
     float env_sh[DM_RENDER_SH_COUNT][3];
     bool has_normal_map, has_roughness_map, has_mask;
+    bool spec_in_normal; /* the specular map is the normal map texture's alpha (DM_SPEC_IN_NORMAL) */
     float center[3], radius;
     float blur_offset[DM_PROFILE_MAX_GAUSSIANS][DM_BLUR_TAPS_MAX]; /* mm, per level k (index k) */
     float blur_weight[DM_BLUR_TAPS_MAX];

@@ -369,6 +369,46 @@ Test(render, glow_in_the_tonemap_leaves_the_linear_picture_unchanged)
     close_fixture(&f);
 }
 
+/* The specular map rides in the normal map's alpha when both are 8-bit maps of one size (one
+ * trilinear fetch fewer): the frame equals, float for float, the one where the same specular
+ * values come as a separate RGBA8 texture (which cannot ride), mip levels included (the
+ * sphere is drawn small, so the maps are minified). */
+Test(render, specular_in_the_normal_maps_alpha_changes_nothing)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    enum { N = 64 };
+    uint8_t *nm = malloc(N * N * 4), *sp = malloc(N * N), *sp4 = malloc(N * N * 4);
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            int i = y * N + x;
+            nm[i * 4 + 0] = (uint8_t)(128 + 40 * sin(x * 0.7)), nm[i * 4 + 1] = (uint8_t)(128 + 40 * cos(y * 0.5));
+            nm[i * 4 + 2] = 230, nm[i * 4 + 3] = 255;
+            sp[i] = (uint8_t)((x * 37 + y * 91) & 255);
+            for (int c = 0; c < 4; ++c) sp4[i * 4 + c] = sp[i];
+        }
+    dm_render_assets *a = &f.synth->assets;
+    a->normal_map = (dm_texture){DM_TEX_RGBA8, N, N, nm};
+    a->specular_map = (dm_texture){DM_TEX_R8, N, N, sp};
+    size_t n = 96 * 72 * 4;
+    float *packed = malloc(n * sizeof *packed), *apart = malloc(n * sizeof *apart);
+    dm_error err = {0};
+    for (int k = 0; k < 2; ++k) {
+        if (k == 1) a->specular_map = (dm_texture){DM_TEX_RGBA8, N, N, sp4};
+        dm_renderer_destroy(f.r);
+        f.r = NULL;
+        open_renderer(&f, 96, 72, 64);
+        frame(&f, DM_VIEW_FINAL, 0);
+        cr_assert_eq(dm_renderer_read_linear(f.r, k ? apart : packed, &err), DM_OK, "%s", err.detail);
+    }
+    cr_expect_eq(memcmp(packed, apart, n * sizeof *packed), 0, "the frame changed with the specular map in alpha");
+    double spec = 0;
+    for (size_t i = 0; i < n; i += 4) spec += packed[i];
+    cr_expect_gt(spec, 0.0);
+    free(packed), free(apart), free(nm), free(sp), free(sp4);
+    close_fixture(&f);
+}
+
 Test(render, set_scene_moves_the_camera_and_refuses_structural_changes)
 {
     fixture f;
