@@ -151,6 +151,41 @@ vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
     return rl > 1e-12 ? r * inversesqrt(rl) : N;
 }
 
+#ifdef DM_FRAGMENT
+// The surface as the maps give it where a pass rasterises the mesh (final.glsl, irradiance.glsl:
+// shading directly or into a G-buffer): geometric and shading normal, albedo, roughness m0
+// before the frame's scale, rho_s. DM_SPEC_IN_NORMAL: the specular map rides in the normal
+// map's alpha (dm_render.c). Read with implicit derivatives, so the mip level rasterising gives.
+uniform sampler2D u_albedo;
+uniform sampler2D u_normal_map;
+uniform bool u_has_normal_map;
+uniform sampler2D u_specular_map;
+uniform sampler2D u_roughness_map;
+uniform bool u_has_roughness_map;
+uniform float u_roughness;
+uniform float u_roughness_scale; // 1 = as given
+uniform float u_rho_s;
+struct dm_surf {
+    vec3 Ng, N, albedo;
+    float m0, rho_s;
+};
+dm_surf dm_surface(vec3 nrm, vec4 tan, vec2 uv)
+{
+    dm_surf s;
+    s.Ng = normalize(nrm);
+    vec4 nmap = texture(u_normal_map, uv);
+    s.N = dm_shading_normal(nrm, tan, nmap.rgb, u_has_normal_map);
+    s.m0 = u_has_roughness_map ? texture(u_roughness_map, uv).r : u_roughness;
+#ifdef DM_SPEC_IN_NORMAL
+    s.rho_s = u_rho_s * nmap.a;
+#else
+    s.rho_s = u_rho_s * texture(u_specular_map, uv).r;
+#endif
+    s.albedo = texture(u_albedo, uv).rgb;
+    return s;
+}
+#endif
+
 // DM_LIGHTS (light count), DM_SHADOW_MAPS, DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
 // with constant bounds unroll (llvmpipe runs dynamic loops several times slower).
 // Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.

@@ -58,15 +58,6 @@ uniform vec3 u_cam_forward;
 #endif
 uniform int u_mode;
 uniform vec3 u_eye;
-uniform sampler2D u_albedo;
-uniform sampler2D u_normal_map;
-uniform bool u_has_normal_map;
-uniform sampler2D u_specular_map;
-uniform sampler2D u_roughness_map;
-uniform bool u_has_roughness_map;
-uniform float u_roughness;
-uniform float u_roughness_scale; // 1 = as given
-uniform float u_rho_s;
 uniform sampler2D u_beckmann;
 uniform sampler2D u_rho_dt;
 uniform sampler2D u_env_brdf; /* R = scale, G = bias of F0 */
@@ -150,16 +141,9 @@ void main()
         return;
     }
 #endif
-    vec3 Ng = normalize(v_nrm);
-    vec4 nmap = texture(u_normal_map, v_uv);
-    vec3 N = dm_shading_normal(v_nrm, v_tan, nmap.rgb, u_has_normal_map);
-    float m = min((u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness) * u_roughness_scale, 1.0);
-#ifdef DM_SPEC_IN_NORMAL
-    float rho_s = u_rho_s * nmap.a; // the specular map rides in the normal map's alpha (dm_render.c)
-#else
-    float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
-#endif
-    vec3 albedo = max(texture(u_albedo, v_uv).rgb, vec3(0.0));
+    dm_surf s = dm_surface(v_nrm, v_tan, v_uv); // common.glsl
+    vec3 Ng = s.Ng, N = s.N, albedo = max(s.albedo, vec3(0.0));
+    float m = min(s.m0 * u_roughness_scale, 1.0), rho_s = s.rho_s;
 #endif
 #ifdef DM_GBUFFER
     o_g0 = vec4(v_pos, v_uv.x);

@@ -37,15 +37,6 @@ in vec2 v_uv;
 #ifndef DM_GBUFFER
 out vec4 o_color;
 #endif
-uniform sampler2D u_albedo;
-uniform sampler2D u_normal_map;
-uniform bool u_has_normal_map;
-uniform sampler2D u_specular_map;
-uniform sampler2D u_roughness_map;
-uniform bool u_has_roughness_map;
-uniform float u_roughness;
-uniform float u_roughness_scale; // 1 = as given
-uniform float u_rho_s;
 uniform sampler2D u_rho_dt;
 uniform vec3 u_sh[9];
 uniform float u_env_intensity;
@@ -59,16 +50,9 @@ void main()
     vec3 v_pos = texelFetch(u_gbuf0, q, 0).xyz, Ng = g1.xyz, N = g2.xyz, albedo = texelFetch(u_gbuf3, q, 0).rgb;
     float m0 = g1.w, rho_s = g2.w;
 #else
-    vec3 Ng = normalize(v_nrm);
-    vec4 nmap = texture(u_normal_map, v_uv);
-    vec3 N = dm_shading_normal(v_nrm, v_tan, nmap.rgb, u_has_normal_map);
-    float m0 = u_has_roughness_map ? texture(u_roughness_map, v_uv).r : u_roughness;
-#ifdef DM_SPEC_IN_NORMAL
-    float rho_s = u_rho_s * nmap.a; // the specular map rides in the normal map's alpha (dm_render.c)
-#else
-    float rho_s = u_rho_s * texture(u_specular_map, v_uv).r;
-#endif
-    vec3 albedo = texture(u_albedo, v_uv).rgb;
+    dm_surf s = dm_surface(v_nrm, v_tan, v_uv); // common.glsl
+    vec3 Ng = s.Ng, N = s.N, albedo = s.albedo;
+    float m0 = s.m0, rho_s = s.rho_s;
 #endif
 #ifdef DM_GBUFFER
     o_g0 = vec4(v_pos, 1.0);

@@ -42,8 +42,8 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
 {
     const dm_render_plan *p = &r->plan;
     switch (k) {
-    case DM_PASS_GBUFFER:
-    case DM_PASS_FINAL:
+    case DM_PASS_GBUFFER: return p->deferred;
+    case DM_PASS_FINAL: return p->deferred && !p->screen_space; /* screen-space shades in ss_shade */
     case DM_PASS_FINAL_FORWARD:
     case DM_PASS_VIEW: return true; /* debug views need them whatever the effects */
     case DM_PASS_SHADOW: return p->shadow_count > 0;

@@ -183,8 +183,10 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     /* Deferred shading pays where the per-pixel shading outweighs the G-buffer (a raster into
      * four float targets): lights evaluated per pixel, i.e. specular, or the diffuse of every
      * technique but texture-space, whose diffuse is the levels' sum. Texture-space without
-     * specular shades while rasterising: six level fetches and the albedo cost less. */
-    const bool deferred = shaded_view && (ss_view || spec || !sss);
+     * specular shades while rasterising: six level fetches and the albedo cost less. A property
+     * of the scene, so that the renderer makes the G-buffer and its programs only for it. */
+    p->deferred = !sss || spec;
+    const bool deferred = shaded_view && p->deferred;
     if (deferred)
         add(p, DM_PASS_GBUFFER, 0, "gbuffer",
             "always: the head's surface per pixel (position, normals with the normal map, uv, albedo, rho_s, "

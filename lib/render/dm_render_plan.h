@@ -110,6 +110,8 @@ typedef struct dm_render_plan {
     bool effects[DM_EFFECT_COUNT]; /* as in the scene */
     bool energy_conservation_active; /* energy_conservation and specular both on */
     bool env_specular_active;        /* environment_lighting and specular both on */
+    bool deferred;                   /* shaded views draw a G-buffer and shade from it (every
+                                      * technique but texture-space without specular) */
     bool glow_in_tonemap;            /* glow and tonemap both on: the tonemap pass adds the glow
                                       * (no glow_add pass; the linear screen gets it when read) */
     int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */

@@ -98,7 +98,8 @@ dm_result dmr_make_targets(dm_renderer *r, dm_error *err)
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->screen_depth);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return dm_fail(err, DM_ERR_GL, "target screen: framebuffer with depth incomplete");
-    rc = dmr_gbuffer_targets(r, "gbuffer", r->width, r->height, r->screen_depth, r->gbuf_tex, &r->gbuf_fbo, err);
+    if (p->deferred)
+        rc = dmr_gbuffer_targets(r, "gbuffer", r->width, r->height, r->screen_depth, r->gbuf_tex, &r->gbuf_fbo, err);
     if (rc == DM_OK && p->screen_space) rc = dmr_ssss_targets(r, err);
     if (rc == DM_OK && p->effects[DM_EFFECT_GLOW]) rc = dmr_glow_targets(r, err);
     if (rc == DM_OK && p->effects[DM_EFFECT_TONEMAP]) rc = dmr_tonemap_targets(r, err);

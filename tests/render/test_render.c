@@ -299,7 +299,8 @@ Test(render, neutral_scales_and_same_scene_give_identical_frames)
  * point on the sphere (radius 1; 32 x 24 flat cells sag by up to 1 - cos(pi/32) +
  * 1 - cos(pi/48) = 7.0e-3) and a radial geometric normal, and the irradiance's coverage alpha
  * is 1 exactly there. It is made once per scene: after set_scene with another rho_s and
- * roughness the irradiance equals that of a renderer created with them, texel for texel. */
+ * roughness the irradiance equals that of a renderer created with them, texel for texel. The
+ * screen G-buffer exists only where the final pass defers (not without specular). */
 Test(render, texture_space_gbuffer_holds_the_surface_and_follows_the_scene)
 {
     fixture f;
@@ -324,6 +325,7 @@ Test(render, texture_space_gbuffer_holds_the_surface_and_follows_the_scene)
     }
     cr_expect_gt(covered, gi.width * gi.height / 2);
     free(pos), free(nrm), free(irr);
+    cr_expect_geq(dm_renderer_find_target(f.r, "gbuffer0"), 0, "specular on: the screen G-buffer is made");
 
     dm_error err = {0};
     dm_scene s = f.synth->scene;
@@ -339,6 +341,13 @@ Test(render, texture_space_gbuffer_holds_the_surface_and_follows_the_scene)
     cr_expect_eq(memcmp(changed, fresh, (size_t)ii.width * ii.height * 4 * sizeof *fresh), 0,
                  "irradiance after set_scene differs from a renderer made with that scene");
     free(changed), free(fresh);
+    /* texture-space without specular shades while rasterising: no screen G-buffer made */
+    dm_renderer_destroy(f.r);
+    f.synth->scene.effects[DM_EFFECT_SPECULAR] = false;
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_expect_lt(dm_renderer_find_target(f.r, "gbuffer0"), 0, "specular off: a screen G-buffer was made");
+    cr_expect_geq(dm_renderer_find_target(f.r, "ts_gbuffer0"), 0);
     close_fixture(&f);
 }
 

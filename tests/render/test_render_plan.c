@@ -91,6 +91,8 @@ Test(render_plan, each_effect_off_removes_its_passes)
             cr_expect(!p.energy_conservation_active, "energy conservation still active with %s off",
                       dm_effect_name((dm_effect)e));
         if (e == DM_EFFECT_SPECULAR || e == DM_EFFECT_ENVIRONMENT_LIGHTING) cr_expect(!p.env_specular_active);
+        /* deferred unless texture-space without specular; subsurface off: Lambert, deferred */
+        cr_expect_eq(p.deferred, e != DM_EFFECT_SPECULAR, "deferred with %s off", dm_effect_name((dm_effect)e));
     }
 }
 
