@@ -157,11 +157,9 @@ vec3 dm_shading_normal(vec3 n, vec4 t, vec3 map_rgb, bool has_map)
 // before the frame's scale, rho_s. DM_SPEC_IN_NORMAL: the specular map rides in the normal
 // map's alpha (dm_render.c). Read with implicit derivatives, so the mip level rasterising gives.
 uniform sampler2D u_albedo;
-uniform sampler2D u_normal_map;
-uniform bool u_has_normal_map;
+uniform sampler2D u_normal_map;   // DM_NORMAL_MAP: there is one
 uniform sampler2D u_specular_map;
-uniform sampler2D u_roughness_map;
-uniform bool u_has_roughness_map;
+uniform sampler2D u_roughness_map; // DM_ROUGHNESS_MAP: there is one (else u_roughness)
 uniform float u_roughness;
 uniform float u_roughness_scale; // 1 = as given
 uniform float u_rho_s;
@@ -174,8 +172,16 @@ dm_surf dm_surface(vec3 nrm, vec4 tan, vec2 uv)
     dm_surf s;
     s.Ng = normalize(nrm);
     vec4 nmap = texture(u_normal_map, uv);
-    s.N = dm_shading_normal(nrm, tan, nmap.rgb, u_has_normal_map);
-    s.m0 = u_has_roughness_map ? texture(u_roughness_map, uv).r : u_roughness;
+#ifdef DM_NORMAL_MAP
+    s.N = dm_shading_normal(nrm, tan, nmap.rgb, true);
+#else
+    s.N = dm_shading_normal(nrm, tan, nmap.rgb, false);
+#endif
+#ifdef DM_ROUGHNESS_MAP
+    s.m0 = texture(u_roughness_map, uv).r;
+#else
+    s.m0 = u_roughness;
+#endif
 #ifdef DM_SPEC_IN_NORMAL
     s.rho_s = u_rho_s * nmap.a;
 #else
@@ -187,11 +193,14 @@ dm_surf dm_surface(vec3 nrm, vec4 tan, vec2 uv)
 #endif
 
 // DM_LIGHTS (light count), DM_SHADOW_MAPS, DM_TAPS, DM_LEVELS, DM_ENV_LEVELS are defined by the loader: loops
-// with constant bounds unroll (llvmpipe runs dynamic loops several times slower).
+// with constant bounds unroll (llvmpipe runs dynamic loops several times slower; a loop that
+// `continue`s is not unrolled). So are the lights' fixed facts, DM_LIGHT_SHADOW(i) (light i's
+// shadow map, -1: none), DM_LIGHT_POINT(i) and DM_SHADOW_LIGHT(j) (shadow map j's light): in an
+// unrolled loop they are constants, and no branch depends on a uniform (llvmpipe runs both
+// sides of one: every light paid for the shadow lookup).
 // Lights: xyz = direction towards the light (w = 0) or position (w = 1); colour x intensity.
 uniform vec4 u_light_pos[DM_MAX_LIGHTS];
 uniform vec3 u_light_color[DM_MAX_LIGHTS];
-uniform int u_light_shadow[DM_MAX_LIGHTS]; // shadow map 0..3, -1 = none
 uniform mat4 u_light_matrix[DM_MAX_LIGHTS]; // mesh space -> shadow clip space
 uniform float u_shadow_normal_offset;       // mesh units
 uniform float u_shadow_texel;               // 1 / shadow map size
@@ -220,7 +229,7 @@ float dm_shadow_tap(int map, vec3 p)
 vec3 dm_light_dir(int i, vec3 P)
 {
     vec4 l = u_light_pos[i];
-    if (l.w == 0.0) return normalize(l.xyz);
+    if (DM_LIGHT_POINT(i) == 0) return normalize(l.xyz);
     vec3 d = l.xyz - P;
     float dl = dot(d, d);
     return dl > 1e-20 ? d * inversesqrt(dl) : vec3(0.0, 0.0, 1.0);
@@ -238,7 +247,7 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
 #if DM_SHADOW_MAPS == 0
     return 1.0;
 #else
-    int layer = u_light_shadow[i];
+    int layer = DM_LIGHT_SHADOW(i);
     if (layer < 0) return 1.0;
     vec4 c = u_light_matrix[i] * vec4(P + Ng * u_shadow_normal_offset, 1.0);
     vec3 p = c.xyz / c.w * 0.5 + 0.5;
@@ -307,24 +316,24 @@ float dm_light_distance(int i, float d)
 
 // Transmitted light of every light with a shadow map, summed (coloured by the lights): a loop
 // over the DM_SHADOW_MAPS maps, not over the lights, so lights without a map cost nothing.
-uniform int u_trans_light[4]; // the light index of shadow map j
 vec3 dm_translucency(vec3 P, vec3 Ng)
 {
     vec3 sum = vec3(0.0);
     for (int j = 0; j < DM_SHADOW_MAPS; ++j) {
-        int i = u_trans_light[j];
+        int i = DM_SHADOW_LIGHT(j);
         vec3 L = dm_light_dir(i, P);
         float back = max(-dot(Ng, L), 0.0); // the geometric normal: the normal map's relief is the front's
-        if (back <= 0.0) continue;
         vec4 c = u_light_matrix[i] * vec4(P - Ng * u_shadow_normal_offset, 1.0); // shrunk inward
         vec3 p = c.xyz / c.w * 0.5 + 0.5;
-        if (p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0 || p.z < 0.0) continue;
+        // skipped by a condition on the sum, not `continue` (llvmpipe does not unroll a loop that
+        // continues: irradiance.glsl); the lookups outside the map are clamped and unused
+        bool lit = back > 0.0 && !(p.x < 0.0 || p.x > 1.0 || p.y < 0.0 || p.y > 1.0 || p.z > 1.0 || p.z < 0.0);
         float first = dm_light_distance(i, dm_tdepth(j, p.xy));
         float here = dm_light_distance(i, p.z);
         float d = max(here - first, 0.0) * u_mm_per_unit;
         vec3 t = vec3(0.0);
         for (int k = 0; k < DM_TRANS_GAUSSIANS; ++k) t += u_trans_weight[k] * exp2(d * d * u_trans_var[k]);
-        sum += u_light_color[i] * (back * t);
+        if (lit) sum += u_light_color[i] * (back * t);
     }
     return u_translucency * sum;
 }

@@ -183,7 +183,7 @@ void main()
 #endif
         e += u_light_color[i] * kp;
 #else
-        if (ndl <= 0.0) continue;
+        // no `continue` where N.L = 0 (k = 0, KS = 0: the same sums): see irradiance.glsl
 #if defined(DM_SCREEN_SPACE) && defined(DM_SPECULAR)
         // one shadow lookup for both terms (the texture-space and Lambert paths keep their two loops)
         float sh = dm_shadow(i, v_pos, Ng);
@@ -220,8 +220,7 @@ void main()
 #ifdef DM_SPECULAR
 #ifndef DM_SCREEN_SPACE /* screen space: summed in the diffuse loop above */
     for (int i = 0; i < DM_LIGHTS; ++i) {
-        vec3 L = dm_light_dir(i, v_pos);
-        if (dot(N, L) <= 0.0) continue;
+        vec3 L = dm_light_dir(i, v_pos); // KS is 0 where N.L <= 0 (no `continue`: irradiance.glsl)
         specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
     }
 #endif

@@ -62,10 +62,12 @@ void main()
 #else
     float m = min(m0 * u_roughness_scale, 1.0);
     vec3 e = vec3(0.0);
+    // No `continue` for lights behind the texel (N.L = 0 gives k = 0 and e += 0, the same
+    // floats): llvmpipe does not unroll a loop that continues, and the loop then costs a quarter
+    // of this pass (docs/render-quality.md).
     for (int i = 0; i < DM_LIGHTS; ++i) {
         vec3 L = dm_light_dir(i, v_pos);
         float ndl = max(dot(N, L), 0.0);
-        if (ndl <= 0.0) continue;
         float k = ndl * dm_shadow(i, v_pos, Ng);
 #ifdef DM_ENERGY
         k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);

@@ -5,8 +5,9 @@
 // its lateral distance fades to the centre's value (fully at twice it), so nothing bleeds
 // across silhouettes and the weights still sum to 1. common.glsl's full-screen triangle sits
 // at the far plane and the depth test (GREATER) keeps it to skin pixels.
-// u_combine 0: out = (blurred, depth); 1: out = blurred x u_aux + u_spec (u_mode 1: specular
-// only, 2: diffuse only), alpha 1.
+// The H pass: out = (blurred, depth); the V pass (DM_SS_COMBINE, a define, not a uniform:
+// llvmpipe would run both sides, the H pass fetching u_aux and u_spec too): out = blurred x
+// u_aux + u_spec (u_mode 1: specular only, 2: diffuse only), alpha 1.
 uniform sampler2D u_src;
 uniform sampler2D u_aux;
 uniform sampler2D u_spec;
@@ -15,7 +16,6 @@ uniform vec2 u_texel;
 uniform vec4 u_kernel[DM_SS_TAPS]; // rgb weight, a = offset mm
 uniform float u_px_per_mm;         // pixels per mm at eye depth 1 mesh unit
 uniform float u_ss_mm_per_unit;
-uniform int u_combine;
 uniform int u_mode;
 #ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle (at the far plane) */
 in vec2 v_uv;
@@ -37,12 +37,12 @@ void main()
             sum += u_kernel[i].rgb * mix(t.rgb, c.rgb, s);
         }
     }
-    if (u_combine == 0) {
-        o_color = vec4(sum, c.a);
-        return;
-    }
+#ifndef DM_SS_COMBINE
+    o_color = vec4(sum, c.a);
+#else
     vec3 diffuse = u_mode == 1 ? vec3(0.0) : sum * texelFetch(u_aux, q, 0).rgb;
     vec3 spec = u_mode == 2 ? vec3(0.0) : texelFetch(u_spec, q, 0).rgb;
     o_color = vec4(diffuse + spec, c.a > 0.0 ? 1.0 : 0.0);
+#endif
 }
 #endif

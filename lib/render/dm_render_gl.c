@@ -171,9 +171,42 @@ static void set_sampler_units(GLuint p)
     }
 }
 
+/* "#define NAME(i) ((i) == 0 ? v0 : (i) == 1 ? v1 : ... : v_{n-1})" for v[0..n-1] (n >= 1) */
+static size_t index_macro(char *out, size_t size, const char *name, const int *v, int n)
+{
+    size_t k = (size_t)snprintf(out, size, "#define %s(i) (", name);
+    for (int i = 0; i + 1 < n && k < size; ++i) k += (size_t)snprintf(out + k, size - k, "(i) == %d ? %d : ", i, v[i]);
+    if (k < size) k += (size_t)snprintf(out + k, size - k, "%d)\n", v[n - 1]);
+    return k < size ? k : size - 1;
+}
+
+/* The lights' fixed facts as constants (dm_renderer_set_scene may change neither): which shadow
+ * map each light has (DM_LIGHT_SHADOW(i), -1: none), whether it is a point light
+ * (DM_LIGHT_POINT(i)), the light of each shadow map (DM_SHADOW_LIGHT(j)), and which material
+ * maps exist. With these constant the lights' unrolled loops carry no branch on a uniform:
+ * llvmpipe runs both sides of those, so every light paid for the shadow lookup and every
+ * frame for the roughness map's fetch (docs/render-quality.md). */
+static size_t light_defines(const dm_renderer *r, char *out, size_t size)
+{
+    int shadow[DM_SCENE_MAX_LIGHTS + 1], point[DM_SCENE_MAX_LIGHTS + 1], light[DM_SCENE_MAX_LIGHTS + 1];
+    int n = r->scene.light_count > 0 ? r->scene.light_count : 1, m = r->plan.shadow_count > 0 ? r->plan.shadow_count : 1;
+    for (int i = 0; i < n; ++i) {
+        shadow[i] = -1;
+        point[i] = i < r->scene.light_count && r->scene.lights[i].type != DM_LIGHT_DIRECTIONAL;
+    }
+    for (int j = 0; j < r->plan.shadow_count; ++j) shadow[r->plan.shadow_light[j]] = j;
+    for (int j = 0; j < m; ++j) light[j] = j < r->plan.shadow_count ? r->plan.shadow_light[j] : 0;
+    size_t k = index_macro(out, size, "DM_LIGHT_SHADOW", shadow, n);
+    k += index_macro(out + k, size - k, "DM_LIGHT_POINT", point, n);
+    k += index_macro(out + k, size - k, "DM_SHADOW_LIGHT", light, m);
+    if (r->has_normal_map) k += (size_t)snprintf(out + k, size - k, "#define DM_NORMAL_MAP 1\n");
+    if (r->has_roughness_map && k < size) k += (size_t)snprintf(out + k, size - k, "#define DM_ROUGHNESS_MAP 1\n");
+    return k < size ? k : size - 1;
+}
+
 dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra, GLuint *out, dm_error *err)
 {
-    char defines[768];
+    char defines[2048];
     const dm_render_plan *p = &r->plan;
     snprintf(defines, sizeof defines,
              "%s%s%s%s#define DM_LIGHTS %d\n#define DM_SHADOW_MAPS %d\n#define DM_TAPS %d\n#define DM_LEVELS %d\n#define DM_ENV_LEVELS %d\n"
@@ -186,6 +219,7 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra,
              r->shadow_taps, r->tex_env_array ? "#define DM_ENV_ARRAY 1\n" : "");
     /* appended only when on: the texture-space programs see exactly the defines they always did */
     size_t n = strlen(defines);
+    n += light_defines(r, defines + n, sizeof defines - n);
     if (p->screen_space)
         n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n",
                               r->ss_taps);

@@ -143,7 +143,6 @@ struct dm_renderer {
 
     /* per-frame light state */
     float light_pos[DM_SCENE_MAX_LIGHTS][4], light_color[DM_SCENE_MAX_LIGHTS][3];
-    int light_shadow[DM_SCENE_MAX_LIGHTS];
     float light_matrix[DM_SCENE_MAX_LIGHTS][16];
     float view_proj[16], eye[3], cam_right[3], cam_up[3], cam_fwd[3];
 

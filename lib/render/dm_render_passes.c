@@ -30,7 +30,7 @@ static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
     [DM_PASS_SS_SHADE] = {"final.glsl", "dm_render_ssss.c", dmr_pass_ss_shade, false,
                           "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
     [DM_PASS_SS_BLUR_H] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false},
-    [DM_PASS_SS_BLUR_V] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false},
+    [DM_PASS_SS_BLUR_V] = {"ss_blur.glsl", "dm_render_ssss.c", dmr_pass_ss_blur, false, "#define DM_SS_COMBINE 1\n"},
 };
 
 const dmr_pass_info *dmr_pass_get(dm_pass_kind kind)

@@ -54,11 +54,9 @@ void dmr_frame_lights(dm_renderer *r, float rotation_deg)
         r->light_pos[i][3] = l->type == DM_LIGHT_DIRECTIONAL ? 0.0f : 1.0f;
         if (l->type == DM_LIGHT_DIRECTIONAL) dmr_v3_norm(r->light_pos[i]);
         for (int k = 0; k < 3; ++k) r->light_color[i][k] = l->color[k] * l->intensity;
-        r->light_shadow[i] = -1;
     }
     for (int j = 0; j < r->plan.shadow_count; ++j) {
         int i = r->plan.shadow_light[j];
-        r->light_shadow[i] = j;
         float view[16], proj[16], eye[3], up[3] = {0, 1, 0};
         float rad = r->radius;
         if (r->light_pos[i][3] == 0.0f) {
@@ -88,7 +86,6 @@ void dmr_set_light_uniforms(const dm_renderer *r, GLuint p)
     const dm_scene *s = &r->scene;
     glUniform4fv(loc(p, "u_light_pos"), s->light_count, &r->light_pos[0][0]);
     glUniform3fv(loc(p, "u_light_color"), s->light_count, &r->light_color[0][0]);
-    glUniform1iv(loc(p, "u_light_shadow"), s->light_count, r->light_shadow);
     glUniformMatrix4fv(loc(p, "u_light_matrix"), s->light_count, GL_FALSE, &r->light_matrix[0][0]);
     u1f(p, "u_shadow_normal_offset", 3.0f * r->radius / (float)r->shadow_edge);
     u1f(p, "u_shadow_texel", 1.0f / (float)r->shadow_edge);

@@ -126,7 +126,6 @@ void dmr_pass_ss_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options 
     u1f(p, "u_px_per_mm", sqrtf(blur_scale) * 0.5f * (float)r->height / (t * (float)r->scene.mm_per_unit));
     u1f(p, "u_ss_mm_per_unit", (float)r->scene.mm_per_unit);
     static const int modes[DM_VIEW_COUNT] = {[DM_VIEW_SPECULAR] = 1, [DM_VIEW_DIFFUSE] = 2};
-    u1i(p, "u_combine", along_y);
     u1i(p, "u_mode", modes[r->plan.view]);
     dmr_draw_fullscreen(r);
     glDepthMask(GL_TRUE);

@@ -136,8 +136,6 @@ void dmr_frame_camera(dm_renderer *r)
 void dmr_set_surface_uniforms(const dm_renderer *r, GLuint p)
 {
     const dm_scene *s = &r->scene;
-    u1i(p, "u_has_normal_map", r->has_normal_map);
-    u1i(p, "u_has_roughness_map", r->has_roughness_map);
     u1f(p, "u_roughness", s->roughness);
     u1f(p, "u_roughness_scale", r->roughness_scale);
     u1f(p, "u_rho_s", s->rho_s);

@@ -42,7 +42,6 @@ void dmr_translucency_bind(const dm_renderer *r, GLuint p)
         glBindSampler((GLuint)(UNIT_TDEPTH0 + k), r->tdepth_sampler);
     }
     glUniform4fv(loc(p, "u_light_depth"), r->scene.light_count, &r->light_depth[0][0]);
-    glUniform1iv(loc(p, "u_trans_light"), r->plan.shadow_count, r->plan.shadow_light);
     float var[DM_PROFILE_MAX_GAUSSIANS];
     for (int k = 0; k < r->profile.count; ++k) /* exp(−d²/2v) = exp2(d² · (−log2 e / 2v)); v ≥ 1e−12 mm² */
         var[k] = (float)(-1.4426950408889634 / (2.0 * fmax(r->profile.variance_mm2[k], 1e-12)));

@@ -289,3 +289,61 @@ Test(head, light_behind_no_specular_on_the_face_no_irradiance_on_the_unlit_side,
     free(irr);
     close_head(&h);
 }
+
+/* The lights' facts are compiled into the shaders (DM_LIGHT_SHADOW, DM_LIGHT_POINT,
+ * DM_SHADOW_LIGHT): a shadow-casting directional light and a point light give the same floats
+ * in either order (two terms add the same both ways), for every technique; the same pair with
+ * no shadow differs (the shadow is in the picture, so a shadow on the wrong light would show). */
+static void two_lights(dm_scene *s)
+{
+    s->light_count = 2;
+    s->effects[DM_EFFECT_TRANSLUCENCY] = true;
+    s->lights[0] = (dm_light){.type = DM_LIGHT_DIRECTIONAL, .direction = {0.8f, 0.3f, 0.5f}, .color = {1, 0.9f, 0.8f},
+                              .intensity = 3.0f, .casts_shadow = true};
+    s->lights[1] = (dm_light){.type = DM_LIGHT_POINT, .position = {-8.0f, 3.0f, -5.0f}, .color = {0.8f, 0.9f, 1},
+                              .intensity = 6.0f, .casts_shadow = false};
+}
+
+static float *two_light_screen(head *h, dm_sss_technique technique, bool swap, bool shadow)
+{
+    dm_error err = {0};
+    dm_renderer_destroy(h->r);
+    dm_scene s = h->scene;
+    s.sss_technique = technique;
+    s.lights[0].casts_shadow = shadow;
+    if (swap) {
+        dm_light t = s.lights[0];
+        s.lights[0] = s.lights[1];
+        s.lights[1] = t;
+    }
+    dm_render_assets a = h->assets;
+    a.scene = &s;
+    dm_render_desc d = {.width = W, .height = H, .irradiance_size = IRR, .shadow_size = 512};
+    cr_assert_eq(dm_renderer_create(&a, &d, &h->r, &err), DM_OK, "%s", err.detail);
+    render(h, DM_VIEW_FINAL, 0);
+    dm_target_info info;
+    return read_target(h, "screen", &info);
+}
+
+static void same_floats_either_order(head *h, dm_sss_technique technique, const char *name)
+{
+    size_t n = (size_t)W * H * 4, differ = 0, shadowed = 0;
+    float *a = two_light_screen(h, technique, false, true), *b = two_light_screen(h, technique, true, true);
+    float *c = two_light_screen(h, technique, false, false);
+    for (size_t i = 0; i < n; ++i) differ += a[i] != b[i], shadowed += a[i] != c[i];
+    cr_expect_eq(differ, 0, "%s: %zu values differ with the lights swapped", name, differ);
+    cr_expect_gt(shadowed, 200, "%s: the shadow changes only %zu values", name, shadowed);
+    free(a), free(b), free(c);
+}
+
+Test(head, lights_in_either_order_give_the_same_floats, .timeout = 180)
+{
+    head h;
+    pack_scene(&h, "lps", two_lights);
+    same_floats_either_order(&h, DM_SSS_TEXTURE_SPACE, "texture-space");
+    same_floats_either_order(&h, DM_SSS_SCREEN_SPACE, "screen-space");
+    close_head(&h);
+    pack_scene(&h, "lps-pre-integrated", two_lights);
+    same_floats_either_order(&h, DM_SSS_PRE_INTEGRATED, "pre-integrated");
+    close_head(&h);
+}
