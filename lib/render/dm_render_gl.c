@@ -217,9 +217,9 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra,
              p->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] ? "#define DM_ENV 1\n" : "", r->scene.light_count,
              p->shadow_count, r->taps, p->texture_space ? r->profile.count : 0, r->env_level_count,
              r->shadow_taps, r->tex_env_array ? "#define DM_ENV_ARRAY 1\n" : "");
-    /* appended only when on: the texture-space programs see exactly the defines they always did */
     size_t n = strlen(defines);
     n += light_defines(r, defines + n, sizeof defines - n);
+    /* appended only when on */
     if (p->screen_space)
         n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n",
                               r->ss_taps);
