@@ -30,6 +30,14 @@ typedef struct head {
     dm_renderer *r;
 } head;
 
+/* The test size's renderer over assets (the pack's, or a copy with another scene). */
+static void create_renderer(head *h, const dm_render_assets *a)
+{
+    dm_error err = {0};
+    dm_render_desc d = {.width = W, .height = H, .irradiance_size = IRR, .shadow_size = 512};
+    cr_assert_eq(dm_renderer_create(a, &d, &h->r, &err), DM_OK, "%s", err.detail);
+}
+
 /* Reads the bundled scene, shrinks it, lets `edit` change it, packs it with dermis-pack. */
 static void pack_scene(head *h, const char *name, void (*edit)(dm_scene *))
 {
@@ -63,8 +71,7 @@ static void pack_scene(head *h, const char *name, void (*edit)(dm_scene *))
     cr_assert_eq(dm_render_assets_from_pack(&h->pack, &h->scene, &h->profile, &h->assets, &err), DM_OK, "%s",
                  err.detail);
     cr_assert_eq(dm_osmesa_create(&h->ctx, &err), DM_OK, "%s", err.detail);
-    dm_render_desc d = {.width = W, .height = H, .irradiance_size = IRR, .shadow_size = 512};
-    cr_assert_eq(dm_renderer_create(&h->assets, &d, &h->r, &err), DM_OK, "%s", err.detail);
+    create_renderer(h, &h->assets);
 }
 
 static void close_head(head *h)
@@ -306,7 +313,6 @@ static void two_lights(dm_scene *s)
 
 static float *two_light_screen(head *h, dm_sss_technique technique, bool swap, bool shadow)
 {
-    dm_error err = {0};
     dm_renderer_destroy(h->r);
     dm_scene s = h->scene;
     s.sss_technique = technique;
@@ -318,8 +324,7 @@ static float *two_light_screen(head *h, dm_sss_technique technique, bool swap, b
     }
     dm_render_assets a = h->assets;
     a.scene = &s;
-    dm_render_desc d = {.width = W, .height = H, .irradiance_size = IRR, .shadow_size = 512};
-    cr_assert_eq(dm_renderer_create(&a, &d, &h->r, &err), DM_OK, "%s", err.detail);
+    create_renderer(h, &a);
     render(h, DM_VIEW_FINAL, 0);
     dm_target_info info;
     return read_target(h, "screen", &info);

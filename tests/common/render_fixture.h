@@ -1,0 +1,73 @@
+/* render_fixture.h — the synthetic scene (lib/render/dm_render_synth.h) on an OSMesa context
+ * with a renderer over it, for the renderer's tests: open, frame, read a target, close. */
+#ifndef TEST_RENDER_FIXTURE_H
+#define TEST_RENDER_FIXTURE_H
+
+#include <criterion/criterion.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "host/dm_osmesa.h"
+#include "render/dm_render.h"
+#include "render/dm_render_synth.h"
+
+typedef struct fixture {
+    dm_osmesa *ctx;
+    dm_synth *synth;
+    dm_renderer *r;
+} fixture;
+
+static inline void open_synth(fixture *f, dm_synth_options so)
+{
+    dm_error err = {0};
+    memset(f, 0, sizeof *f);
+    if (!so.beckmann_size) so.beckmann_size = 128;
+    if (!so.directional_size) so.directional_size = 16;
+    if (!so.stretch_size) so.stretch_size = 64;
+    cr_assert_eq(dm_osmesa_create(&f->ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_synth_create(&so, &f->synth, &err), DM_OK, "%s", err.detail);
+}
+
+static inline void open_renderer_desc(fixture *f, dm_render_desc d)
+{
+    dm_error err = {0};
+    cr_assert_eq(dm_renderer_create(&f->synth->assets, &d, &f->r, &err), DM_OK, "%s", err.detail);
+}
+
+static inline void open_renderer(fixture *f, int w, int h, int irr)
+{
+    open_renderer_desc(f, (dm_render_desc){.width = w, .height = h, .irradiance_size = irr, .shadow_size = 256});
+}
+
+static inline void close_fixture(fixture *f)
+{
+    dm_renderer_destroy(f->r);
+    dm_synth_free(f->synth);
+    dm_osmesa_destroy(f->ctx);
+}
+
+static inline void only(dm_scene *s, const dm_effect *on, int n)
+{
+    for (int e = 0; e < DM_EFFECT_COUNT; ++e) s->effects[e] = false;
+    for (int i = 0; i < n; ++i) s->effects[on[i]] = true;
+}
+
+static inline float *read_target(fixture *f, const char *name, dm_target_info *info)
+{
+    int idx = dm_renderer_find_target(f->r, name);
+    cr_assert_geq(idx, 0, "no target %s", name);
+    dm_renderer_target_info(f->r, idx, info);
+    float *px = malloc((size_t)info->width * info->height * info->channels * sizeof *px);
+    dm_error err = {0};
+    cr_assert_eq(dm_renderer_read_target(f->r, idx, px, &err), DM_OK, "%s", err.detail);
+    return px;
+}
+
+static inline void frame(fixture *f, dm_view view, int index)
+{
+    dm_error err = {0};
+    dm_frame_options o = {.view = view, .view_index = index};
+    cr_assert_eq(dm_render_frame(f->r, &o, &err), DM_OK, "%s", err.detail);
+}
+
+#endif
