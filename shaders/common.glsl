@@ -25,6 +25,27 @@ void main()
     gl_Position.z = gl_Position.w;
 }
 #endif
+#ifdef DM_MESH_VERTEX
+// The vertex stage's inputs and outputs in the passes that rasterise the head's mesh (the
+// loader defines DM_MESH_VERTEX for a pass file that calls dm_mesh_vertex): its attributes go
+// to the fragment stage as they are, at the clip position the pass gives.
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec4 a_tangent;
+layout(location = 3) in vec2 a_uv;
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec4 v_tan;
+out vec2 v_uv;
+void dm_mesh_vertex(vec4 clip)
+{
+    v_pos = a_position;
+    v_nrm = a_normal;
+    v_tan = a_tangent;
+    v_uv = a_uv;
+    gl_Position = clip;
+}
+#endif
 #endif
 
 #if defined(DM_FRAGMENT) && defined(DM_GBUFFER)

@@ -20,21 +20,9 @@
 // wireframe views) the mesh is drawn and shaded directly.
 uniform mat4 u_view_proj;
 #if defined(DM_VERTEX) && !defined(DM_DEFERRED)
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec4 a_tangent;
-layout(location = 3) in vec2 a_uv;
-out vec3 v_pos;
-out vec3 v_nrm;
-out vec4 v_tan;
-out vec2 v_uv;
 void main()
 {
-    v_pos = a_position;
-    v_nrm = a_normal;
-    v_tan = a_tangent;
-    v_uv = a_uv;
-    gl_Position = u_view_proj * vec4(a_position, 1.0);
+    dm_mesh_vertex(u_view_proj * vec4(a_position, 1.0));
 }
 #elif defined(DM_FRAGMENT)
 #ifdef DM_DEFERRED /* G-buffer: position, u | geometric normal, v | shading normal, rho_s | albedo, m */

@@ -11,21 +11,9 @@
 // map fetches and every SIMD lane on a texel (llvmpipe shades 4x4 blocks; the atlas's
 // triangles are ~50 texels, and along their edges most lanes were masked off).
 #if defined(DM_VERTEX) && !defined(DM_DEFERRED)
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-layout(location = 2) in vec4 a_tangent;
-layout(location = 3) in vec2 a_uv;
-out vec3 v_pos;
-out vec3 v_nrm;
-out vec4 v_tan;
-out vec2 v_uv;
 void main()
 {
-    v_pos = a_position;
-    v_nrm = a_normal;
-    v_tan = a_tangent;
-    v_uv = a_uv;
-    gl_Position = vec4(a_uv * 2.0 - 1.0, 0.0, 1.0);
+    dm_mesh_vertex(vec4(a_uv * 2.0 - 1.0, 0.0, 1.0));
 }
 #elif defined(DM_FRAGMENT)
 #ifndef DM_DEFERRED /* G-buffer: position, 1 | geometric normal, roughness before the frame's scale | shading normal, rho_s | albedo */

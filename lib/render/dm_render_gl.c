@@ -237,6 +237,9 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra,
     /* a pass file without a vertex stage takes common.glsl's full-screen triangle */
     if (rc == DM_OK && !strstr(src, "DM_VERTEX"))
         snprintf(defines + strlen(defines), sizeof defines - strlen(defines), "#define DM_FULLSCREEN 1\n");
+    /* one that rasterises the mesh takes common.glsl's attributes and varyings for it */
+    else if (rc == DM_OK && strstr(src, "dm_mesh_vertex(") && !strstr(defines, "DM_FULLSCREEN"))
+        snprintf(defines + strlen(defines), sizeof defines - strlen(defines), "#define DM_MESH_VERTEX 1\n");
     GLuint vs = 0, fs = 0;
     if (rc == DM_OK) rc = compile_stage(GL_VERTEX_SHADER, defines, common, src, file, &vs, err);
     if (rc == DM_OK) rc = compile_stage(GL_FRAGMENT_SHADER, defines, common, src, file, &fs, err);
