@@ -99,6 +99,7 @@ typedef struct setting {
 static const setting settings[] = {
     {"exact", "reference: 9-tap PCF, RGBA32F, full-resolution levels", {.shadow_pcf_taps = 9}},
     {"default", "4-tap PCF (same filter), RGBA32F, full-resolution levels", {0}},
+    {"gl-blur", "default with the blur passes in GL (blur.glsl), not on the CPU", {.blur_path = DM_BLUR_PATH_GL}},
     {"pcf1", "shadow: one bilinear compare", {.shadow_pcf_taps = 1}},
     {"half-float", "irradiance and blur targets RGBA16F", {.blur_half_float = true}},
     {"reduce4", "blur levels 4, 5 at 1/2 resolution", {.blur_reduce_from = 4}},

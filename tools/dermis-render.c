@@ -71,6 +71,9 @@ static void usage(FILE *f)
             "                       at 1024: levels 4, 5 at 1/2, 1/4: -8 %% frame time, +0.5 %% mean\n"
             "                       red error against the ground truth)\n"
             "  --half-float         RGBA16F irradiance and blur targets (slower on llvmpipe)\n"
+            "  --blur-on WHERE      auto (default: on the CPU when OpenGL is software, llvmpipe,\n"
+            "                       and the targets are float; in GL otherwise), gl or cpu: where\n"
+            "                       the blur passes run; both give the same sums to float rounding\n"
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
             "  -v                   more detail on stderr\n"
@@ -150,6 +153,15 @@ static int parse(int argc, char **argv, options *o)
             o->speed.blur_auto_resolution = true;
         } else if (!strcmp(a, "--half-float")) {
             o->speed.blur_half_float = true;
+        } else if (!strcmp(a, "--blur-on")) {
+            if (!(v = dm_cli_value(argc, argv, &i))) return 0;
+            if (!strcmp(v, "auto")) o->speed.blur_path = DM_BLUR_PATH_AUTO;
+            else if (!strcmp(v, "gl")) o->speed.blur_path = DM_BLUR_PATH_GL;
+            else if (!strcmp(v, "cpu")) o->speed.blur_path = DM_BLUR_PATH_CPU;
+            else {
+                fprintf(stderr, "error: --blur-on: '%s' is not auto, gl or cpu\n", v);
+                return 0;
+            }
         } else if (!strcmp(a, "--compare-exact")) {
             o->compare_exact = true;
         } else if (!strcmp(a, "--frames")) {
@@ -199,6 +211,10 @@ static int parse(int argc, char **argv, options *o)
     }
     if (o->speed.blur_auto_resolution && o->speed.blur_reduce_from) {
         fprintf(stderr, "error: --blur-auto and --blur-reduce-from contradict each other\n");
+        return 0;
+    }
+    if (o->speed.blur_path == DM_BLUR_PATH_CPU && o->speed.blur_half_float) {
+        fprintf(stderr, "error: --blur-on cpu keeps float levels: it does not take --half-float\n");
         return 0;
     }
     if (o->speed.blur_reduce_shift && !o->speed.blur_reduce_from) {
@@ -461,6 +477,12 @@ int main(int argc, char **argv)
         char text[8192];
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);
+        if (plan.blur_levels > 1)
+            printf("blur passes: %s\n", dm_renderer_blur_on_cpu(r)
+                                            ? "on the CPU (core/dm_level_blur.h): OpenGL runs on the CPU too, "
+                                              "where C takes a tap for less than its texture unit (--blur-on gl: "
+                                              "blur.glsl)"
+                                            : "in GL (shaders/blur.glsl)");
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

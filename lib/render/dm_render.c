@@ -190,6 +190,7 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
 
     rc = upload_assets(r, a, err);
     if (rc == DM_OK) rc = dmr_make_targets(r, err);
+    if (rc == DM_OK) rc = dmr_blur_cpu_setup(r, a, err);
     if (rc == DM_OK && r->plan.screen_space) rc = dmr_ssss_setup(r, a, err);
     if (rc == DM_OK) dmr_profile_weights(r);
     if (rc == DM_OK) dmr_translucency_setup(r);
@@ -221,6 +222,7 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
 void dm_renderer_destroy(dm_renderer *r)
 {
     if (!r) return;
+    dmr_blur_cpu_free(r);
     for (int k = 0; k < DM_PASS_KIND_COUNT; ++k) {
         bool first = r->prog[k] != 0;
         for (int j = 0; j < k && first; ++j) first = r->prog[j] != r->prog[k];

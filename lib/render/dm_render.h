@@ -131,6 +131,11 @@ typedef struct dm_render_assets {
  * blur resolution (dm_render_desc.blur_auto_resolution). */
 #define DM_BLUR_AUTO_SIGMA 1.2
 
+/* Where the texture-space blur passes run. AUTO: on the CPU (core/dm_level_blur.h) when the
+ * OpenGL renders on the CPU too (llvmpipe, softpipe) and the levels are RGBA32F, in GL
+ * (shaders/blur.glsl) otherwise. The two give the same sums to float rounding. */
+typedef enum dm_blur_path { DM_BLUR_PATH_AUTO = 0, DM_BLUR_PATH_GL, DM_BLUR_PATH_CPU } dm_blur_path;
+
 /* Options of the renderer itself; zero means default. */
 typedef struct dm_render_desc {
     const char *shader_dir; /* load shaders/<pass>.glsl from here; NULL = embedded copies */
@@ -166,6 +171,8 @@ typedef struct dm_render_desc {
                                * (11-bit mantissa: relative rounding 4.9e-4 per pass). Halves
                                * memory and bandwidth on GPUs; on llvmpipe it is slower (the
                                * half-float conversions cost more than the bytes saved) */
+    dm_blur_path blur_path;   /* where the blur passes run (above); CPU with blur_half_float
+                               * is refused */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (the scene: dm_renderer_set_scene; the light
                                * rotation; blur and roughness scales) changed since the last
@@ -183,6 +190,9 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2]);
 dm_result dm_renderer_create(const dm_render_assets *assets, const dm_render_desc *desc, dm_renderer **out,
                              dm_error *err);
 void dm_renderer_destroy(dm_renderer *r);
+
+/* Whether the blur passes run on the CPU (dm_render_desc.blur_path). */
+bool dm_renderer_blur_on_cpu(const dm_renderer *r);
 
 /* Replaces the scene's values that no pass, target or upload depends on: camera, light
  * directions, positions, colours and intensities, material constants, environment

@@ -10,6 +10,7 @@
  *   dm_render_readback.c     read-back of targets, display, views
  *   dm_render_shadow.c       lights, light matrices and shadow maps
  *   dm_render_tsd.c          texture-space diffusion (surface, irradiance, stretch-corrected blurs)
+ *   dm_render_blur_cpu.c     the same blurs on the CPU, where OpenGL is software
  *   dm_render_ssss.c         screen-space separable SSS (Jimenez et al. 2015)
  *   dm_render_translucency.c light through thin parts (shadow-map thickness)
  *   dm_render_shade.c        the head on screen: G-buffer and final pass
@@ -146,6 +147,13 @@ struct dm_renderer {
     float light_matrix[DM_SCENE_MAX_LIGHTS][16];
     float view_proj[16], eye[3], cam_right[3], cam_up[3], cam_fwd[3];
 
+    /* the blur passes on the CPU (dm_render_blur_cpu.c) */
+    bool blur_cpu;
+    float *cpu_buf[3];                             /* padded level images (core/dm_level_blur.h) */
+    float *cpu_step[DM_PROFILE_MAX_GAUSSIANS][2];  /* level k's stretch per texel: U, V pass */
+    float *cpu_level, *cpu_tmp;                    /* texel (0, 0) of level cpu_held, of U's result */
+    int cpu_held, cpu_tmp_level;                   /* −1: none */
+
     bool timing_cpu;
     GLuint queries[DM_PLAN_MAX_PASSES];
     double pass_ms[DM_PLAN_MAX_PASSES], frame_ms;
@@ -262,6 +270,13 @@ void dmr_bind_levels(const dm_renderer *r, GLuint p);
 void dmr_pass_ts_gbuffer(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
+
+/* ---- dm_render_blur_cpu.c ---- */
+/* Decides where the blur runs (desc.blur_path, the GL renderer, the level format) and, on the
+ * CPU, allocates its buffers and samples the stretch per texel. After the plan and targets. */
+dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);
+void dmr_blur_cpu_free(dm_renderer *r);
+void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps);
 
 /* ---- dm_render_ssss.c ---- */
 dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);

@@ -234,6 +234,10 @@ void dmr_pass_irradiance(dm_renderer *r, const dm_pass *ps, const dm_frame_optio
 void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)opt;
+    if (r->blur_cpu) {
+        dmr_blur_cpu_pass(r, ps);
+        return;
+    }
     int k = ps->index;
     bool along_v = ps->kind == DM_PASS_BLUR_V;
     GLuint p = r->prog[DM_PASS_BLUR_U];

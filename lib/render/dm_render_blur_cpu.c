@@ -1,0 +1,112 @@
+/* dm_render_blur_cpu.c — the texture-space blur passes on the CPU (core/dm_level_blur.h) when
+ * OpenGL itself runs on the CPU (llvmpipe, softpipe): there a bilinear RGBA32F fetch costs
+ * ~5 CPU ms per tap over the 1024² atlas, several times what plain C pays for the same two
+ * texels (docs/render-quality.md). The plan keeps its blur_u k, blur_v k passes (timings,
+ * --explain); each runs here instead of blur.glsl: U reads level k−1 (level 0 read back from
+ * the irradiance target; later levels kept from the V pass before), V uploads level k into its
+ * texture, where the final pass and the views read it as ever. The same sums as the shader,
+ * equal to float rounding (tests/render/test_render_blur_cpu.c). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/dm_half.h"
+#include "core/dm_level_blur.h"
+#include "render/dm_render_internal.h"
+
+static int stretch_index(const dm_renderer *r, int k)
+{
+    return k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
+}
+
+dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    dm_blur_path path = r->desc.blur_path;
+    if (path < DM_BLUR_PATH_AUTO || path > DM_BLUR_PATH_CPU)
+        return dm_fail(err, DM_ERR_RANGE, "renderer: blur_path %d, expected auto (0), gl (1) or cpu (2)", (int)path);
+    if (path == DM_BLUR_PATH_CPU && r->level_format != GL_RGBA32F)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "renderer: the blur on the CPU keeps float levels: it does not take blur_half_float");
+    r->blur_cpu = r->plan.texture_space && r->level_format == GL_RGBA32F &&
+                  (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu));
+    if (!r->blur_cpu) return DM_OK;
+    /* three buffers in turn: level k−1, the U pass's result, level k */
+    size_t floats = dm_level_blur_floats(r->irr_edge, r->irr_edge);
+    for (int i = 0; i < 3; ++i)
+        if (!(r->cpu_buf[i] = malloc(sizeof(float) * floats)))
+            return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "renderer: blur on the CPU: %zu MB", 3 * floats * 4 >> 20);
+    /* each pass's stretch at its texels, sampled once: the stretch never changes */
+    float *st = NULL;
+    for (int k = 1; k < r->plan.blur_levels; ++k) {
+        const dm_texture *t = &a->stretch[stretch_index(r, k)];
+        size_t n = (size_t)t->width * (size_t)t->height;
+        float *grow = realloc(st, sizeof *st * 2 * n);
+        if (!grow) break;
+        st = grow;
+        for (size_t i = 0; i < 2 * n; ++i)
+            st[i] = t->format == DM_TEX_RG32F ? ((const float *)t->texels)[i]
+                                              : dm_half_to_float(((const uint16_t *)t->texels)[i]);
+        int w = r->level_edge[k], h = r->level_edge[k - 1];
+        r->cpu_step[k][0] = malloc(sizeof(float) * (size_t)w * (size_t)h);
+        r->cpu_step[k][1] = malloc(sizeof(float) * (size_t)w * (size_t)w);
+        if (!r->cpu_step[k][0] || !r->cpu_step[k][1]) break;
+        dm_level_blur_step(st, t->width, t->height, w, h, false, r->cpu_step[k][0]);
+        dm_level_blur_step(st, t->width, t->height, w, w, true, r->cpu_step[k][1]);
+    }
+    free(st);
+    for (int k = 1; k < r->plan.blur_levels; ++k)
+        if (!r->cpu_step[k][0] || !r->cpu_step[k][1])
+            return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "renderer: blur on the CPU: the stretch per texel");
+    r->cpu_held = r->cpu_tmp_level = -1;
+    return DM_OK;
+}
+
+bool dm_renderer_blur_on_cpu(const dm_renderer *r)
+{
+    return r && r->blur_cpu;
+}
+
+void dmr_blur_cpu_free(dm_renderer *r)
+{
+    for (int i = 0; i < 3; ++i) free(r->cpu_buf[i]), r->cpu_buf[i] = NULL;
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k)
+        free(r->cpu_step[k][0]), free(r->cpu_step[k][1]), r->cpu_step[k][0] = r->cpu_step[k][1] = NULL;
+}
+
+void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps)
+{
+    int k = ps->index;
+    int n = r->level_edge[k], h = r->level_edge[k - 1];
+    if (ps->kind == DM_PASS_BLUR_U) {
+        /* level k−1 into cpu_buf[0] (the V pass before left it there, or read it back), the
+         * U result into cpu_buf[1] (n × h) */
+        if (r->cpu_held != k - 1) {
+            r->cpu_level = dm_level_blur_frame(r->cpu_buf[0], h, h);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, r->irr_fbo[k - 1]);
+            glReadBuffer(GL_COLOR_ATTACHMENT0);
+            glPixelStorei(GL_PACK_ALIGNMENT, 4);
+            glPixelStorei(GL_PACK_ROW_LENGTH, (GLint)(dm_level_blur_stride(h) / 4));
+            glReadPixels(0, 0, h, h, GL_RGBA, GL_FLOAT, r->cpu_level);
+            glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+            r->cpu_held = k - 1;
+        }
+        r->cpu_tmp = dm_level_blur_frame(r->cpu_buf[1], n, h);
+        dm_level_blur(&(dm_level_blur_pass){r->cpu_level, h, h, r->cpu_tmp, n, h, false, r->cpu_step[k][0],
+                                            r->blur_offset[k], r->blur_weight, r->taps, 0});
+        r->cpu_tmp_level = k;
+        return;
+    }
+    if (r->cpu_tmp_level != k) return; /* V without its U: not in any plan */
+    float *level = dm_level_blur_frame(r->cpu_buf[2], n, n);
+    dm_level_blur(&(dm_level_blur_pass){r->cpu_tmp, n, h, level, n, n, true, r->cpu_step[k][1], r->blur_offset[k],
+                                        r->blur_weight, r->taps, 0});
+    glBindTexture(GL_TEXTURE_2D, r->irr_tex[k]);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, (GLint)(dm_level_blur_stride(n) / 4));
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_RGBA, GL_FLOAT, level);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    /* level k is the next U pass's input: its buffer becomes cpu_buf[0] */
+    float *t = r->cpu_buf[0];
+    r->cpu_buf[0] = r->cpu_buf[2], r->cpu_buf[2] = t;
+    r->cpu_level = level, r->cpu_held = k, r->cpu_tmp_level = 0;
+}

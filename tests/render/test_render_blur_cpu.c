@@ -1,0 +1,137 @@
+/* The texture-space blur on the CPU (lib/render/dm_render_blur_cpu.c, core/dm_level_blur.h)
+ * against the same passes in GL (shaders/blur.glsl), on the synthetic sphere: every blur level
+ * and the final picture agree to float rounding, with full-resolution and with reduced levels;
+ * which path runs follows dm_render_desc.blur_path; a view that stops the chain early leaves
+ * the next frame exact. (The core pass against a double-precision reference:
+ * tests/unit/test_level_blur.c.) */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../common/render_fixture.h"
+#include "render/dm_render_plan.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+/* The two paths sum the same taps in float; they differ in how a tap's texel coordinate is
+ * rounded (the shader interpolates uv and the sampler scales it; the CPU scales once), ~1e-7
+ * of a coordinate of ~100 texels, times the texel-to-texel change, and in the order of a few
+ * additions: ~1e-6 of the level's range. 1e-4 of it passes that and fails a tap one texel
+ * off or a wrong weight (~1e-2 on the sphere's shadow terminator). */
+#define TOL 1e-4
+
+/* max |a − b| over n RGBA texels, and the largest |a| */
+static double max_diff(const float *a, const float *b, int n, double *range)
+{
+    double d = 0.0;
+    *range = 0.0;
+    for (int i = 0; i < 4 * n; ++i) {
+        cr_assert(isfinite(a[i]) && isfinite(b[i]), "value %d not finite: %g, %g", i, (double)a[i], (double)b[i]);
+        d = fmax(d, fabs((double)a[i] - b[i]));
+        *range = fmax(*range, fabs((double)a[i]));
+    }
+    return d;
+}
+
+/* renders the final frame with the blur in GL and on the CPU, desc otherwise the same, and
+ * compares every level target and the screen */
+static void compare_paths(dm_render_desc d)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    dm_renderer *r[2];
+    dm_error err = {0};
+    for (int path = 0; path < 2; ++path) {
+        d.blur_path = path ? DM_BLUR_PATH_CPU : DM_BLUR_PATH_GL;
+        cr_assert_eq(dm_renderer_create(&f.synth->assets, &d, &r[path], &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_renderer_blur_on_cpu(r[path]), path == 1);
+        f.r = r[path];
+        frame(&f, DM_VIEW_FINAL, 0);
+    }
+    const char *names[] = {"blur1", "blur2", "blur3", "blur4", "blur5", "screen"};
+    int compared = 0;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        dm_target_info info;
+        float *px[2];
+        f.r = r[0];
+        if (dm_renderer_find_target(f.r, names[i]) < 0) continue;
+        px[0] = read_target(&f, names[i], &info);
+        f.r = r[1];
+        px[1] = read_target(&f, names[i], &info);
+        double range, diff = max_diff(px[1], px[0], info.width * info.height, &range);
+        cr_expect_leq(diff, TOL * range, "%s (%dx%d): max |cpu - gl| %g of %g", names[i], info.width, info.height,
+                      diff, range);
+        cr_expect_gt(range, 0.0, "%s is black", names[i]);
+        free(px[0]), free(px[1]);
+        ++compared;
+    }
+    cr_expect_geq(compared, 4);
+    dm_renderer_destroy(r[0]);
+    f.r = r[1];
+    close_fixture(&f);
+}
+
+Test(render_blur_cpu, agrees_with_gl_to_float_rounding)
+{
+    compare_paths((dm_render_desc){.width = 96, .height = 72, .irradiance_size = 128, .shadow_size = 256});
+}
+
+Test(render_blur_cpu, agrees_with_gl_on_reduced_levels)
+{
+    /* level 2 on at 64 (its U pass reads 128 rows and writes 64 columns), and each level
+     * at its own automatic size */
+    compare_paths((dm_render_desc){.width = 96, .height = 72, .irradiance_size = 128, .shadow_size = 256,
+                                   .blur_reduce_from = 2});
+    compare_paths((dm_render_desc){.width = 96, .height = 72, .irradiance_size = 128, .shadow_size = 256,
+                                   .blur_reduce_from = 3, .blur_reduce_shift = 2});
+}
+
+/* auto: the CPU where OpenGL is llvmpipe (these tests run on it) with float levels; half floats
+ * stay in GL, and asking for the CPU with them is refused */
+Test(render_blur_cpu, auto_picks_the_cpu_on_llvmpipe_with_float_levels)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE});
+    const char *gl = (const char *)glGetString(GL_RENDERER);
+    cr_assert(gl && strstr(gl, "llvmpipe"), "expected llvmpipe, got %s", gl ? gl : "(null)");
+    open_renderer(&f, 32, 24, 64);
+    cr_expect(dm_renderer_blur_on_cpu(f.r));
+    dm_renderer_destroy(f.r);
+    open_renderer_desc(&f, (dm_render_desc){.width = 32, .height = 24, .irradiance_size = 64, .blur_half_float = true});
+    cr_expect_not(dm_renderer_blur_on_cpu(f.r));
+    dm_renderer_destroy(f.r);
+    f.r = NULL;
+    dm_error err = {0};
+    dm_renderer *r = NULL;
+    cr_expect_eq(dm_renderer_create(&f.synth->assets,
+                                    &(dm_render_desc){.width = 32, .height = 24, .irradiance_size = 64,
+                                                      .blur_half_float = true, .blur_path = DM_BLUR_PATH_CPU},
+                                    &r, &err),
+                 DM_ERR_INVALID_ARGUMENT);
+    cr_expect_null(r);
+    cr_expect(strstr(err.detail, "half"), "%s", err.detail);
+    cr_expect_eq(dm_renderer_create(&f.synth->assets, &(dm_render_desc){.blur_path = (dm_blur_path)7}, &r, &err),
+                 DM_ERR_RANGE);
+    close_fixture(&f);
+}
+
+/* a blur view runs the chain up to its level only; the CPU keeps a level between passes, so
+ * the frame after it must still start again from this frame's irradiance */
+Test(render_blur_cpu, a_view_that_stops_early_leaves_the_next_frame_exact)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE});
+    open_renderer(&f, 64, 48, 64);
+    frame(&f, DM_VIEW_FINAL, 0);
+    dm_target_info info;
+    float *want = read_target(&f, "blur5", &info);
+    frame(&f, DM_VIEW_BLUR, 2);
+    frame(&f, DM_VIEW_FINAL, 0);
+    float *got = read_target(&f, "blur5", &info);
+    cr_expect_eq(memcmp(want, got, sizeof *got * 4 * (size_t)info.width * info.height), 0);
+    free(want), free(got);
+    close_fixture(&f);
+}
