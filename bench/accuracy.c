@@ -20,6 +20,8 @@
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
+ * DERMIS_BENCH_ROWS=a,b,...: only the rows of those short names (the region table's first
+ * column, e.g. "1024,1024 reduce5"), to measure a change quickly; write to another OUTDIR.
  * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot), accuracy-frame.png
  * (reference | default render | error, the frame) and accuracy-regions.png (the labels)
  * through common/accuracy_report.h. argv[2], optional: a pack of SCENE made earlier (its
@@ -46,6 +48,12 @@
 
 static setting *add(int size, int taps, int g, bool flat, dm_render_desc knobs, const char *name, const char *what)
 {
+    static setting skipped; /* a row DERMIS_BENCH_ROWS leaves out */
+    const char *only = getenv("DERMIS_BENCH_ROWS");
+    char key[64], list[1024];
+    snprintf(key, sizeof key, ",%s,", name);
+    snprintf(list, sizeof list, ",%s,", only ? only : "");
+    if (only && !strstr(list, key)) return &skipped;
     setting *s = &rows_s[nrows++];
     *s = (setting){.size = size, .taps = taps, .gaussians = g, .flat_stretch = flat, .knobs = knobs};
     snprintf(s->name, sizeof s->name, "%s", name);
@@ -82,6 +90,13 @@ static void add_rows(bool quick, bool large, int B)
     add(B, 0, 0, true, (dm_render_desc){0}, n, w);
     snprintf(n, sizeof n, "%d reduce3", B), snprintf(w, sizeof w, "%d, --blur-reduce-from 3 (levels 3..5 at %d)", B, B / 2);
     add(B, 0, 0, false, (dm_render_desc){.blur_reduce_from = 3}, n, w);
+    /* the reduced levels at the scene's default size: what issue #16's frame aim would cost */
+    for (int K = 5; K >= 3 && !quick; --K) {
+        snprintf(n, sizeof n, "1024 reduce%d", K);
+        if (K == 5) snprintf(w, sizeof w, "1024, --blur-reduce-from 5 (level 5 at 512)");
+        else snprintf(w, sizeof w, "1024, --blur-reduce-from %d (levels %d..5 at 512)", K, K);
+        add(1024, 0, 0, false, (dm_render_desc){.blur_reduce_from = K}, n, w);
+    }
     snprintf(n, sizeof n, "%d pcf1", B), snprintf(w, sizeof w, "%d, --pcf-taps 1 (one bilinear shadow compare)", B);
     add(B, 0, 0, false, (dm_render_desc){.shadow_pcf_taps = 1}, n, w);
     snprintf(n, sizeof n, "%d half", B), snprintf(w, sizeof w, "%d, --half-float (RGBA16F targets)", B);

@@ -49,8 +49,13 @@ echo "| variant | shadow | irradiance | blur (all) | G-buffer + final | backgrou
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 run base --shader-dir "$work/base"
 for v in irr-no-shadow irr-no-energy irr-no-sh final-no-levels final-no-light-specular \
-         final-no-env-specular blur-1-tap blur-3-taps blur-no-stretch-fetch; do
+         final-no-env-specular; do
   run "$v" --shader-dir "$work/$v"
+done
+# blur.glsl runs only with the blur in GL (on llvmpipe the default runs it on the CPU)
+run "--blur-on gl" --blur-on gl
+for v in blur-1-tap blur-3-taps blur-no-stretch-fetch; do
+  run "$v (in GL)" --shader-dir "$work/$v" --blur-on gl
 done
 run "--pcf-taps 1" --pcf-taps 1
 run "--pcf-taps 9" --pcf-taps 9
