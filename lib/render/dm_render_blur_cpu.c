@@ -19,22 +19,13 @@ static int stretch_index(const dm_renderer *r, int k)
     return k - 1 < r->stretch_count - 1 ? k - 1 : r->stretch_count - 1;
 }
 
-dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+/* Its buffers and each pass's stretch per texel; false when out of memory. */
+static bool allocate(dm_renderer *r, const dm_render_assets *a)
 {
-    dm_blur_path path = r->desc.blur_path;
-    if (path < DM_BLUR_PATH_AUTO || path > DM_BLUR_PATH_CPU)
-        return dm_fail(err, DM_ERR_RANGE, "renderer: blur_path %d, expected auto (0), gl (1) or cpu (2)", (int)path);
-    if (path == DM_BLUR_PATH_CPU && r->level_format != GL_RGBA32F)
-        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
-                       "renderer: the blur on the CPU keeps float levels: it does not take blur_half_float");
-    r->blur_cpu = r->plan.texture_space && r->level_format == GL_RGBA32F &&
-                  (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu));
-    if (!r->blur_cpu) return DM_OK;
     /* three buffers in turn: level k−1, the U pass's result, level k */
     size_t floats = dm_level_blur_floats(r->irr_edge, r->irr_edge);
     for (int i = 0; i < 3; ++i)
-        if (!(r->cpu_buf[i] = malloc(sizeof(float) * floats)))
-            return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "renderer: blur on the CPU: %zu MB", 3 * floats * 4 >> 20);
+        if (!(r->cpu_buf[i] = malloc(sizeof(float) * floats))) return false;
     /* each pass's stretch at its texels, sampled once: the stretch never changes */
     float *st = NULL;
     for (int k = 1; k < r->plan.blur_levels; ++k) {
@@ -55,10 +46,33 @@ dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error
     }
     free(st);
     for (int k = 1; k < r->plan.blur_levels; ++k)
-        if (!r->cpu_step[k][0] || !r->cpu_step[k][1])
-            return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "renderer: blur on the CPU: the stretch per texel");
-    r->cpu_held = r->cpu_tmp_level = -1;
-    return DM_OK;
+        if (!r->cpu_step[k][0] || !r->cpu_step[k][1]) return false;
+    return true;
+}
+
+dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    dm_blur_path path = r->desc.blur_path;
+    if (path < DM_BLUR_PATH_AUTO || path > DM_BLUR_PATH_CPU)
+        return dm_fail(err, DM_ERR_RANGE, "renderer: blur_path %d, expected auto (0), gl (1) or cpu (2)", (int)path);
+    if (path == DM_BLUR_PATH_CPU && r->level_format != GL_RGBA32F)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "renderer: the blur on the CPU keeps float levels: it does not take blur_half_float");
+    r->blur_cpu = r->plan.texture_space && r->level_format == GL_RGBA32F &&
+                  (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu));
+    if (!r->blur_cpu) return DM_OK;
+    if (allocate(r, a)) {
+        r->cpu_held = r->cpu_tmp_level = -1;
+        return DM_OK;
+    }
+    /* out of memory (three level-sized buffers, two stretch floats a texel a level): auto
+     * keeps the blur in GL, cpu says so */
+    size_t mb = (dm_level_blur_floats(r->irr_edge, r->irr_edge) * 4 * 3 +
+                 (size_t)r->irr_edge * (size_t)r->irr_edge * 8 * (size_t)(r->plan.blur_levels - 1)) >> 20;
+    dmr_blur_cpu_free(r);
+    r->blur_cpu = false;
+    if (path == DM_BLUR_PATH_AUTO) return DM_OK;
+    return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "renderer: the blur on the CPU needs %zu MB more", mb);
 }
 
 bool dm_renderer_blur_on_cpu(const dm_renderer *r)
