@@ -154,14 +154,15 @@ static int parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--half-float")) {
             o->speed.blur_half_float = true;
         } else if (!strcmp(a, "--blur-on")) {
+            static const char *paths[] = {"auto", "gl", "cpu"}; /* dm_blur_path's order */
+            int k = 0;
             if (!(v = dm_cli_value(argc, argv, &i))) return 0;
-            if (!strcmp(v, "auto")) o->speed.blur_path = DM_BLUR_PATH_AUTO;
-            else if (!strcmp(v, "gl")) o->speed.blur_path = DM_BLUR_PATH_GL;
-            else if (!strcmp(v, "cpu")) o->speed.blur_path = DM_BLUR_PATH_CPU;
-            else {
+            while (k < 3 && strcmp(v, paths[k])) ++k;
+            if (k == 3) {
                 fprintf(stderr, "error: --blur-on: '%s' is not auto, gl or cpu\n", v);
                 return 0;
             }
+            o->speed.blur_path = (dm_blur_path)k;
         } else if (!strcmp(a, "--compare-exact")) {
             o->compare_exact = true;
         } else if (!strcmp(a, "--frames")) {
@@ -477,12 +478,8 @@ int main(int argc, char **argv)
         char text[8192];
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);
-        if (plan.blur_levels > 1)
-            printf("blur passes: %s\n", dm_renderer_blur_on_cpu(r)
-                                            ? "on the CPU (core/dm_level_blur.h): OpenGL runs on the CPU too, "
-                                              "where C takes a tap for less than its texture unit (--blur-on gl: "
-                                              "blur.glsl)"
-                                            : "in GL (shaders/blur.glsl)");
+        if (plan.blur_levels > 1) /* docs/render-quality.md, The blur on the CPU */
+            printf("blur passes: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL");
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dm_half.h"
 #include "core/dm_level_blur.h"
 #include "render/dm_render_internal.h"
 
@@ -34,9 +33,7 @@ static bool allocate(dm_renderer *r, const dm_render_assets *a)
         float *grow = realloc(st, sizeof *st * 2 * n);
         if (!grow) break;
         st = grow;
-        for (size_t i = 0; i < 2 * n; ++i)
-            st[i] = t->format == DM_TEX_RG32F ? ((const float *)t->texels)[i]
-                                              : dm_half_to_float(((const uint16_t *)t->texels)[i]);
+        for (size_t i = 0; i < 2 * n; ++i) st[i] = dmr_stretch_value(t, i);
         int w = r->level_edge[k], h = r->level_edge[k - 1];
         r->cpu_step[k][0] = malloc(sizeof(float) * (size_t)w * (size_t)h);
         r->cpu_step[k][1] = malloc(sizeof(float) * (size_t)w * (size_t)w);
@@ -92,9 +89,9 @@ void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps)
     int k = ps->index;
     int n = r->level_edge[k], h = r->level_edge[k - 1];
     if (ps->kind == DM_PASS_BLUR_U) {
-        /* level k−1 into cpu_buf[0] (the V pass before left it there, or read it back), the
-         * U result into cpu_buf[1] (n × h) */
-        if (r->cpu_held != k - 1) {
+        /* level k−1 into cpu_buf[0] (the V pass before left it there; level 0, the irradiance
+         * pass's, is read back every time), the U result into cpu_buf[1] (n × h) */
+        if (k == 1 || r->cpu_held != k - 1) {
             r->cpu_level = dm_level_blur_frame(r->cpu_buf[0], h, h);
             glBindFramebuffer(GL_READ_FRAMEBUFFER, r->irr_fbo[k - 1]);
             glReadBuffer(GL_COLOR_ATTACHMENT0);

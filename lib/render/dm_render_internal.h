@@ -263,6 +263,8 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
 dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err);
 void dmr_prepare_blur(dm_renderer *r, float scale);
+/* Value i of a stretch level (RG32F or RG16F texels), as float. */
+float dmr_stretch_value(const dm_texture *t, size_t i);
 /* level_weight: the profile's weights divided by their sum per channel (TSD levels,
  * translucency's T(d)). */
 void dmr_profile_weights(dm_renderer *r);

@@ -60,7 +60,7 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
     return rc;
 }
 
-static float stretch_at(const dm_texture *t, size_t i)
+float dmr_stretch_value(const dm_texture *t, size_t i)
 {
     return t->format == DM_TEX_RG32F ? ((const float *)t->texels)[i] : dm_half_to_float(((const uint16_t *)t->texels)[i]);
 }
@@ -76,7 +76,7 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
                                   a->stretch_mask.height == t->height ? a->stretch_mask.texels : NULL;
     float *u = malloc(sizeof *u * n), *v = malloc(sizeof *v * n);
     for (size_t i = 0; u && v && i < n; ++i) {
-        float su = stretch_at(t, 2 * i), sv = stretch_at(t, 2 * i + 1);
+        float su = dmr_stretch_value(t, 2 * i), sv = dmr_stretch_value(t, 2 * i + 1);
         if ((mask ? mask[i] > 0 : su > 0) && isfinite(su) && isfinite(sv)) u[k] = su, v[k++] = sv;
     }
     if (k) {

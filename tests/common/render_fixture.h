@@ -52,15 +52,21 @@ static inline void only(dm_scene *s, const dm_effect *on, int n)
     for (int i = 0; i < n; ++i) s->effects[on[i]] = true;
 }
 
-static inline float *read_target(fixture *f, const char *name, dm_target_info *info)
+/* Target `name` of renderer r, read back (malloc'd; info says its size). */
+static inline float *read_renderer_target(dm_renderer *r, const char *name, dm_target_info *info)
 {
-    int idx = dm_renderer_find_target(f->r, name);
+    int idx = dm_renderer_find_target(r, name);
     cr_assert_geq(idx, 0, "no target %s", name);
-    dm_renderer_target_info(f->r, idx, info);
+    dm_renderer_target_info(r, idx, info);
     float *px = malloc((size_t)info->width * info->height * info->channels * sizeof *px);
     dm_error err = {0};
-    cr_assert_eq(dm_renderer_read_target(f->r, idx, px, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_read_target(r, idx, px, &err), DM_OK, "%s", err.detail);
     return px;
+}
+
+static inline float *read_target(fixture *f, const char *name, dm_target_info *info)
+{
+    return read_renderer_target(f->r, name, info);
 }
 
 static inline void frame(fixture *f, dm_view view, int index)

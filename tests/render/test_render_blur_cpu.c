@@ -118,20 +118,32 @@ Test(render_blur_cpu, auto_picks_the_cpu_on_llvmpipe_with_float_levels)
     close_fixture(&f);
 }
 
-/* a blur view runs the chain up to its level only; the CPU keeps a level between passes, so
- * the frame after it must still start again from this frame's irradiance */
+/* a blur view runs the chain up to its level only, and the CPU keeps a level between passes:
+ * after a view lit from elsewhere, the next frame must start again from its own irradiance
+ * (the same bytes as before the view), not from a level the view left */
 Test(render_blur_cpu, a_view_that_stops_early_leaves_the_next_frame_exact)
 {
     fixture f;
+    dm_error err = {0};
     open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE});
     open_renderer(&f, 64, 48, 64);
+    cr_assert(dm_renderer_blur_on_cpu(f.r));
     frame(&f, DM_VIEW_FINAL, 0);
     dm_target_info info;
-    float *want = read_target(&f, "blur5", &info);
-    frame(&f, DM_VIEW_BLUR, 2);
+    const char *levels[] = {"blur1", "blur2", "blur3"};
+    float *want[3], *moved;
+    for (int k = 0; k < 3; ++k) want[k] = read_target(&f, levels[k], &info);
+    size_t bytes = sizeof(float) * 4 * (size_t)info.width * info.height;
+    dm_frame_options o = {.view = DM_VIEW_BLUR, .view_index = 2, .light_rotation_deg = 120.0f};
+    cr_assert_eq(dm_render_frame(f.r, &o, &err), DM_OK, "%s", err.detail);
+    moved = read_target(&f, "blur2", &info);
+    cr_expect_neq(memcmp(want[1], moved, bytes), 0, "the view's light did not move its levels");
     frame(&f, DM_VIEW_FINAL, 0);
-    float *got = read_target(&f, "blur5", &info);
-    cr_expect_eq(memcmp(want, got, sizeof *got * 4 * (size_t)info.width * info.height), 0);
-    free(want), free(got);
+    for (int k = 0; k < 3; ++k) {
+        float *got = read_target(&f, levels[k], &info);
+        cr_expect_eq(memcmp(want[k], got, bytes), 0, "%s differs after the view", levels[k]);
+        free(got), free(want[k]);
+    }
+    free(moved);
     close_fixture(&f);
 }

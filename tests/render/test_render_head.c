@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/render_fixture.h"
 #include "../common/tmpdir.h"
 #include "core/dm_pack.h"
 #include "core/dm_scene.h"
@@ -88,15 +89,9 @@ static void render(head *h, dm_view view, int index)
     cr_assert_eq(dm_render_frame(h->r, &o, &err), DM_OK, "%s", err.detail);
 }
 
-static float *read_target(head *h, const char *name, dm_target_info *info)
+static float *head_target(head *h, const char *name, dm_target_info *info)
 {
-    int idx = dm_renderer_find_target(h->r, name);
-    cr_assert_geq(idx, 0, "no target %s", name);
-    dm_renderer_target_info(h->r, idx, info);
-    float *px = malloc((size_t)info->width * info->height * info->channels * sizeof *px);
-    dm_error err = {0};
-    cr_assert_eq(dm_renderer_read_target(h->r, idx, px, &err), DM_OK, "%s", err.detail);
-    return px;
+    return read_renderer_target(h->r, name, info);
 }
 
 static void expect_targets_finite(head *h, const char *when)
@@ -104,7 +99,7 @@ static void expect_targets_finite(head *h, const char *when)
     for (int t = 0; t < dm_renderer_target_count(h->r); ++t) {
         dm_target_info info;
         dm_renderer_target_info(h->r, t, &info);
-        float *px = read_target(h, info.name, &info);
+        float *px = head_target(h, info.name, &info);
         size_t n = (size_t)info.width * info.height * info.channels, bad = 0;
         for (size_t i = 0; i < n; ++i) bad += !isfinite(px[i]);
         cr_expect_eq(bad, 0, "%s: target %s holds %zu NaN/Inf values", when, info.name, bad);
@@ -259,7 +254,7 @@ Test(head, light_behind_no_specular_on_the_face_no_irradiance_on_the_unlit_side,
      * silhouette may legitimately catch light from behind. */
     render(&h, DM_VIEW_SPECULAR, 0);
     dm_target_info info;
-    float *scr = read_target(&h, "screen", &info);
+    float *scr = head_target(&h, "screen", &info);
     float worst = 0.0f;
     for (int y = info.height / 3; y < 2 * info.height / 3; ++y)
         for (int x = info.width / 3; x < 2 * info.width / 3; ++x)
@@ -271,7 +266,7 @@ Test(head, light_behind_no_specular_on_the_face_no_irradiance_on_the_unlit_side,
      * normals face away from the light by more than 53° (n·L ≤ −0.6, beyond what the normal
      * map tilts), nothing arrives. */
     render(&h, DM_VIEW_FINAL, 0);
-    float *irr = read_target(&h, "irradiance", &info);
+    float *irr = head_target(&h, "irradiance", &info);
     const float *v = h.assets.vertices;
     const uint32_t *ix = h.assets.indices;
     int checked = 0, lit = 0;
@@ -327,7 +322,7 @@ static float *two_light_screen(head *h, dm_sss_technique technique, bool swap, b
     create_renderer(h, &a);
     render(h, DM_VIEW_FINAL, 0);
     dm_target_info info;
-    return read_target(h, "screen", &info);
+    return head_target(h, "screen", &info);
 }
 
 static void same_floats_either_order(head *h, dm_sss_technique technique, const char *name)
