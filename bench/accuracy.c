@@ -69,6 +69,13 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d", N), snprintf(w, sizeof w, "irradiance %d, 7 taps%s", N, N == 1024 ? " (the scene's default)" : "");
         add(N, 0, 0, false, (dm_render_desc){0}, n, w);
     }
+    /* the levels summed per pixel by the final pass instead of once per texel by the diffusion
+     * pass (dm_render_desc.diffusion_per_pixel): the two differ along chart edges */
+    for (int N = 256; N <= 1024 && (N == 256 || !quick); N *= 2) {
+        snprintf(n, sizeof n, "%d per-pixel", N);
+        snprintf(w, sizeof w, "irradiance %d, the levels summed per pixel (--diffusion-per-pixel)", N);
+        add(N, 0, 0, false, (dm_render_desc){.diffusion_per_pixel = true}, n, w);
+    }
     /* the automatic blur resolution (dm_render_desc.blur_auto_resolution) */
     for (int N = quick ? 256 : 512; N <= 1024; N *= 2) {
         snprintf(n, sizeof n, "%d auto", N);

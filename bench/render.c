@@ -97,9 +97,10 @@ typedef struct setting {
 
 /* What each row changes from the default (row 1). Row 0 is the exact reference. */
 static const setting settings[] = {
-    {"exact", "reference: 9-tap PCF, RGBA32F, full-resolution levels", {.shadow_pcf_taps = 9}},
-    {"default", "4-tap PCF (same filter), RGBA32F, full-resolution levels", {0}},
-    {"gl-blur", "default with the blur passes in GL (blur.glsl), not on the CPU", {.blur_path = DM_BLUR_PATH_GL}},
+    {"exact", "reference: 9-tap PCF, RGBA32F, full-resolution levels summed per pixel", {.shadow_pcf_taps = 9, .diffusion_per_pixel = true}},
+    {"default", "4-tap PCF (same filter), RGBA32F, full-resolution levels, their sum per texel (diffusion pass)", {0}},
+    {"per-pixel", "default with the levels summed per pixel in the final pass (--diffusion-per-pixel)", {.diffusion_per_pixel = true}},
+    {"gl-blur", "default with the blur passes (texture-space, glow) in GL, not on the CPU", {.blur_path = DM_BLUR_PATH_GL}},
     {"pcf1", "shadow: one bilinear compare", {.shadow_pcf_taps = 1}},
     {"half-float", "irradiance and blur targets RGBA16F", {.blur_half_float = true}},
     {"reduce4", "blur levels 4, 5 at 1/2 resolution", {.blur_reduce_from = 4}},

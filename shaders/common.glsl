@@ -86,13 +86,30 @@ vec3 dm_level(int k, vec2 uv)
     return t.a > 1e-4 ? t.rgb / t.a : vec3(0.0);
 }
 
-// The diffused radiance sum_k w_k L_k over the DM_LEVELS levels.
-vec3 dm_diffusion(vec2 uv)
+// The diffused radiance sum_k w_k L_k over the DM_LEVELS levels, each level sampled at uv.
+vec3 dm_level_sum(vec2 uv)
 {
     vec3 sum = vec3(0.0);
     for (int k = 0; k < DM_LEVELS; ++k) sum += u_level_weight[k] * dm_level(k, uv);
     return sum;
 }
+
+#if defined(DM_DIFFUSION_SUM) && !defined(DM_DIFFUSION_PASS)
+// DM_DIFFUSION_SUM: the diffusion pass (diffusion.glsl) made that sum once per texel, in
+// texture space, times chart coverage, alpha = coverage; read here with one bilinear fetch,
+// coverage-normalised like a level, instead of DM_LEVELS fetches per pixel.
+uniform sampler2D u_diffusion;
+vec3 dm_diffusion(vec2 uv)
+{
+    vec4 t = texture(u_diffusion, uv);
+    return t.a > 1e-4 ? t.rgb / t.a : vec3(0.0);
+}
+#else
+vec3 dm_diffusion(vec2 uv)
+{
+    return dm_level_sum(uv);
+}
+#endif
 #endif
 
 vec3 dm_srgb_encode(vec3 c)

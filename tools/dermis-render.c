@@ -73,7 +73,11 @@ static void usage(FILE *f)
             "  --half-float         RGBA16F irradiance and blur targets (slower on llvmpipe)\n"
             "  --blur-on WHERE      auto (default: on the CPU when OpenGL is software, llvmpipe,\n"
             "                       and the targets are float; in GL otherwise), gl or cpu: where\n"
-            "                       the blur passes run; both give the same sums to float rounding\n"
+            "                       the blur passes (texture-space, glow) run; both give the same\n"
+            "                       sums to float rounding\n"
+            "  --diffusion-per-pixel  the final pass samples and sums every blur level per pixel\n"
+            "                       instead of the diffusion pass's per-texel sum (slower; differs\n"
+            "                       in the texel ring along chart edges)\n"
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
             "  -v                   more detail on stderr\n"
@@ -153,6 +157,8 @@ static int parse(int argc, char **argv, options *o)
             o->speed.blur_auto_resolution = true;
         } else if (!strcmp(a, "--half-float")) {
             o->speed.blur_half_float = true;
+        } else if (!strcmp(a, "--diffusion-per-pixel")) {
+            o->speed.diffusion_per_pixel = true;
         } else if (!strcmp(a, "--blur-on")) {
             static const char *paths[] = {"auto", "gl", "cpu"}; /* dm_blur_path's order */
             int k = 0;

@@ -175,6 +175,8 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d >> blur_reduce_shift %d is below 8 texels",
                      r->irr_edge, shift);
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
+    if (rc == DM_OK && desc->diffusion_per_pixel) dm_render_plan_sum_per_pixel(&r->plan);
+    r->diffusion_sum = r->plan.texture_space && !desc->diffusion_per_pixel;
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
     for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i)
         r->ts_pass_count += dmr_pass_get(r->plan.passes[i].kind)->texture_space;
@@ -223,6 +225,7 @@ void dm_renderer_destroy(dm_renderer *r)
 {
     if (!r) return;
     dmr_blur_cpu_free(r);
+    dmr_glow_free(r);
     for (int k = 0; k < DM_PASS_KIND_COUNT; ++k) {
         bool first = r->prog[k] != 0;
         for (int j = 0; j < k && first; ++j) first = r->prog[j] != r->prog[k];
@@ -241,6 +244,8 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->tex_stretch[k]) glDeleteTextures(1, &r->tex_stretch[k]);
         if (r->irr_tex[k]) glDeleteTextures(1, &r->irr_tex[k]);
         if (r->irr_fbo[k]) glDeleteFramebuffers(1, &r->irr_fbo[k]);
+        if (k == 0 && r->diff_tex) glDeleteTextures(1, &r->diff_tex);
+        if (k == 0 && r->diff_fbo) glDeleteFramebuffers(1, &r->diff_fbo);
         bool first = true; /* the U targets are shared between levels of one size */
         for (int j = 1; j < k; ++j) first = first && r->tmp_fbo[j] != r->tmp_fbo[k];
         if (first && r->tmp_fbo[k]) glDeleteFramebuffers(1, &r->tmp_fbo[k]);
@@ -273,6 +278,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
     dm_render_plan plan;
     dm_result rc = dm_render_plan_build(&r->scene, opt->view, opt->view_index, &plan, err);
     if (rc != DM_OK) return rc;
+    if (r->desc.diffusion_per_pixel) dm_render_plan_sum_per_pixel(&plan);
     r->plan = plan;
     float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
     if (plan.texture_space && blur_scale != r->blur_scale) dmr_prepare_blur(r, blur_scale);

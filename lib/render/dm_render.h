@@ -133,7 +133,9 @@ typedef struct dm_render_assets {
 
 /* Where the texture-space blur passes run. AUTO: on the CPU (core/dm_level_blur.h) when the
  * OpenGL renders on the CPU too (llvmpipe, softpipe) and the levels are RGBA32F, in GL
- * (shaders/blur.glsl) otherwise. The two give the same sums to float rounding. */
+ * (shaders/blur.glsl) otherwise. The glow's two blur passes follow it (core/dm_glow_blur.h;
+ * its targets are always RGBA32F; on the CPU its intermediate target glow_b is not written).
+ * The two give the same sums to float rounding. */
 typedef enum dm_blur_path { DM_BLUR_PATH_AUTO = 0, DM_BLUR_PATH_GL, DM_BLUR_PATH_CPU } dm_blur_path;
 
 /* Options of the renderer itself; zero means default. */
@@ -173,6 +175,12 @@ typedef struct dm_render_desc {
                                * half-float conversions cost more than the bytes saved) */
     dm_blur_path blur_path;   /* where the blur passes run (above); CPU with blur_half_float
                                * is refused */
+    bool diffusion_per_pixel; /* the final pass samples every level per pixel and sums them
+                               * (DM_LEVELS bilinear fetches), as before the diffusion pass;
+                               * default: the diffusion pass sums them once per texel and the
+                               * final pass reads that sum (one fetch). The two differ in the
+                               * texel ring at chart edges, where bilinear sampling mixes
+                               * covered and uncovered texels (bench/results/accuracy.md) */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (the scene: dm_renderer_set_scene; the light
                                * rotation; blur and roughness scales) changed since the last
@@ -191,7 +199,7 @@ dm_result dm_renderer_create(const dm_render_assets *assets, const dm_render_des
                              dm_error *err);
 void dm_renderer_destroy(dm_renderer *r);
 
-/* Whether the blur passes run on the CPU (dm_render_desc.blur_path). */
+/* Whether the texture-space blur passes run on the CPU (dm_render_desc.blur_path). */
 bool dm_renderer_blur_on_cpu(const dm_renderer *r);
 
 /* Replaces the scene's values that no pass, target or upload depends on: camera, light

@@ -4,13 +4,19 @@
  * texels (docs/render-quality.md). The plan keeps its blur_u k, blur_v k passes (timings,
  * --explain); each runs here instead of blur.glsl: U reads level k−1 (level 0 read back from
  * the irradiance target; later levels kept from the V pass before), V uploads level k into its
- * texture, where the final pass and the views read it as ever. The same sums as the shader,
- * equal to float rounding (tests/render/test_render_blur_cpu.c). */
+ * texture, where the views read it as ever. With full-resolution levels each is also added
+ * to the diffusion pass's sum as it is made (core/dm_level_sum.h), and the diffusion pass
+ * uploads that sum instead of reading the levels in GL; then nothing in the frame reads levels
+ * 1.. in GL, and their uploads (1–2 ms each) wait until something does: a blur view, a
+ * read-back of their targets (dmr_blur_cpu_sync runs the chain again from the irradiance
+ * target, uploading). The same sums as the shaders, equal to float rounding
+ * (tests/render/test_render_blur_cpu.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/dm_level_blur.h"
+#include "core/dm_level_sum.h"
 #include "render/dm_render_internal.h"
 
 static int stretch_index(const dm_renderer *r, int k)
@@ -44,6 +50,45 @@ static bool allocate(dm_renderer *r, const dm_render_assets *a)
     free(st);
     for (int k = 1; k < r->plan.blur_levels; ++k)
         if (!r->cpu_step[k][0] || !r->cpu_step[k][1]) return false;
+    /* the diffusion pass's sum, when every level has the irradiance grid's size */
+    bool full = r->diffusion_sum;
+    for (int k = 1; k < r->plan.blur_levels; ++k) full = full && r->level_edge[k] == r->irr_edge;
+    if (full && !(r->cpu_sum = malloc(sizeof(float) * 4 * (size_t)r->irr_edge * (size_t)r->irr_edge))) return false;
+    return true;
+}
+
+/* Adds level k (at cpu_level) to the diffusion pass's sum when this frame's plan sums them. */
+static void add_to_sum(dm_renderer *r, int k)
+{
+    if (!r->cpu_sum || r->cpu_sum_level != k - 1) return;
+    int n = r->irr_edge;
+    dm_level_sum_add(&(dm_level_sum_pass){r->cpu_sum, r->cpu_level, dm_level_blur_stride(n), n,
+                                          {r->level_weight[k][0], r->level_weight[k][1], r->level_weight[k][2]},
+                                          k == 0, k == r->plan.blur_levels - 1, 0});
+    r->cpu_sum_level = k;
+}
+
+/* The levels' textures brought up to the chain's state: the chain again from the irradiance
+ * target (which a frame reusing texture space keeps), every level uploaded. */
+void dmr_blur_cpu_sync(dm_renderer *r)
+{
+    if (!r->blur_cpu || !r->levels_stale) return;
+    r->cpu_syncing = true;
+    for (int k = 1; k < r->profile.count; ++k) {
+        dmr_blur_cpu_pass(r, &(dm_pass){.kind = DM_PASS_BLUR_U, .index = k});
+        dmr_blur_cpu_pass(r, &(dm_pass){.kind = DM_PASS_BLUR_V, .index = k});
+    }
+    r->cpu_syncing = false;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+bool dmr_blur_cpu_diffusion(dm_renderer *r)
+{
+    if (!r->cpu_sum || r->cpu_sum_level != r->plan.blur_levels - 1) return false;
+    glBindTexture(GL_TEXTURE_2D, r->diff_tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, r->irr_edge, r->irr_edge, GL_RGBA, GL_FLOAT, r->cpu_sum);
+    r->cpu_sum_level = -1;
     return true;
 }
 
@@ -59,13 +104,13 @@ dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error
                   (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu));
     if (!r->blur_cpu) return DM_OK;
     if (allocate(r, a)) {
-        r->cpu_held = r->cpu_tmp_level = -1;
+        r->cpu_held = r->cpu_tmp_level = r->cpu_sum_level = -1;
         return DM_OK;
     }
-    /* out of memory (three level-sized buffers, two stretch floats a texel a level): auto
+    /* out of memory (three level-sized buffers, two stretch floats a texel a level, the sum): auto
      * keeps the blur in GL, cpu says so */
     size_t mb = (dm_level_blur_floats(r->irr_edge, r->irr_edge) * 4 * 3 +
-                 (size_t)r->irr_edge * (size_t)r->irr_edge * 8 * (size_t)(r->plan.blur_levels - 1)) >> 20;
+                 (size_t)r->irr_edge * (size_t)r->irr_edge * (8 * (size_t)(r->plan.blur_levels - 1) + 16)) >> 20;
     dmr_blur_cpu_free(r);
     r->blur_cpu = false;
     if (path == DM_BLUR_PATH_AUTO) return DM_OK;
@@ -80,6 +125,7 @@ bool dm_renderer_blur_on_cpu(const dm_renderer *r)
 void dmr_blur_cpu_free(dm_renderer *r)
 {
     for (int i = 0; i < 3; ++i) free(r->cpu_buf[i]), r->cpu_buf[i] = NULL;
+    free(r->cpu_sum), r->cpu_sum = NULL;
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k)
         free(r->cpu_step[k][0]), free(r->cpu_step[k][1]), r->cpu_step[k][0] = r->cpu_step[k][1] = NULL;
 }
@@ -101,6 +147,11 @@ void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps)
             glPixelStorei(GL_PACK_ROW_LENGTH, 0);
             r->cpu_held = k - 1;
         }
+        if (k == 1) {
+            r->cpu_summing = r->cpu_sum && dm_render_plan_find(&r->plan, "diffusion") >= 0 && !r->cpu_syncing;
+            r->cpu_sum_level = r->cpu_summing ? -1 : -2;
+            add_to_sum(r, 0);
+        }
         r->cpu_tmp = dm_level_blur_frame(r->cpu_buf[1], n, h);
         dm_level_blur(&(dm_level_blur_pass){r->cpu_level, h, h, r->cpu_tmp, n, h, false, r->cpu_step[k][0],
                                             r->blur_offset[k], r->blur_weight, r->taps, 0});
@@ -111,13 +162,19 @@ void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps)
     float *level = dm_level_blur_frame(r->cpu_buf[2], n, n);
     dm_level_blur(&(dm_level_blur_pass){r->cpu_tmp, n, h, level, n, n, true, r->cpu_step[k][1], r->blur_offset[k],
                                         r->blur_weight, r->taps, 0});
-    glBindTexture(GL_TEXTURE_2D, r->irr_tex[k]);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, (GLint)(dm_level_blur_stride(n) / 4));
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_RGBA, GL_FLOAT, level);
-    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    if (r->cpu_summing) {
+        r->levels_stale |= 1u << k;
+    } else {
+        glBindTexture(GL_TEXTURE_2D, r->irr_tex[k]);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, (GLint)(dm_level_blur_stride(n) / 4));
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_RGBA, GL_FLOAT, level);
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+        r->levels_stale &= ~(1u << k);
+    }
     /* level k is the next U pass's input: its buffer becomes cpu_buf[0] */
     float *t = r->cpu_buf[0];
     r->cpu_buf[0] = r->cpu_buf[2], r->cpu_buf[2] = t;
     r->cpu_level = level, r->cpu_held = k, r->cpu_tmp_level = 0;
+    add_to_sum(r, k);
 }

@@ -145,7 +145,7 @@ static void set_sampler_units(GLuint p)
                  {"u_shadow1", UNIT_SHADOW + 1},   {"u_shadow2", UNIT_SHADOW + 2},  {"u_shadow3", UNIT_SHADOW + 3},
                  {"u_src", UNIT_SRC},             {"u_stretch", UNIT_STRETCH},     {"u_mask", UNIT_MASK},
                  {"u_depth", UNIT_DEPTH},         {"u_background", UNIT_BACKGROUND},
-                 {"u_env_array", UNIT_ENV_ARRAY}, {"u_aux", UNIT_SS_AUX}, {"u_glow", UNIT_GLOW},   {"u_spec", UNIT_SS_SPEC},
+                 {"u_env_array", UNIT_ENV_ARRAY}, {"u_diffusion", UNIT_DIFFUSION}, {"u_aux", UNIT_SS_AUX}, {"u_glow", UNIT_GLOW},   {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
                  {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE}};
     glUseProgram(p);
@@ -229,6 +229,7 @@ dm_result dmr_build_program(dm_renderer *r, const char *file, const char *extra,
                               "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n", r->profile.count);
     if (p->glow_in_tonemap) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_GLOW 1\n");
     if (r->spec_in_normal) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_SPEC_IN_NORMAL 1\n");
+    if (r->diffusion_sum) n += (size_t)snprintf(defines + n, sizeof defines - n, "#define DM_DIFFUSION_SUM 1\n");
     if (extra) snprintf(defines + n, sizeof defines - n, "%s", extra);
     const char *dir = r->shader_dir[0] ? r->shader_dir : NULL;
     char *common = NULL, *src = NULL;

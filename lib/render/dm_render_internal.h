@@ -51,6 +51,7 @@ enum {
     UNIT_DEPTH,
     UNIT_BACKGROUND,
     UNIT_ENV_ARRAY,
+    UNIT_DIFFUSION, /* the diffusion pass's sum (DM_DIFFUSION_SUM) */
     UNIT_COUNT,
     /* passes that never bind the blur/view inputs reuse their units: the screen-space combine
      * pass (u_aux, u_spec) and translucency's raw shadow depths (u_tdepth0..3, sampler object) */
@@ -122,6 +123,8 @@ struct dm_renderer {
     GLuint tex_env_array; /* the env levels as one 2D array when they share size and format */
     GLuint shadow_tex[DM_PLAN_MAX_SHADOWS], shadow_fbo[DM_PLAN_MAX_SHADOWS];
     GLuint irr_tex[DM_PROFILE_MAX_GAUSSIANS], irr_fbo[DM_PROFILE_MAX_GAUSSIANS];
+    bool diffusion_sum;      /* the final pass and the diffusion view read the diffusion pass's */
+    GLuint diff_tex, diff_fbo; /* sum (DM_DIFFUSION_SUM), not the levels per pixel */
     GLuint ts_gbuf_tex[4], ts_gbuf_fbo, ts_depth; /* the texture-space G-buffer and its coverage depth */
     bool ts_gbuf_valid;                           /* made for the current scene */
     GLuint tmp_tex[DM_PROFILE_MAX_GAUSSIANS], tmp_fbo[DM_PROFILE_MAX_GAUSSIANS]; /* level k's U pass target
@@ -135,6 +138,8 @@ struct dm_renderer {
     float view_gain;           /* the specular view's exposure gain (1 otherwise) */
     bool view_in_target;       /* the last frame was a texture view: read_view reads "view" */
     GLuint glow_tex[2], glow_fbo[2];
+    bool glow_cpu;       /* the glow's Gaussian on the CPU (dm_render_glow.c) */
+    float *glow_buf[2];  /* its two half-resolution RGBA images */
     GLuint display_tex, display_fbo;
     GLuint prog[DM_PASS_KIND_COUNT];
     GLuint prog_glow_blur; /* shared by both glow blur passes */
@@ -153,6 +158,12 @@ struct dm_renderer {
     float *cpu_step[DM_PROFILE_MAX_GAUSSIANS][2];  /* level k's stretch per texel: U, V pass */
     float *cpu_level, *cpu_tmp;                    /* texel (0, 0) of level cpu_held, of U's result */
     int cpu_held, cpu_tmp_level;                   /* −1: none */
+    float *cpu_sum;    /* the diffusion pass's sum, level by level (full-resolution levels) */
+    int cpu_sum_level; /* the last level added to it; −1: none this frame */
+    bool cpu_syncing;  /* dmr_blur_cpu_sync is running the chain */
+    bool cpu_summing;  /* this frame's chain feeds the sum, and no pass reads the levels in GL:
+                        * their uploads wait until something does (dmr_blur_cpu_sync) */
+    unsigned levels_stale; /* bit k: level k's texture lags the CPU's chain (upload skipped) */
 
     bool timing_cpu;
     GLuint queries[DM_PLAN_MAX_PASSES];
@@ -279,6 +290,9 @@ void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
 dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 void dmr_blur_cpu_free(dm_renderer *r);
 void dmr_blur_cpu_pass(dm_renderer *r, const dm_pass *ps);
+bool dmr_blur_cpu_diffusion(dm_renderer *r);
+void dmr_blur_cpu_sync(dm_renderer *r);
+void dmr_pass_diffusion(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 
 /* ---- dm_render_ssss.c ---- */
 dm_result dmr_ssss_setup(dm_renderer *r, const dm_render_assets *a, dm_error *err);
@@ -309,6 +323,7 @@ void dmr_shade_begin(dm_renderer *r, GLuint p, int mode);
 dm_result dmr_env_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 void dmr_pass_background(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 dm_result dmr_glow_targets(dm_renderer *r, dm_error *err);
+void dmr_glow_free(dm_renderer *r);
 void dmr_pass_glow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt);
 /* Adds the glow to the screen if the last frame's tonemap added it to the display only. */
 void dmr_glow_settle(dm_renderer *r);

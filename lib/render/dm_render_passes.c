@@ -16,6 +16,7 @@ static const dmr_pass_info table[DM_PASS_KIND_COUNT] = {
                             "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
     [DM_PASS_BLUR_U] = {"blur.glsl", "dm_render_tsd.c", dmr_pass_blur, true},
     [DM_PASS_BLUR_V] = {"blur.glsl", "dm_render_tsd.c", dmr_pass_blur, true},
+    [DM_PASS_DIFFUSION] = {"diffusion.glsl", "dm_render_tsd.c", dmr_pass_diffusion, true, "#define DM_DIFFUSION_PASS 1\n"},
     [DM_PASS_GBUFFER] = {"final.glsl", "dm_render_shade.c", dmr_pass_gbuffer, false, "#define DM_GBUFFER 1\n"},
     [DM_PASS_FINAL] = {"final.glsl", "dm_render_shade.c", dmr_pass_final, false,
                        "#define DM_DEFERRED 1\n#define DM_FULLSCREEN 1\n"},
@@ -51,6 +52,7 @@ bool dmr_pass_needed(const dm_renderer *r, dm_pass_kind k)
     case DM_PASS_IRRADIANCE:
     case DM_PASS_BLUR_U:
     case DM_PASS_BLUR_V: return p->texture_space;
+    case DM_PASS_DIFFUSION: return r->diffusion_sum;
     case DM_PASS_SS_SHADE:
     case DM_PASS_SS_BLUR_H:
     case DM_PASS_SS_BLUR_V: return p->screen_space;

@@ -161,6 +161,11 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             add(p, DM_PASS_BLUR_V, k, name, "subsurface: level %d from %d, variance %.4g mm^2 along v, %d taps", k,
                 k - 1, dv, s->blur_taps);
         }
+        if (view != DM_VIEW_IRRADIANCE && view != DM_VIEW_BLUR)
+            add(p, DM_PASS_DIFFUSION, 0, "diffusion",
+                "subsurface: the %d levels' weighted sum per texel, coverage-normalised, into one texture: "
+                "the final pass reads it once per pixel instead of %d levels",
+                p->blur_levels, p->blur_levels);
     }
     if (view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR) {
         add(p, DM_PASS_VIEW, view_index, "view", "debug view: %s level %d (coverage-normalised)",
@@ -208,7 +213,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             "subsurface [screen-space]: the same along y, x post-scatter albedo, + specular");
     } else if (shaded_view)
         add(p, deferred ? DM_PASS_FINAL : DM_PASS_FINAL_FORWARD, 0, "final", "always: %s diffuse%s%s%s%s%s%s%s",
-            sss   ? "6-level weighted sum x post-scatter albedo^(1-mix)"
+            sss   ? "the levels' weighted sum x post-scatter albedo^(1-mix)"
             : pre ? "pre-integrated (Penner): lights x table(N.L per channel, curvature) x shadow, x albedo "
                     "[subsurface, pre-integrated]"
                   : "Lambert (subsurface off) x albedo",
@@ -304,4 +309,12 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
     if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
         put(&b, "note: shadows on but no light casts: no shadow pass\n");
     return b.len;
+}
+
+void dm_render_plan_sum_per_pixel(dm_render_plan *plan)
+{
+    int i = dm_render_plan_find(plan, "diffusion");
+    if (i < 0) return;
+    memmove(&plan->passes[i], &plan->passes[i + 1], sizeof plan->passes[0] * (size_t)(plan->pass_count - i - 1));
+    --plan->pass_count;
 }

@@ -91,6 +91,7 @@ typedef enum dm_pass_kind {
     DM_PASS_GBUFFER,
     DM_PASS_TS_GBUFFER,
     DM_PASS_FINAL_FORWARD,
+    DM_PASS_DIFFUSION,
     DM_PASS_KIND_COUNT
 } dm_pass_kind;
 
@@ -144,6 +145,10 @@ size_t dm_render_plan_explain(const dm_render_plan *plan, char *out, size_t out_
 
 /* The index of the first pass with that name, or −1. */
 int dm_render_plan_find(const dm_render_plan *plan, const char *name);
+
+/* Takes the diffusion pass out of the plan (dm_render_desc.diffusion_per_pixel: the final
+ * pass and the diffusion view sum the levels per pixel instead). */
+void dm_render_plan_sum_per_pixel(dm_render_plan *plan);
 
 
 #ifdef __cplusplus

@@ -46,6 +46,8 @@ dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_erro
     assert(index >= 0 && index < r->target_count);
     const target *t = &r->targets[index];
     if (t->fbo == r->screen_fbo) dmr_glow_settle(r); /* the linear picture holds the glow */
+    for (int k = 1; k < DM_PROFILE_MAX_GAUSSIANS; ++k) /* a level whose upload waits */
+        if (t->fbo && t->fbo == r->irr_fbo[k] && (r->levels_stale >> k & 1u)) dmr_blur_cpu_sync(r);
     glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     if (t->channels == 1) {

@@ -2,8 +2,9 @@
  * ts_gbuffer pass unwraps the surface into the UV atlas once per scene, the irradiance pass
  * lights each covered texel of it every frame, then each Gaussian level k is made
  * from level k−1 by a U and a V blur of variance v_k − v_{k−1}, tap offsets in mm turned into
- * UV by the stretch chain. The final pass sums the levels (dm_diffusion, shaders/common.glsl).
- * Owns the stretch uploads, the level targets and the blur kernel. */
+ * UV by the stretch chain. The diffusion pass sums the levels once per texel (diffusion.glsl)
+ * for the final pass to read (dm_diffusion, shaders/common.glsl); with diffusion_per_pixel the
+ * final pass sums them itself. Owns the stretch uploads, the level targets and the blur kernel. */
 #include <assert.h>
 #include <math.h>
 #include <stdio.h>
@@ -139,6 +140,9 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
         rc = dmr_color_target(r, name, w, h, r->level_format, GL_CLAMP_TO_BORDER, &r->tmp_tex[k], &r->tmp_fbo[k],
                               err);
     }
+    if (rc == DM_OK && r->diffusion_sum)
+        rc = dmr_color_target(r, "diffusion", r->irr_edge, r->irr_edge, r->level_format, GL_CLAMP_TO_BORDER,
+                              &r->diff_tex, &r->diff_fbo, err);
     if (rc != DM_OK) return rc;
     /* the G-buffer's depth marks covered texels (0.5; 1 in gutters); the irradiance target
      * shares it, and keeps its once-cleared gutters (frames write covered texels only) */
@@ -256,11 +260,29 @@ void dmr_pass_blur(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     dmr_draw_fullscreen(r);
 }
 
-/* The levels and their weights for dm_diffusion (common.glsl), in the final pass and the
- * diffusion view alike; absent levels read black. */
+/* The levels' weighted sum at each texel of the irradiance grid (diffusion.glsl), times
+ * coverage: from the blur on the CPU, which summed the levels as it made them, or in GL. */
+void dmr_pass_diffusion(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    if (r->blur_cpu && dmr_blur_cpu_diffusion(r)) return;
+    dmr_blur_cpu_sync(r); /* the levels in GL (after a chain that waited to upload them) */
+    GLuint p = r->prog[DM_PASS_DIFFUSION];
+    dmr_target_begin(r->diff_fbo, r->irr_edge, r->irr_edge);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(p);
+    dmr_bind_levels(r, p);
+    u2f(p, "u_size", (float)r->irr_edge, (float)r->irr_edge);
+    dmr_draw_fullscreen(r);
+}
+
+/* The levels and their weights for dm_level_sum, and the diffusion pass's sum for
+ * dm_diffusion (common.glsl): in the final pass, the diffusion pass and view alike; absent
+ * levels read black. */
 void dmr_bind_levels(const dm_renderer *r, GLuint p)
 {
     int levels = r->plan.texture_space ? r->profile.count : 0;
     if (levels) glUniform3fv(loc(p, "u_level_weight"), levels, &r->level_weight[0][0]);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) dmr_bind(UNIT_LEVEL0 + k, GL_TEXTURE_2D, k < levels ? r->irr_tex[k] : r->tex_black);
+    dmr_bind(UNIT_DIFFUSION, GL_TEXTURE_2D, r->diff_tex && levels ? r->diff_tex : r->tex_black);
 }

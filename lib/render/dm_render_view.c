@@ -108,6 +108,8 @@ void dmr_pass_view(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     GLuint p = r->prog[DM_PASS_VIEW];
     const dm_render_plan *pl = &r->plan;
     int w = 1, h = 1, shift = 0;
+    if (pl->view == DM_VIEW_BLUR && (r->levels_stale >> pl->view_index & 1u))
+        dmr_blur_cpu_sync(r); /* a frame reusing texture space made by a chain that did not upload */
     GLuint src = view_source(r, &w, &h, &shift);
     target *vt = &r->targets[r->view_target];
     if (vt->width != w || vt->height != h) {

@@ -51,7 +51,9 @@ static void compare_paths(dm_render_desc d)
         f.r = r[path];
         frame(&f, DM_VIEW_FINAL, 0);
     }
-    const char *names[] = {"blur1", "blur2", "blur3", "blur4", "blur5", "screen"};
+    /* the diffusion pass's sum (in GL from the levels, on the CPU as they were made) and the
+     * glow's blurred bright pass (the tonemap adds it) */
+    const char *names[] = {"blur1", "blur2", "blur3", "blur4", "blur5", "diffusion", "glow_a", "screen"};
     int compared = 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         dm_target_info info;
@@ -68,7 +70,7 @@ static void compare_paths(dm_render_desc d)
         free(px[0]), free(px[1]);
         ++compared;
     }
-    cr_expect_geq(compared, 4);
+    cr_expect_eq(compared, (int)(sizeof names / sizeof names[0]));
     dm_renderer_destroy(r[0]);
     f.r = r[1];
     close_fixture(&f);
@@ -130,20 +132,58 @@ Test(render_blur_cpu, a_view_that_stops_early_leaves_the_next_frame_exact)
     cr_assert(dm_renderer_blur_on_cpu(f.r));
     frame(&f, DM_VIEW_FINAL, 0);
     dm_target_info info;
-    const char *levels[] = {"blur1", "blur2", "blur3"};
-    float *want[3], *moved;
-    for (int k = 0; k < 3; ++k) want[k] = read_target(&f, levels[k], &info);
+    /* the frame's own sum first: reading a level runs the chain again to upload it */
+    const char *levels[] = {"diffusion", "blur1", "blur2", "blur3"};
+    float *want[4], *moved;
+    for (int k = 0; k < 4; ++k) want[k] = read_target(&f, levels[k], &info);
     size_t bytes = sizeof(float) * 4 * (size_t)info.width * info.height;
     dm_frame_options o = {.view = DM_VIEW_BLUR, .view_index = 2, .light_rotation_deg = 120.0f};
     cr_assert_eq(dm_render_frame(f.r, &o, &err), DM_OK, "%s", err.detail);
     moved = read_target(&f, "blur2", &info);
-    cr_expect_neq(memcmp(want[1], moved, bytes), 0, "the view's light did not move its levels");
+    cr_expect_neq(memcmp(want[2], moved, bytes), 0, "the view's light did not move its levels");
     frame(&f, DM_VIEW_FINAL, 0);
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
         float *got = read_target(&f, levels[k], &info);
         cr_expect_eq(memcmp(want[k], got, bytes), 0, "%s differs after the view", levels[k]);
         free(got), free(want[k]);
     }
     free(moved);
+    close_fixture(&f);
+}
+
+/* final frames leave levels 1.. on the CPU (the diffusion pass's sum is all they need in GL);
+ * a blur view that reuses texture space then shows the level uploaded on demand: the same bytes
+ * as a renderer that made the view itself */
+Test(render_blur_cpu, a_reused_blur_view_shows_the_level_a_final_frame_left_on_the_cpu)
+{
+    fixture f;
+    dm_error err = {0};
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE});
+    float *view[2];
+    int w = 0, h = 0;
+    for (int reuse = 0; reuse < 2; ++reuse) {
+        open_renderer_desc(&f, (dm_render_desc){.width = 64, .height = 48, .irradiance_size = 64,
+                                                .shadow_size = 256, .reuse_texture_space = reuse,
+                                                .timings = true});
+        cr_assert(dm_renderer_blur_on_cpu(f.r));
+        if (reuse) frame(&f, DM_VIEW_FINAL, 0);
+        frame(&f, DM_VIEW_BLUR, 3);
+        double ms[DM_PLAN_MAX_PASSES], frame_ms;
+        dm_renderer_last_timings(f.r, ms, &frame_ms);
+        int irr = dm_render_plan_find(dm_renderer_plan(f.r), "irradiance");
+        cr_assert_geq(irr, 0);
+        cr_expect_eq(ms[irr] == 0.0, reuse == 1, "the irradiance pass %s", reuse ? "ran again" : "did not run");
+        dm_renderer_view_size(f.r, &w, &h);
+        view[reuse] = malloc(sizeof(float) * 4 * (size_t)w * h);
+        cr_assert_eq(dm_renderer_read_view(f.r, view[reuse], &err), DM_OK, "%s", err.detail);
+        dm_renderer_destroy(f.r);
+        f.r = NULL;
+    }
+    double range = 0;
+    for (int i = 0; i < 4 * w * h; ++i) range = fmax(range, fabs(view[0][i]));
+    cr_expect_gt(range, 0.0);
+    cr_expect_eq(memcmp(view[0], view[1], sizeof(float) * 4 * (size_t)w * h), 0,
+                 "the reused blur view differs from one made by its own chain");
+    free(view[0]), free(view[1]);
     close_fixture(&f);
 }

@@ -49,7 +49,7 @@ Test(render_plan, all_effects_full_chain)
     char list[1024];
     plan_of(&s, list, sizeof list);
     cr_expect_str_eq(list, "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                           "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap");
+                           "blur_u5 blur_v5 diffusion gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap");
 }
 
 /* Turning off each effect removes exactly its passes (and nothing else; turning the tonemap off
@@ -59,23 +59,23 @@ Test(render_plan, each_effect_off_removes_its_passes)
     static const char *expect[DM_EFFECT_COUNT] = {
         /* texture-space without specular shades while rasterising: no G-buffer */
         [DM_EFFECT_SPECULAR] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                               "blur_u5 blur_v5 final background glow_bright glow_blur_u glow_blur_v tonemap",
+                               "blur_u5 blur_v5 diffusion final background glow_bright glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_SUBSURFACE] = "shadow0 gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_ENERGY_CONSERVATION] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
-                                          "blur_u4 blur_v4 blur_u5 blur_v5 gbuffer final background glow_bright "
+                                          "blur_u4 blur_v4 blur_u5 blur_v5 diffusion gbuffer final background glow_bright "
                                           "glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_SHADOWS] = "ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 blur_u5 "
-                              "blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap",
+                              "blur_v5 diffusion gbuffer final background glow_bright glow_blur_u glow_blur_v tonemap",
         [DM_EFFECT_ENVIRONMENT_LIGHTING] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 "
-                                           "blur_u4 blur_v4 blur_u5 blur_v5 gbuffer final glow_bright glow_blur_u "
+                                           "blur_u4 blur_v4 blur_u5 blur_v5 diffusion gbuffer final glow_bright glow_blur_u "
                                            "glow_blur_v tonemap",
         [DM_EFFECT_GLOW] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                           "blur_u5 blur_v5 gbuffer final background tonemap",
+                           "blur_u5 blur_v5 diffusion gbuffer final background tonemap",
         [DM_EFFECT_TONEMAP] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 blur_v4 "
-                              "blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add",
+                              "blur_u5 blur_v5 diffusion gbuffer final background glow_bright glow_blur_u glow_blur_v glow_add",
         /* translucency adds no pass (it changes the irradiance shader): off changes nothing */
         [DM_EFFECT_TRANSLUCENCY] = "shadow0 ts_gbuffer irradiance blur_u1 blur_v1 blur_u2 blur_v2 blur_u3 blur_v3 blur_u4 "
-                                   "blur_v4 blur_u5 blur_v5 gbuffer final background glow_bright glow_blur_u glow_blur_v "
+                                   "blur_v4 blur_u5 blur_v5 diffusion gbuffer final background glow_bright glow_blur_u glow_blur_v "
                                    "tonemap",
     };
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {

@@ -33,11 +33,13 @@ static void open_synth(fixture *f)
     cr_assert_eq(dm_synth_create(&so, &f->synth, &err), DM_OK, "%s", err.detail);
 }
 
+/* blur_reduce_from < 0: full-resolution levels summed per pixel (diffusion_per_pixel) */
 static void open_renderer(fixture *f, int blur_reduce_from)
 {
     dm_error err = {0};
     dm_render_desc d = {.width = 96, .height = 64, .irradiance_size = N, .shadow_size = 256,
-                        .blur_reduce_from = blur_reduce_from};
+                        .blur_reduce_from = blur_reduce_from > 0 ? blur_reduce_from : 0,
+                        .diffusion_per_pixel = blur_reduce_from < 0};
     cr_assert_eq(dm_renderer_create(&f->synth->assets, &d, &f->r, &err), DM_OK, "%s", err.detail);
 }
 
@@ -131,8 +133,9 @@ Test(views, irradiance_view_is_the_target_bit_for_bit)
 
 /* diffusion = sum_k w_k L_k with L_k = rgb_k / a_k (a_k > 1e-4) and w normalised per
  * channel over the levels, computed here on the CPU from the read-back targets and the
- * profile. Tolerance: the GPU's division and multiply-add round differently from the CPU
- * (a few ulp per level, 6 levels): 2e-6 relative. */
+ * profile, on the charts (coverage 1); off them (coverage 0) the diffusion pass's sum is
+ * zero, the view black (summed per pixel, the levels' spill shows there). Tolerance: the GPU's division and multiply-add round differently
+ * from the CPU (a few ulp per level, 6 levels): 2e-6 relative. */
 static void check_diffusion(int blur_reduce_from)
 {
     fixture f;
@@ -157,6 +160,11 @@ static void check_diffusion(int blur_reduce_from)
         for (int i = 0; i < N; ++i) {
             const float *t0 = lv[0] + ((size_t)j * N + i) * 4;
             cr_assert(v[((size_t)j * N + i) * 4 + 3] == t0[3], "alpha is the chart coverage");
+            if (t0[3] == 0.0f && blur_reduce_from >= 0) {
+                for (int c = 0; c < 3; ++c)
+                    cr_assert(v[((size_t)j * N + i) * 4 + c] == 0.0f, "texel %d, %d off the charts is not black", i, j);
+                continue;
+            }
             for (int c = 0; c < 3; ++c) {
                 double sum = 0;
                 for (int k = 0; k < p->count; ++k) {
@@ -197,6 +205,52 @@ static void check_diffusion(int blur_reduce_from)
 
 Test(views, diffusion_view_is_the_weighted_sum_of_the_levels) { check_diffusion(0); }
 Test(views, diffusion_view_upsamples_reduced_levels_like_final) { check_diffusion(3); }
+Test(views, diffusion_view_summed_per_pixel_is_the_same_sum) { check_diffusion(-1); }
+
+/* diffusion_per_pixel takes the diffusion pass out of the plan and its target away. The final
+ * pictures differ where the levels' coverage varies under a pixel's bilinear footprint: along
+ * the sphere's seam (u = 0 | 1), within the widest Gaussian's reach of it, where
+ * bilerp(rgb) / bilerp(a) and bilerp(rgb / a) part in second order, ~1e-3 relative. Elsewhere
+ * the same sum to float rounding (1e-5). A wrong weight or a missing level would show by
+ * 1e-2 or more on every pixel. */
+Test(views, diffusion_per_pixel_drops_the_pass_and_differs_only_along_chart_edges)
+{
+    float *px[2];
+    for (int i = 0; i < 2; ++i) { /* one context at a time */
+        fixture f;
+        open_fixture(&f, i ? -1 : 0);
+        int w, h;
+        px[i] = frame_view(&f, DM_VIEW_FINAL, 0, &w, &h);
+        cr_expect_eq(dm_render_plan_find(dm_renderer_plan(f.r), "diffusion") >= 0, i == 0);
+        cr_expect_eq(dm_renderer_find_target(f.r, "diffusion") >= 0, i == 0);
+        close_fixture(&f);
+    }
+    double worst = 0;
+    long head = 0, differ = 0, band_lo = 96, band_hi = -1;
+    for (size_t i = 0; i < 96 * 64; ++i) {
+        cr_assert(px[0][4 * i + 3] == px[1][4 * i + 3], "coverage differs at %zu", i);
+        if (px[0][4 * i + 3] < 1.0f) continue;
+        ++head;
+        double rel = 0;
+        for (int c = 0; c < 3; ++c) {
+            double a = px[0][4 * i + c], b = px[1][4 * i + c];
+            cr_assert(isfinite(a) && isfinite(b));
+            rel = fmax(rel, fabs(a - b) / fmax(fabs(b), 1e-3));
+        }
+        worst = fmax(worst, rel);
+        if (rel > 1e-5) {
+            ++differ;
+            band_lo = (long)(i % 96) < band_lo ? (long)(i % 96) : band_lo;
+            band_hi = (long)(i % 96) > band_hi ? (long)(i % 96) : band_hi;
+        }
+    }
+    cr_assert_gt(head, 1000);
+    cr_expect_leq(worst, 1e-2, "largest relative difference %g", worst);
+    cr_expect_gt(differ, 0, "the seam shows no difference at all: is the per-pixel sum running?");
+    cr_expect_leq(differ, head / 4, "%ld of %ld head pixels differ by more than 1e-5", differ, head);
+    cr_expect_leq(band_hi - band_lo, 12, "the differing pixels span columns %ld..%ld, not one band", band_lo, band_hi);
+    free(px[0]), free(px[1]);
+}
 
 /* The final linear image carries coverage: alpha 1 on the head, 0 on the background. */
 Test(views, final_linear_alpha_is_coverage)
