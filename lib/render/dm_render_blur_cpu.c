@@ -4,8 +4,8 @@
  * texels (docs/render-quality.md). The plan keeps its blur_u k, blur_v k passes (timings,
  * --explain); each runs here instead of blur.glsl: U reads level k−1 (level 0 read back from
  * the irradiance target; later levels kept from the V pass before), V uploads level k into its
- * texture, where the views read it as ever. With full-resolution levels each is also added
- * to the diffusion pass's sum as it is made (core/dm_level_sum.h), and the diffusion pass
+ * texture, where the views read it as ever. Each level is also added to the diffusion pass's
+ * sum as it is made (core/dm_level_sum.h), and the diffusion pass
  * uploads that sum instead of reading the levels in GL; then nothing in the frame reads levels
  * 1.. in GL, and their uploads (1–2 ms each) wait until something does: a blur view, a
  * read-back of their targets (dmr_blur_cpu_sync runs the chain again from the irradiance
@@ -50,10 +50,9 @@ static bool allocate(dm_renderer *r, const dm_render_assets *a)
     free(st);
     for (int k = 1; k < r->plan.blur_levels; ++k)
         if (!r->cpu_step[k][0] || !r->cpu_step[k][1]) return false;
-    /* the diffusion pass's sum, when every level has the irradiance grid's size */
-    bool full = r->diffusion_sum;
-    for (int k = 1; k < r->plan.blur_levels; ++k) full = full && r->level_edge[k] == r->irr_edge;
-    if (full && !(r->cpu_sum = malloc(sizeof(float) * 4 * (size_t)r->irr_edge * (size_t)r->irr_edge))) return false;
+    /* the diffusion pass's sum */
+    if (r->diffusion_sum && !(r->cpu_sum = malloc(sizeof(float) * 4 * (size_t)r->irr_edge * (size_t)r->irr_edge)))
+        return false;
     return true;
 }
 
@@ -61,8 +60,8 @@ static bool allocate(dm_renderer *r, const dm_render_assets *a)
 static void add_to_sum(dm_renderer *r, int k)
 {
     if (!r->cpu_sum || r->cpu_sum_level != k - 1) return;
-    int n = r->irr_edge;
-    dm_level_sum_add(&(dm_level_sum_pass){r->cpu_sum, r->cpu_level, dm_level_blur_stride(n), n,
+    int m = r->level_edge[k]; /* reduced levels: sampled bilinearly at the grid's texel centres */
+    dm_level_sum_add(&(dm_level_sum_pass){r->cpu_sum, r->cpu_level, dm_level_blur_stride(m), r->irr_edge, m,
                                           {r->level_weight[k][0], r->level_weight[k][1], r->level_weight[k][2]},
                                           k == 0, k == r->plan.blur_levels - 1, 0});
     r->cpu_sum_level = k;
