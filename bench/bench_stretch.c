@@ -44,12 +44,6 @@ typedef struct result {
     int zero_uv, zero_area, mirrored;
 } result;
 
-static double median(double *v, int n)
-{
-    dm_sort_doubles(v, (size_t)n);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 static double rss_mb(void)
 {
     struct rusage ru;
@@ -125,9 +119,9 @@ static void run_case(const bench_case *c, result *r)
         }
         dm_stretch_map_free(&map);
     }
-    r->bake_ms = median(bake, c->repeats);
-    r->raster_ms = median(raster, c->repeats), r->stats_ms = median(stats, c->repeats);
-    r->fill_ms = median(fill, c->repeats), r->blur_ms = median(blur, c->repeats);
+    r->bake_ms = dm_median_doubles(bake, (size_t)(c->repeats));
+    r->raster_ms = dm_median_doubles(raster, (size_t)(c->repeats)), r->stats_ms = dm_median_doubles(stats, (size_t)(c->repeats));
+    r->fill_ms = dm_median_doubles(fill, (size_t)(c->repeats)), r->blur_ms = dm_median_doubles(blur, (size_t)(c->repeats));
     r->peak_rss_mb = rss_mb();
     r->output_mb = (double)c->size * c->size * (2.0 * c->levels + 1.0) * 4.0 / (1024.0 * 1024.0);
     r->ok = 1;

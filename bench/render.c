@@ -23,6 +23,7 @@
 
 #include "common/bench_util.h"
 #include "core/dm_cli.h"
+#include "core/dm_sort.h"
 #include "core/dm_pack.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
@@ -74,18 +75,6 @@ static void source_close(bench_source *s)
 {
     if (s->pack_open) dm_pack_close(&s->pack);
     dm_synth_free(s->synth);
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 enum { W = 1280, H = 720, MAX_FRAMES = 256 };
@@ -154,12 +143,12 @@ static void one_frame(run_state *st, int f)
 static void medians(run_state *st, int frames)
 {
     st->plan = *dm_renderer_plan(st->r);
-    st->cpu_ms = median(st->cpu, frames);
+    st->cpu_ms = dm_median_doubles(st->cpu, (size_t)(frames));
     double col[MAX_FRAMES];
     for (int i = 0; i <= st->plan.pass_count; ++i) {
         int slot = i < st->plan.pass_count ? i : DM_PLAN_MAX_PASSES;
         for (int f = 0; f < frames; ++f) col[f] = st->ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
-        double m = median(col, frames);
+        double m = dm_median_doubles(col, (size_t)(frames));
         if (i < st->plan.pass_count) st->pass_ms[i] = m;
         else st->frame_ms = m;
     }

@@ -23,6 +23,7 @@
 #include "core/dm_ssss_kernel.h"
 #include "host/dm_osmesa.h"
 #include "core/dm_cli.h"
+#include "core/dm_sort.h"
 #include "render/dm_render.h"
 #include "render/dm_render_pack.h"
 #include "render/dm_render_refcmp.h"
@@ -51,17 +52,6 @@ static row rows[] = {
     {.name = "screen-space 17 + translucency", .technique = DM_SSS_SCREEN_SPACE, .screen_taps = 17, .translucency = true},
 };
 enum { NROWS = sizeof rows / sizeof rows[0] };
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 static dm_renderer *make(dm_render_assets *a, row *rw, int w, int h, bool timings)
 {
@@ -138,9 +128,9 @@ int main(int argc, char **argv)
             }
         }
     for (int i = 0; i < NROWS; ++i) {
-        rows[i].frame_ms = median(rows[i].frame, frames);
-        rows[i].cpu_ms = median(rows[i].cpu, frames);
-        rows[i].sss_ms = median(rows[i].sss, frames);
+        rows[i].frame_ms = dm_median_doubles(rows[i].frame, (size_t)(frames));
+        rows[i].cpu_ms = dm_median_doubles(rows[i].cpu, (size_t)(frames));
+        rows[i].sss_ms = dm_median_doubles(rows[i].sss, (size_t)(frames));
         dm_renderer_destroy(rows[i].r);
         rows[i].r = NULL;
     }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/dm_cli.h"
+#include "core/dm_sort.h"
 #include "core/dm_hash.h"
 #include "core/dm_pack.h"
 #include "core/dm_prov.h"
@@ -258,18 +259,6 @@ static int parse(int argc, char **argv, options *o)
         return 0;
     }
     return 1;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 static void provenance(const options *o, const dm_scene *s, const char *input_hash, const dm_renderer *r,
@@ -537,7 +526,8 @@ int main(int argc, char **argv)
         }
         double *col = malloc((size_t)o.frames * sizeof *col);
         for (int f = 0; col && f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES];
-        double mine = col ? median(col, o.frames) : 0.0, ref = median(exact_ms, o.frames);
+        double mine = col ? dm_median_doubles(col, (size_t)o.frames) : 0.0;
+        double ref = dm_median_doubles(exact_ms, (size_t)o.frames);
         free(col);
         printf("compare-exact: this setting %.1f ms, exact path %.1f ms per frame (median of %d warm frames, after "
                "one warm-up frame each)\n",
@@ -559,7 +549,8 @@ int main(int argc, char **argv)
         for (int i = 0; col && i <= plan->pass_count; ++i) {
             int slot = i < plan->pass_count ? i : DM_PLAN_MAX_PASSES;
             for (int f = 0; f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
-            printf("%-14s %10.2f\n", i < plan->pass_count ? plan->passes[i].name : "frame", median(col, o.frames));
+            printf("%-14s %10.2f\n", i < plan->pass_count ? plan->passes[i].name : "frame",
+                   dm_median_doubles(col, (size_t)o.frames));
         }
         free(col);
     }

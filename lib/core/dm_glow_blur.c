@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/dm_parallel.h"
+#include "core/dm_v4.h"
 
 void dm_glow_kernel(float weight[3], float offset[2])
 {
@@ -37,21 +38,6 @@ typedef struct job {
     const tap_at *at; /* [4][n]: taps +o1, −o1, +o2, −o2 at each texel along the axis */
 } job;
 
-/* A texel's four floats as one vector (GCC and Clang vector extension): the same IEEE
- * operations per float, four at a time. */
-typedef float v4 __attribute__((vector_size(16)));
-
-static inline v4 load(const float *p)
-{
-    v4 v;
-    memcpy(&v, p, sizeof v);
-    return v;
-}
-
-static inline v4 lerp(v4 a, v4 b, float f)
-{
-    return a + f * (b - a);
-}
 
 /* Destination rows [begin, end). Along y a tap blends two rows (the same two for the whole
  * row), along x two texels of the row. Alpha is computed with the rest, then written 1. */
@@ -70,17 +56,17 @@ static void rows(void *ctx, size_t begin, size_t end)
             a[k] = j->src + 4 * w * (size_t)t.i0, b[k] = j->src + 4 * w * (size_t)t.i1, f[k] = t.f;
         }
         for (size_t x = 0; x < w; ++x) {
-            v4 v[4];
+            dm_v4 v[4];
             for (int k = 0; k < 4; ++k) {
                 if (j->along_y) {
-                    v[k] = lerp(load(a[k] + 4 * x), load(b[k] + 4 * x), f[k]);
+                    v[k] = dm_v4_lerp(dm_v4_load(a[k] + 4 * x), dm_v4_load(b[k] + 4 * x), f[k]);
                 } else {
                     tap_at t = j->at[k * n + x];
-                    v[k] = lerp(load(row + 4 * (size_t)t.i0), load(row + 4 * (size_t)t.i1), t.f);
+                    v[k] = dm_v4_lerp(dm_v4_load(row + 4 * (size_t)t.i0), dm_v4_load(row + 4 * (size_t)t.i1), t.f);
                 }
             }
-            v4 s = w0 * load(row + 4 * x) + w1 * (v[0] + v[1]) + w2 * (v[2] + v[3]);
-            memcpy(q + 4 * x, &s, sizeof s);
+            dm_v4 s = w0 * dm_v4_load(row + 4 * x) + w1 * (v[0] + v[1]) + w2 * (v[2] + v[3]);
+            dm_v4_store(q + 4 * x, s);
             q[4 * x + 3] = 1.0f;
         }
     }

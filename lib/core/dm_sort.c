@@ -24,3 +24,10 @@ void dm_sort_doubles(double *v, size_t n)
 {
     if (n > 1) qsort(v, n, sizeof *v, cmp_double);
 }
+
+double dm_median_doubles(double *v, size_t n)
+{
+    if (n == 0) return 0.0;
+    dm_sort_doubles(v, n);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}

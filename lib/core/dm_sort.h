@@ -12,6 +12,9 @@ extern "C" {
 
 void dm_sort_floats(float *v, size_t n);
 void dm_sort_doubles(double *v, size_t n);
+/* The median of v (sorted in place): the middle value, or the mean of the two middle ones;
+ * 0 when n is 0. */
+double dm_median_doubles(double *v, size_t n);
 
 #ifdef __cplusplus
 }

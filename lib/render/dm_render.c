@@ -175,8 +175,11 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
         rc = dm_fail(err, DM_ERR_RANGE, "renderer: irradiance size %d >> blur_reduce_shift %d is below 8 texels",
                      r->irr_edge, shift);
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
-    if (rc == DM_OK && desc->diffusion_per_pixel) dm_render_plan_sum_per_pixel(&r->plan);
-    r->diffusion_sum = r->plan.texture_space && !desc->diffusion_per_pixel;
+    /* the levels' sum per texel: exact at the texel centres only where every level has them
+     * (reduced levels would be interpolated twice: to the centres, then to the pixel) */
+    r->diffusion_sum = r->plan.texture_space && !desc->diffusion_per_pixel && desc->blur_reduce_from == 0 &&
+                       !desc->blur_auto_resolution;
+    if (rc == DM_OK && !r->diffusion_sum) dm_render_plan_sum_per_pixel(&r->plan);
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
     for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i)
         r->ts_pass_count += dmr_pass_get(r->plan.passes[i].kind)->texture_space;
@@ -278,7 +281,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
     dm_render_plan plan;
     dm_result rc = dm_render_plan_build(&r->scene, opt->view, opt->view_index, &plan, err);
     if (rc != DM_OK) return rc;
-    if (r->desc.diffusion_per_pixel) dm_render_plan_sum_per_pixel(&plan);
+    if (!r->diffusion_sum) dm_render_plan_sum_per_pixel(&plan);
     r->plan = plan;
     float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
     if (plan.texture_space && blur_scale != r->blur_scale) dmr_prepare_blur(r, blur_scale);

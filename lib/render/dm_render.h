@@ -180,7 +180,10 @@ typedef struct dm_render_desc {
                                * default: the diffusion pass sums them once per texel and the
                                * final pass reads that sum (one fetch). The two differ in the
                                * texel ring at chart edges, where bilinear sampling mixes
-                               * covered and uncovered texels (bench/results/accuracy.md) */
+                               * covered and uncovered texels (bench/results/accuracy.md).
+                               * Reduced levels (blur_reduce_from, blur_auto_resolution) are
+                               * always summed per pixel: a per-texel sum would interpolate
+                               * them twice */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (the scene: dm_renderer_set_scene; the light
                                * rotation; blur and roughness scales) changed since the last

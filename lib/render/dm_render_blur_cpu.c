@@ -60,8 +60,8 @@ static bool allocate(dm_renderer *r, const dm_render_assets *a)
 static void add_to_sum(dm_renderer *r, int k)
 {
     if (!r->cpu_sum || r->cpu_sum_level != k - 1) return;
-    int m = r->level_edge[k]; /* reduced levels: sampled bilinearly at the grid's texel centres */
-    dm_level_sum_add(&(dm_level_sum_pass){r->cpu_sum, r->cpu_level, dm_level_blur_stride(m), r->irr_edge, m,
+    int n = r->irr_edge; /* every level at this size (diffusion_sum) */
+    dm_level_sum_add(&(dm_level_sum_pass){r->cpu_sum, r->cpu_level, dm_level_blur_stride(n), n,
                                           {r->level_weight[k][0], r->level_weight[k][1], r->level_weight[k][2]},
                                           k == 0, k == r->plan.blur_levels - 1, 0});
     r->cpu_sum_level = k;

@@ -140,9 +140,10 @@ dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err)
         rc = dmr_color_target(r, name, w, h, r->level_format, GL_CLAMP_TO_BORDER, &r->tmp_tex[k], &r->tmp_fbo[k],
                               err);
     }
+    /* the sum in float32 even over half-float levels: the sum per pixel was float too */
     if (rc == DM_OK && r->diffusion_sum)
-        rc = dmr_color_target(r, "diffusion", r->irr_edge, r->irr_edge, r->level_format, GL_CLAMP_TO_BORDER,
-                              &r->diff_tex, &r->diff_fbo, err);
+        rc = dmr_color_target(r, "diffusion", r->irr_edge, r->irr_edge, GL_RGBA32F, GL_CLAMP_TO_BORDER, &r->diff_tex,
+                              &r->diff_fbo, err);
     if (rc != DM_OK) return rc;
     /* the G-buffer's depth marks covered texels (0.5; 1 in gutters); the irradiance target
      * shares it, and keeps its once-cleared gutters (frames write covered texels only) */
