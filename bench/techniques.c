@@ -123,7 +123,7 @@ int main(int argc, char **argv)
             for (int k = 0; k < p->pass_count; ++k) {
                 dm_pass_kind kind = p->passes[k].kind;
                 if (kind == DM_PASS_IRRADIANCE || kind == DM_PASS_BLUR_U || kind == DM_PASS_BLUR_V ||
-                    kind == DM_PASS_SS_BLUR_H || kind == DM_PASS_SS_BLUR_V)
+                    kind == DM_PASS_DIFFUSION || kind == DM_PASS_SS_BLUR_H || kind == DM_PASS_SS_BLUR_V)
                     rw->sss[f] += pass[k];
             }
         }
@@ -170,7 +170,7 @@ int main(int argc, char **argv)
                 "(compare rows of this table, not across runs).\n",
             machine, load);
     fprintf(md, "The head (assets/scenes/lps.json, every effect), %dx%d, irradiance %d; median of %d frames, round "
-                "robin, after one warm-up each. Subsurface ms: texture-space irradiance + 10 blur passes, or the two "
+                "robin, after one warm-up each. Subsurface ms: texture-space irradiance + 10 blur passes + the diffusion pass, or the two "
                 "screen-space blur passes (the screen-space shading pass replaces the final pass and is not in it). "
                 "Fit error: the separable kernel's relative Frobenius error against the profile (dermis-pack "
                 "reports it).\n\n",
