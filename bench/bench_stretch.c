@@ -119,9 +119,10 @@ static void run_case(const bench_case *c, result *r)
         }
         dm_stretch_map_free(&map);
     }
-    r->bake_ms = dm_median_doubles(bake, (size_t)(c->repeats));
-    r->raster_ms = dm_median_doubles(raster, (size_t)(c->repeats)), r->stats_ms = dm_median_doubles(stats, (size_t)(c->repeats));
-    r->fill_ms = dm_median_doubles(fill, (size_t)(c->repeats)), r->blur_ms = dm_median_doubles(blur, (size_t)(c->repeats));
+    size_t n = (size_t)c->repeats;
+    r->bake_ms = dm_median_doubles(bake, n);
+    r->raster_ms = dm_median_doubles(raster, n), r->stats_ms = dm_median_doubles(stats, n);
+    r->fill_ms = dm_median_doubles(fill, n), r->blur_ms = dm_median_doubles(blur, n);
     r->peak_rss_mb = rss_mb();
     r->output_mb = (double)c->size * c->size * (2.0 * c->levels + 1.0) * 4.0 / (1024.0 * 1024.0);
     r->ok = 1;

@@ -6,10 +6,10 @@
 #include <string.h>
 
 #include "core/dm_cli.h"
-#include "core/dm_sort.h"
 #include "core/dm_hash.h"
 #include "core/dm_pack.h"
 #include "core/dm_prov.h"
+#include "core/dm_sort.h"
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
@@ -449,10 +449,12 @@ int main(int argc, char **argv)
         goto done;
     }
     if (o.verbose) fprintf(stderr, "renderer: %s\n", dm_renderer_gl_name(r));
-    /* --compare-exact: the reference renderer, the exact path at the same sizes */
+    /* --compare-exact: the reference renderer, the exact path at the same sizes (9 PCF taps,
+     * the levels summed per pixel: bench/render.c's `exact` row) */
     if (o.compare_exact) {
         dm_render_desc ed = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
-                             .irradiance_size = o.irradiance, .timings = true, .shadow_pcf_taps = 9};
+                             .irradiance_size = o.irradiance, .timings = true, .shadow_pcf_taps = 9,
+                             .diffusion_per_pixel = true};
         exact_ms = calloc((size_t)o.frames, sizeof *exact_ms);
         if (!exact_ms || dm_renderer_create(src.assets, &ed, &exact, &err) != DM_OK) {
             fprintf(stderr, "error: the exact path: %s\n", exact_ms ? err.detail : "out of memory");

@@ -30,21 +30,31 @@ void dmr_glow_free(dm_renderer *r)
     for (int i = 0; i < 2; ++i) free(r->glow_buf[i]), r->glow_buf[i] = NULL;
 }
 
-/* The Gaussian's passes on the CPU: along x from the bright pass's target, along y back into it. */
-static void blur_on_cpu(dm_renderer *r, bool along_y, int gw, int gh)
+static void upload(GLuint tex, int gw, int gh, const float *px)
+{
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, gw, gh, GL_RGBA, GL_FLOAT, px);
+}
+
+/* The Gaussian's passes on the CPU: along x from the bright pass's target, along y back into
+ * it. False when the CPU pass cannot run (no memory for its tap table): the glow goes on in
+ * GL from here, its input where the shader reads it. */
+static bool blur_on_cpu(dm_renderer *r, bool along_y, int gw, int gh)
 {
     if (!along_y) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, r->glow_fbo[0]);
         glReadBuffer(GL_COLOR_ATTACHMENT0);
         glPixelStorei(GL_PACK_ALIGNMENT, 4);
         glReadPixels(0, 0, gw, gh, GL_RGBA, GL_FLOAT, r->glow_buf[0]);
-        dm_glow_blur(r->glow_buf[0], r->glow_buf[1], gw, gh, false, 0);
-        return;
+        return dm_glow_blur(r->glow_buf[0], r->glow_buf[1], gw, gh, false, 0);
     }
-    dm_glow_blur(r->glow_buf[1], r->glow_buf[0], gw, gh, true, 0);
-    glBindTexture(GL_TEXTURE_2D, r->glow_tex[0]);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, gw, gh, GL_RGBA, GL_FLOAT, r->glow_buf[0]);
+    if (!dm_glow_blur(r->glow_buf[1], r->glow_buf[0], gw, gh, true, 0)) {
+        upload(r->glow_tex[1], gw, gh, r->glow_buf[1]); /* the x pass's result, for the shader */
+        return false;
+    }
+    upload(r->glow_tex[0], gw, gh, r->glow_buf[0]);
+    return true;
 }
 
 void dmr_pass_glow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *opt)
@@ -53,8 +63,8 @@ void dmr_pass_glow(dm_renderer *r, const dm_pass *ps, const dm_frame_options *op
     dm_pass_kind kind = ps->kind;
     int gw = r->width / 2 > 0 ? r->width / 2 : 1, gh = r->height / 2 > 0 ? r->height / 2 : 1;
     if (r->glow_cpu && (kind == DM_PASS_GLOW_BLUR_U || kind == DM_PASS_GLOW_BLUR_V)) {
-        blur_on_cpu(r, kind == DM_PASS_GLOW_BLUR_V, gw, gh);
-        return;
+        if (blur_on_cpu(r, kind == DM_PASS_GLOW_BLUR_V, gw, gh)) return;
+        r->glow_cpu = false;
     }
     GLuint p = r->prog[kind];
     glUseProgram(p);

@@ -146,8 +146,8 @@ size_t dm_render_plan_explain(const dm_render_plan *plan, char *out, size_t out_
 /* The index of the first pass with that name, or −1. */
 int dm_render_plan_find(const dm_render_plan *plan, const char *name);
 
-/* Takes the diffusion pass out of the plan (dm_render_desc.diffusion_per_pixel: the final
- * pass and the diffusion view sum the levels per pixel instead). */
+/* Takes the diffusion pass out of the plan (dm_render_desc.diffusion_per_pixel, or reduced
+ * levels: the final pass and the diffusion view sum the levels per pixel instead). */
 void dm_render_plan_sum_per_pixel(dm_render_plan *plan);
 
 

@@ -75,7 +75,7 @@ void dm_render_settings_provenance(dm_provenance *p, const dm_render_desc *d, co
     dm_prov_add_int(p, "blur_half_float", d->blur_half_float ? 1 : 0);
     if (r && dm_renderer_plan(r)->blur_levels > 1) /* where the blur ran: the same to float rounding */
         dm_prov_add_string(p, "blur_on", dm_renderer_blur_on_cpu(r) ? "cpu" : "gl");
-    if (r && dm_renderer_plan(r)->texture_space) /* where the final pass sums the levels */
-        dm_prov_add_string(p, "diffusion_sum", d->diffusion_per_pixel ? "per_pixel" : "per_texel");
+    if (r && dm_renderer_plan(r)->texture_space) /* where the levels are summed: the diffusion pass's target */
+        dm_prov_add_string(p, "diffusion_sum", dm_renderer_find_target(r, "diffusion") >= 0 ? "per_texel" : "per_pixel");
     dm_prov_add_int(p, "reuse_texture_space", d->reuse_texture_space ? 1 : 0);
 }

@@ -36,13 +36,26 @@ Test(render_tool, compare_exact_reports_error_and_time, .timeout = 120)
     char dir[64], cmd[512], log[160];
     cr_assert(test_tmpdir(dir, sizeof dir));
     snprintf(log, sizeof log, "%s/log", dir);
-    /* the default equals the exact path to float rounding: no display step */
-    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2");
+    /* the default with the levels summed per pixel equals the exact path (9 PCF taps, the sum
+     * per pixel) to float rounding: no display step */
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2 --diffusion-per-pixel");
     cr_assert_eq(test_run(cmd, log), 0);
     char *text = test_slurp(log);
     cr_assert(text && strstr(text, "compare-exact: this setting"), "%s", text ? text : "");
-    cr_expect(strstr(text, "display: 0 steps"), "default differs from exact:\n%s", text);
+    cr_expect(strstr(text, "display: 0 steps"), "the per-pixel default differs from exact:\n%s", text);
     cr_expect(strstr(text, "blur5"), "no blur level compared:\n%s", text);
+    free(text);
+    /* the default's per-texel sum parts from it only along chart edges: the same levels (blur5
+     * to float rounding), at most one display step */
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2");
+    cr_assert_eq(test_run(cmd, log), 0);
+    text = test_slurp(log);
+    cr_assert(text);
+    double blur_max = 1;
+    const char *b5 = strstr(text, "blur5 (coverage-normalised): max |d| ");
+    cr_assert(b5 && sscanf(b5, "blur5 (coverage-normalised): max |d| %lf", &blur_max) == 1, "%s", text);
+    cr_expect_leq(blur_max, 1e-5, "the levels differ:\n%s", text);
+    cr_expect(strstr(text, "display: 0 steps") || strstr(text, "display: 1 steps"), "more than one step:\n%s", text);
     free(text);
     /* a real trade shows a real difference */
     snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --pcf-taps 1 --blur-reduce-from 3");

@@ -36,7 +36,8 @@ Test(render_provenance, every_speed_setting_recorded, .timeout = 120)
     cr_assert_eq(test_run(cmd, NULL), 0);
     const char *plain[] = {"\"shadow_pcf_taps\":4", "\"shadow_size\":1024", "\"blur_reduce_from\":0",
                            "\"blur_reduce_shift\":0", "\"blur_half_float\":0", "\"reuse_texture_space\":0",
-                           "\"blur_on\":\"cpu\""}; /* llvmpipe, float levels */
+                           "\"blur_on\":\"cpu\"", /* llvmpipe, float levels */
+                           "\"diffusion_sum\":\"per_texel\""};
     for (size_t k = 0; k < sizeof plain / sizeof plain[0]; ++k)
         cr_expect(file_holds(png, plain[k]), "%s not in the provenance of %s", plain[k], png);
     snprintf(png, sizeof png, "%s/b.png", dir);
@@ -46,7 +47,8 @@ Test(render_provenance, every_speed_setting_recorded, .timeout = 120)
              png);
     cr_assert_eq(test_run(cmd, NULL), 0);
     const char *set[] = {"\"shadow_pcf_taps\":1", "\"blur_reduce_from\":3", "\"blur_reduce_shift\":2",
-                         "\"blur_half_float\":1", "\"blur_on\":\"gl\""};
+                         "\"blur_half_float\":1", "\"blur_on\":\"gl\"",
+                         "\"diffusion_sum\":\"per_pixel\""}; /* reduced levels: always per pixel */
     for (size_t k = 0; k < sizeof set / sizeof set[0]; ++k)
         cr_expect(file_holds(png, set[k]), "%s not in the provenance of %s", set[k], png);
 }
