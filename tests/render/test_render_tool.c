@@ -30,41 +30,46 @@ Test(render_tool, exit_codes_and_no_partial_file)
     cr_expect_eq(test_count_files(dir, "x.png"), 0);
 }
 
+/* dermis-render SMALL --compare-exact FLAGS: its report, and the number after `key` in it */
+static char *compare_exact(const char *flags, const char *log)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact %s", flags);
+    cr_assert_eq(test_run(cmd, log), 0, "%s", cmd);
+    char *text = test_slurp(log);
+    cr_assert(text && strstr(text, "compare-exact: this setting"), "%s", text ? text : "");
+    return text;
+}
+
+static double number_after(const char *text, const char *key)
+{
+    double v = 0;
+    const char *at = strstr(text, key);
+    cr_assert(at && sscanf(at + strlen(key), "%lf", &v) == 1, "no '%s' in:\n%s", key, text);
+    return v;
+}
+
 /* Every speed setting reports its error against the exact path and both times. */
 Test(render_tool, compare_exact_reports_error_and_time, .timeout = 120)
 {
-    char dir[64], cmd[512], log[160];
+    char dir[64], log[160];
     cr_assert(test_tmpdir(dir, sizeof dir));
     snprintf(log, sizeof log, "%s/log", dir);
     /* the default with the levels summed per pixel equals the exact path (9 PCF taps, the sum
      * per pixel) to float rounding: no display step */
-    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2 --diffusion-per-pixel");
-    cr_assert_eq(test_run(cmd, log), 0);
-    char *text = test_slurp(log);
-    cr_assert(text && strstr(text, "compare-exact: this setting"), "%s", text ? text : "");
+    char *text = compare_exact("--frames 2 --diffusion-per-pixel", log);
     cr_expect(strstr(text, "display: 0 steps"), "the per-pixel default differs from exact:\n%s", text);
     cr_expect(strstr(text, "blur5"), "no blur level compared:\n%s", text);
     free(text);
     /* the default's per-texel sum parts from it only along chart edges: the same levels (blur5
      * to float rounding), at most one display step */
-    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --frames 2");
-    cr_assert_eq(test_run(cmd, log), 0);
-    text = test_slurp(log);
-    cr_assert(text);
-    double blur_max = 1;
-    const char *b5 = strstr(text, "blur5 (coverage-normalised): max |d| ");
-    cr_assert(b5 && sscanf(b5, "blur5 (coverage-normalised): max |d| %lf", &blur_max) == 1, "%s", text);
-    cr_expect_leq(blur_max, 1e-5, "the levels differ:\n%s", text);
+    text = compare_exact("--frames 2", log);
+    cr_expect_leq(number_after(text, "blur5 (coverage-normalised): max |d| "), 1e-5, "the levels differ:\n%s", text);
     cr_expect(strstr(text, "display: 0 steps") || strstr(text, "display: 1 steps"), "more than one step:\n%s", text);
     free(text);
     /* a real trade shows a real difference */
-    snprintf(cmd, sizeof cmd, BIN " " SMALL " --compare-exact --pcf-taps 1 --blur-reduce-from 3");
-    cr_assert_eq(test_run(cmd, log), 0);
-    text = test_slurp(log);
-    cr_assert(text);
-    double max = 0;
-    const char *at = strstr(text, "max |d| ");
-    cr_assert(at && sscanf(at, "max |d| %lf", &max) == 1, "%s", text);
-    cr_expect_gt(max, 0.0, "a one-tap shadow and half-resolution blurs changed nothing:\n%s", text);
+    text = compare_exact("--pcf-taps 1 --blur-reduce-from 3", log);
+    cr_expect_gt(number_after(text, "max |d| "), 0.0, "a one-tap shadow and half-resolution blurs changed nothing:\n%s",
+                 text);
     free(text);
 }
