@@ -236,7 +236,7 @@ void dm_renderer_destroy(dm_renderer *r)
     }
     GLuint tex[] = {r->tex_albedo,    r->tex_normal,     r->tex_spec,   r->tex_rough,      r->tex_beckmann,
                     r->tex_rho_dt,    r->tex_env_brdf, r->tex_mask,     r->tex_background,
-                    r->tex_white,     r->tex_black, r->tex_env_array,      r->screen_tex, r->view_tex,
+                    r->tex_white,     r->tex_black, r->tex_env_array,      r->screen_tex, r->view_tex, r->blit_tex,
                     r->glow_tex[0],   r->glow_tex[1],    r->display_tex, r->ss_diff_tex, r->ss_aux_tex, r->ss_spec_tex,
                     r->ss_tmp_tex, r->tex_preint, r->tex_curvature, r->gbuf_tex[0], r->gbuf_tex[1],
                     r->gbuf_tex[2], r->gbuf_tex[3], r->ts_gbuf_tex[0], r->ts_gbuf_tex[1],
@@ -261,7 +261,8 @@ void dm_renderer_destroy(dm_renderer *r)
         if (r->shadow_tex[k]) glDeleteTextures(1, &r->shadow_tex[k]);
     }
     GLuint fbo[] = {r->screen_fbo, r->glow_fbo[0],
-                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo, r->gbuf_fbo, r->ts_gbuf_fbo};
+                    r->glow_fbo[1], r->display_fbo,   r->view_fbo, r->ss_fbo, r->ss_tmp_fbo, r->gbuf_fbo, r->ts_gbuf_fbo,
+                    r->blit_fbo};
     for (size_t i = 0; i < sizeof fbo / sizeof fbo[0]; ++i)
         if (fbo[i]) glDeleteFramebuffers(1, &fbo[i]);
     if (r->screen_depth) glDeleteRenderbuffers(1, &r->screen_depth);
@@ -319,6 +320,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
         if (rc != DM_OK) return rc;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    r->has_frame = true;
     r->glow_pending = r->plan.glow_in_tonemap && r->tonemapped;
     if (!reuse) { /* valid only when this frame made every texture-space result */
         r->ts_valid = ts_passes == r->ts_pass_count;

@@ -9,6 +9,7 @@
  *   if (dm_renderer_create(&a, &(dm_render_desc){0}, &r, &err) != DM_OK) ...;
  *   dm_render_frame(r, &(dm_frame_options){0}, &err);
  *   dm_renderer_read_display(r, rgba8);         // width*height*4 bytes, bottom-up
+ *   dm_renderer_blit_display(r, fbo, 0, 0, w, h, &err); // or into your framebuffer
  *   dm_renderer_destroy(r);
  *
  * Inputs are exactly what a pack holds (DESIGN.md: the runtime maps and uploads, it does
@@ -250,6 +251,27 @@ void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradi
  * 1 where the head is drawn, 0 on the background. Buffers hold width*height*4 values. */
 dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err);
 dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err);
+
+/* Puts the last frame's display picture (the very bytes dm_renderer_read_display returns)
+ * into the caller's framebuffer object `framebuffer` (0: the default framebuffer), in each of
+ * its draw buffers, at the rectangle of width x height pixels whose lower-left corner is
+ * (x, y): an exact copy when that is the output size (dm_renderer_size), else scaled with
+ * linear filtering (glBlitFramebuffer; what falls outside the framebuffer is clipped). The
+ * bytes land as they are, sRGB-encoded: the target should be 8-bit RGBA, single-sampled.
+ * The scissor test and GL_FRAMEBUFFER_SRGB are off during the blit.
+ * A tonemapped frame is blitted from the renderer's display target; any other is built on
+ * the CPU as dm_renderer_read_display does and uploaded to an RGBA8 texture the renderer
+ * owns (made on the first such call, freed by dm_renderer_destroy); that path expects the
+ * pixel-store defaults and no pixel buffer bound, as the read-back calls do.
+ * On return the caller's GL_READ_FRAMEBUFFER and GL_DRAW_FRAMEBUFFER bindings, scissor test
+ * and GL_FRAMEBUFFER_SRGB are as they were (the active unit's 2D texture and the pixel-store
+ * alignments may change, as with the renderer's other calls).
+ * Fails with DM_ERR_INVALID_ARGUMENT, naming the value, for width or height < 1, a rectangle
+ * ending past INT_MAX, a name that is not a framebuffer object, an incomplete framebuffer,
+ * or before the first dm_render_frame; DM_ERR_GL on a GL error (an integer or multisampled
+ * target). Nothing is written then. */
+dm_result dm_renderer_blit_display(dm_renderer *r, unsigned int framebuffer, int x, int y, int width, int height,
+                                   dm_error *err);
 
 /* The last frame's view at full precision (float32, bottom-up, RGBA). Texture views
  * (dm_view_is_texture) are read from the "view" target at the source texture's own size,

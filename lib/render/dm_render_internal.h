@@ -141,6 +141,9 @@ struct dm_renderer {
     bool glow_cpu;       /* the glow's Gaussian on the CPU (dm_render_glow.c) */
     float *glow_buf[2];  /* its two half-resolution RGBA images */
     GLuint display_tex, display_fbo;
+    GLuint blit_tex, blit_fbo; /* the CPU-built display that dm_renderer_blit_display blits from
+                                * when the frame is not tonemapped (made on first use) */
+    bool has_frame;            /* a frame has run: the display holds a picture */
     GLuint prog[DM_PASS_KIND_COUNT];
     GLuint prog_glow_blur; /* shared by both glow blur passes */
 

@@ -1,6 +1,8 @@
 /* dm_render_readback.c — the frame's outputs back to the CPU: any target as float, the linear
- * screen, the last view at full precision, the 8-bit display; plan and size queries. */
+ * screen, the last view at full precision, the 8-bit display; the display blitted into the
+ * caller's framebuffer; plan and size queries. */
 #include <assert.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,5 +106,82 @@ dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err)
         rgba[i * 4 + 3] = 255;
     }
     free(lin);
+    return rc;
+}
+
+/* The display built on the CPU (dm_renderer_read_display) in the renderer's own RGBA8
+ * texture and its framebuffer, made on first use at the output size (fixed at create). */
+static dm_result display_upload(dm_renderer *r, dm_error *err)
+{
+    size_t size = (size_t)r->width * r->height * 4;
+    uint8_t *rgba = malloc(size);
+    if (!rgba) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "blit_display: cannot allocate %zu bytes", size);
+    dm_result rc = dm_renderer_read_display(r, rgba, err);
+    if (rc == DM_OK && !r->blit_fbo) {
+        glGenTextures(1, &r->blit_tex);
+        glBindTexture(GL_TEXTURE_2D, r->blit_tex);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, r->width, r->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST); /* no mip levels */
+        glGenFramebuffers(1, &r->blit_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, r->blit_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->blit_tex, 0);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            rc = dm_fail(err, DM_ERR_GL, "blit_display: its %dx%d RGBA8 framebuffer is incomplete", r->width,
+                         r->height);
+    }
+    if (rc == DM_OK) {
+        glBindTexture(GL_TEXTURE_2D, r->blit_tex);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        rc = dmr_gl_check("blit_display upload", err);
+    }
+    free(rgba);
+    return rc;
+}
+
+dm_result dm_renderer_blit_display(dm_renderer *r, unsigned int framebuffer, int x, int y, int width, int height,
+                                   dm_error *err)
+{
+    assert(r);
+    if (width < 1 || height < 1)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "blit_display: %s %d, expected >= 1",
+                       width < 1 ? "width" : "height", width < 1 ? width : height);
+    if ((x > 0 && width > INT_MAX - x) || (y > 0 && height > INT_MAX - y))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "blit_display: rectangle %dx%d at (%d, %d) ends past INT_MAX",
+                       width, height, x, y);
+    if (!r->has_frame)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "blit_display: no frame rendered yet (call dm_render_frame first)");
+    if (framebuffer != 0 && !glIsFramebuffer(framebuffer))
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "blit_display: %u is not a framebuffer object", framebuffer);
+    glGetError(); /* a stale error of the caller's is not this call's */
+    GLint read_fbo = 0, draw_fbo = 0;
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_fbo);
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_fbo);
+    GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST), srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB);
+
+    dm_result rc = r->tonemapped ? DM_OK : display_upload(r, err);
+    if (rc == DM_OK) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, r->tonemapped ? r->display_fbo : r->blit_fbo);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
+        GLenum status = glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE)
+            rc = dm_fail(err, DM_ERR_INVALID_ARGUMENT, "blit_display: framebuffer %u is incomplete (status 0x%04x)",
+                         framebuffer, (unsigned)status);
+    }
+    if (rc == DM_OK) {
+        /* a blit obeys these two: the bytes land as they are, in the whole rectangle */
+        glDisable(GL_SCISSOR_TEST);
+        glDisable(GL_FRAMEBUFFER_SRGB);
+        bool same = width == r->width && height == r->height;
+        glBlitFramebuffer(0, 0, r->width, r->height, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
+                          same ? GL_NEAREST : GL_LINEAR);
+        rc = dmr_gl_check("blit_display", err);
+    }
+    if (scissor) glEnable(GL_SCISSOR_TEST);
+    if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_fbo);
     return rc;
 }
