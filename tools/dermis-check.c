@@ -15,6 +15,7 @@
 #include "core/dm_cli.h"
 #include "core/dm_brdf.h"
 #include "core/dm_file.h"
+#include "core/dm_format_version.h"
 #include "core/dm_lut_check.h"
 #include "core/dm_pack.h"
 #include "core/dm_pack_needs.h"
@@ -27,20 +28,21 @@ enum { CHECK_OK = 0, CHECK_FAILED = 1, CHECK_USAGE = 2, MAX_FAILURES = 32 };
 
 static void usage(FILE *f)
 {
-    fprintf(f, "Usage: dermis-check [--json] [-v] [--quiet] [--assets DIR] FILE...\n"
+    fprintf(f, "Usage: dermis-check [--json | --format-version] [-v] [--quiet] [--assets DIR] FILE...\n"
                "Validates dermis files: packs (.dpk), Beckmann LUT PNGs, rho_dt / env-BRDF / stretch EXRs,\n"
                "profile and scene JSONs: structure, ranges, finiteness, provenance, cross-consistency,\n"
                "and a sample of LUT texels re-evaluated against the analytic functions.\n"
                "\n"
                "Options:\n"
                "  --json         one JSON object on stdout: {\"files\": [{\"file\", \"type\", \"ok\", \"failures\"}]}\n"
+               "  --format-version  only print each pack's/scene's format, version and whether this dermis reads it\n"
                "  --assets DIR   where scenes' paths missing beside the scene are looked for, before\n"
                "                 DERMIS_ASSETS and the build's default (repeatable, up to 8)\n"
                "  -v, --verbose  also say what was checked\n"
                "  --quiet        print failures only\n"
-               "  -h, --help     this text\n"
+               "  -h, --help     this text (--version: the dermis version)\n"
                "\n"
-               "Exit codes: 0 every file passed, 1 a check failed, 2 usage error.\n");
+               "Exit codes: 0 every file passed, 1 a check failed (or a version not read), 2 usage (or no version).\n");
 }
 
 typedef struct result {
@@ -488,8 +490,8 @@ static void check_file(result *r, const char *file)
 
 int main(int argc, char **argv)
 {
-    bool json = false, verbose = false, quiet = false;
-    int nfiles = 0;
+    bool json = false, verbose = false, quiet = false, fmt_version = false;
+    int nfiles = 0, fmt_code = CHECK_OK;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (dm_cli_version(a, "dermis-check")) exit(0);
@@ -498,6 +500,8 @@ int main(int argc, char **argv)
             return CHECK_OK;
         } else if (!strcmp(a, "--json")) {
             json = true;
+        } else if (!strcmp(a, "--format-version")) {
+            fmt_version = true;
         } else if (!strcmp(a, "--assets")) {
             const char *v = dm_cli_value(argc, argv, &i);
             if (!v) return CHECK_USAGE;
@@ -525,8 +529,8 @@ int main(int argc, char **argv)
         usage(stderr);
         return CHECK_USAGE;
     }
-    if (verbose && quiet) {
-        fprintf(stderr, "error: -v and --quiet conflict\n");
+    if ((verbose && quiet) || (fmt_version && (json || verbose))) {
+        fprintf(stderr, "error: %s conflict\n", verbose && quiet ? "-v and --quiet" : "--format-version and -v/--json");
         return CHECK_USAGE;
     }
     result *r = malloc(sizeof *r);
@@ -545,6 +549,15 @@ int main(int argc, char **argv)
             continue;
         }
         if (!files_only && argv[i][0] == '-' && argv[i][1]) continue;
+        if (fmt_version) { /* core/dm_format_version.h: reads only what names the version */
+            dm_format_version v;
+            dm_error e = {0};
+            int c = dm_format_version_read(argv[i], &v, &e) != DM_OK ? CHECK_USAGE : v.verdict != DM_FORMAT_READABLE;
+            if (c == CHECK_USAGE) fprintf(stderr, "error: %s\n", e.detail);
+            else if (c || !quiet) printf("%s: %s\n", argv[i], v.summary);
+            fmt_code = c > fmt_code ? c : fmt_code;
+            continue;
+        }
         memset(r, 0, sizeof *r);
         r->file = argv[i];
         check_file(r, argv[i]);
@@ -582,5 +595,5 @@ int main(int argc, char **argv)
         cJSON_Delete(out);
     }
     free(r);
-    return failed ? CHECK_FAILED : CHECK_OK;
+    return failed ? CHECK_FAILED : fmt_code;
 }

@@ -3,7 +3,8 @@
  *
  * Exit codes (documented in every --help):
  *   0 success, 1 usage error, 2 cannot load an input, 3 processing failed,
- *   4 cannot save an output. (dermis-check: 0 all pass, 1 a check failed, 2 usage.)
+ *   4 cannot save an output. (dermis-check: 0 all pass, 1 a check failed, 2 usage; with
+ *   --format-version, 1 a version this dermis does not read, 2 also a file without one.)
  */
 #ifndef DM_CLI_H
 #define DM_CLI_H

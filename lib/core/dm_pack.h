@@ -4,7 +4,8 @@
  * LAYOUT (all integers little-endian)
  *   [0, 64)      header
  *                  0  u8[8] magic  89 'D' 'P' 'K' 0D 0A 1A 0A   (DM_PACK_MAGIC)
- *                  8  u32   version                 DM_PACK_VERSION (1)
+ *                  8  u32   version                 DM_PACK_VERSION (1); what a reader accepts
+ *                                                   and what bumps it: docs/dermis-dpk.5.md
  *                 12  u32   flags                   0; any set bit is refused (none defined)
  *                 16  u64   file_size               the whole file, bytes
  *                 24  u64   manifest_offset         64
@@ -240,6 +241,8 @@ typedef struct dm_pack_header {
     uint64_t file_size, manifest_offset, manifest_size, blobs_offset, reserved, checksum;
 } dm_pack_header;
 void dm_pack_header_encode(const dm_pack_header *h, uint8_t out[DM_PACK_HEADER_SIZE]);
+/* The fields of the 64 bytes (magic not compared, values not checked: VERIFIED ON OPEN does). */
+void dm_pack_header_decode(const uint8_t in[DM_PACK_HEADER_SIZE], dm_pack_header *h);
 /* The checksum field for a header (bytes [0, 56) used) and manifest. */
 uint64_t dm_pack_header_checksum(const uint8_t header[DM_PACK_HEADER_SIZE], const void *manifest,
                                  size_t manifest_size);

@@ -87,6 +87,12 @@ void dm_pack_header_encode(const dm_pack_header *h, uint8_t out[DM_PACK_HEADER_S
     put64(out + 56, h->checksum);
 }
 
+void dm_pack_header_decode(const uint8_t in[DM_PACK_HEADER_SIZE], dm_pack_header *h)
+{
+    *h = (dm_pack_header){get32(in + 8),  get32(in + 12), get64(in + 16), get64(in + 24),
+                          get64(in + 32), get64(in + 40), get64(in + 48), get64(in + 56)};
+}
+
 uint64_t dm_pack_header_checksum(const uint8_t header[DM_PACK_HEADER_SIZE], const void *manifest,
                                  size_t manifest_size)
 {

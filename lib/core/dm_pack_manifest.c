@@ -257,7 +257,8 @@ dm_result dm_pack_manifest_parse(dm_pack *pack, const uint8_t *bytes, uint64_t s
     ok = ok && fmt;
     if (ok && strcmp(fmt, "dermis-pack") != 0)
         ok = dm_jread_fail(&c, DM_ERR_FORMAT, "$.format", cJSON_GetObjectItemCaseSensitive(root, "format"), "\"dermis-pack\"");
-    ok = ok && dm_jread_int64(&c, root, "$", "version", 1, 1, &ver) && mprov(&c, root, "$", &pack->provenance_json);
+    ok = ok && dm_jread_int64(&c, root, "$", "version", DM_PACK_VERSION, DM_PACK_VERSION, &ver) &&
+         mprov(&c, root, "$", &pack->provenance_json);
     const cJSON *ents = ok ? dm_jread_required(&c, root, "$", "entries", "an array of entries") : NULL;
     ok = ok && ents;
     if (ok && (!cJSON_IsArray(ents) || cJSON_GetArraySize(ents) > DM_PACK_ENTRIES_MAX))

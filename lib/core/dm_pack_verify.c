@@ -15,6 +15,7 @@
 
 #include <cJSON.h>
 
+#include "core/dm_format_version.h"
 #include "core/dm_hash.h"
 #include "core/dm_pack_needs.h"
 #include "core/dm_profile.h"
@@ -223,12 +224,13 @@ dm_result dm_pack_verify(dm_pack *pack, dm_error *err)
         return dm_fail(err, DM_ERR_FORMAT,
                        "%s: magic %02x %02x %02x %02x %02x %02x %02x %02x, expected 89 44 50 4b 0d 0a 1a 0a (a .dpk pack)",
                        what, b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]);
-    dm_pack_header h = {get32(b + 8), get32(b + 12), get64(b + 16), get64(b + 24),
-                        get64(b + 32), get64(b + 40), get64(b + 48), get64(b + 56)};
+    dm_pack_header h;
+    dm_pack_header_decode(b, &h);
     pack->version = h.version;
     pack->flags = h.flags;
-    if (h.version != DM_PACK_VERSION)
-        return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: version %u, expected %d", what, h.version, DM_PACK_VERSION);
+    if (h.version != DM_PACK_VERSION) /* the version policy's refusal: docs/dermis-dpk.5.md */
+        return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: version %u, expected %d (%s)", what, h.version, DM_PACK_VERSION,
+                       dm_format_advice(DM_FORMAT_PACK, dm_format_judge(h.version, DM_PACK_VERSION)));
     if (h.flags != 0)
         return dm_fail(err, DM_ERR_UNSUPPORTED, "%s: flags 0x%08x, expected 0 (no flags are defined)", what, h.flags);
     if (h.file_size != size)

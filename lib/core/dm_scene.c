@@ -12,6 +12,7 @@
 #include <cJSON.h>
 
 #include "core/dm_file.h"
+#include "core/dm_format_version.h"
 #include "core/dm_jread.h"
 #include "core/dm_scene_paths.h"
 
@@ -379,8 +380,14 @@ static bool parse_header(ctx *c, const cJSON *root)
     const cJSON *f = dm_jread_get(root, "format"), *v = dm_jread_get(root, "version");
     if (f && (!cJSON_IsString(f) || strcmp(f->valuestring, "dermis-scene") != 0))
         return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.format", f, "\"dermis-scene\"");
-    if (v && (!cJSON_IsNumber(v) || v->valuedouble != 1.0))
-        return dm_jread_fail(&c->j, DM_ERR_UNSUPPORTED, "$.version", v, "1 (the only scene version)");
+    if (v && (!cJSON_IsNumber(v) || v->valuedouble != DM_SCENE_VERSION)) { /* docs/dermis-scene.5.md's policy */
+        bool integer = cJSON_IsNumber(v) && v->valuedouble == floor(v->valuedouble) && fabs(v->valuedouble) < 1e18;
+        char want[160];
+        snprintf(want, sizeof want, "%d (%s)", DM_SCENE_VERSION,
+                 integer ? dm_format_advice(DM_FORMAT_SCENE, dm_format_judge((int64_t)v->valuedouble, DM_SCENE_VERSION))
+                         : "the scene version this dermis reads");
+        return dm_jread_fail(&c->j, DM_ERR_UNSUPPORTED, "$.version", v, want);
+    }
     return true;
 }
 

@@ -25,6 +25,8 @@ extern "C" {
 
 enum { DM_SCENE_PATH_SIZE = 1024, DM_SCENE_MAX_LIGHTS = 8, DM_SCENE_MAX_ENV_ALTERNATIVES = 7 };
 enum { DM_SCENE_NAME_SIZE = 128 };
+/* The scene file version this dermis reads and writes (the policy: docs/dermis-scene.5.md). */
+enum { DM_SCENE_VERSION = 1 };
 
 typedef enum dm_effect {
     DM_EFFECT_SPECULAR = 0,         /* KS specular (Beckmann LUT, Fresnel, spec map) */
@@ -127,7 +129,7 @@ typedef struct dm_scene {
     int width, height;       /* output size, default 1280x720 */
 } dm_scene;
 
-/* Scene file (JSON), every key optional unless marked; see docs/scene-and-pack.md:
+/* Scene file (JSON), every key optional unless marked; see docs/dermis-scene.5.md:
  *   { "format": "dermis-scene", "version": 1,
  *     "mesh": { "path": REQUIRED, "mm_per_unit": (0, 1e6], "name": glTF mesh name or "" },
  *     "material": { "albedo", "normal_map", "specular_map", "roughness_map": paths or "",

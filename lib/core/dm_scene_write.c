@@ -33,7 +33,7 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
     *out = NULL;
     cJSON *r = cJSON_CreateObject();
     cJSON_AddStringToObject(r, "format", "dermis-scene");
-    cJSON_AddNumberToObject(r, "version", 1);
+    cJSON_AddNumberToObject(r, "version", DM_SCENE_VERSION);
     cJSON *m = cJSON_AddObjectToObject(r, "mesh");
     cJSON_AddStringToObject(m, "path", s->mesh);
     cJSON_AddNumberToObject(m, "mm_per_unit", s->mm_per_unit);
