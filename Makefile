@@ -6,6 +6,8 @@
 #   make reference  the head's ground truth (dermis-reference) in tiles through GNU parallel
 #   make deps     install the Debian packages that are missing (scripts/deps.sh)
 #   make fuzz     build the libFuzzer targets (clang); make test runs each for FUZZ_SECONDS
+#   make install / uninstall   [PREFIX=/usr/local] [DESTDIR=]: tools, man pages, headers,
+#                 static libraries, pkg-config files, bash completions (docs/install.md)
 #   make clean
 # Outputs go under build/$(config)/. New files are picked up by wildcard: a C file in
 # lib/<side>/ joins that side's library, tools/NAME.c becomes build/$(config)/bin/NAME,
@@ -91,8 +93,8 @@ BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # tests/view/: Criterion binaries that drive dermis-view under xvfb-run (scripts/run-tests.sh)
 VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%,$(wildcard tests/view/*.c)))
 
-.PHONY: all test run-tests bench demo reference deps clean fuzz tools
-all: tools $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
+.PHONY: all test run-tests bench demo reference deps clean fuzz tools docs install install-files uninstall
+all: tools docs $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
 tools: $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
 
 # --- objects -----------------------------------------------------------------------
@@ -176,6 +178,93 @@ $(RENDER_TESTS): $(BUILD)/tests/render/%: $(BUILD)/obj/tests/render/%.c.o $(REND
 $(BENCHES): $(BUILD)/bench/%: $(BUILD)/obj/bench/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
+
+# --- man pages, completions, install ---------------------------------------------------
+# Made at build time from what they describe, so they cannot drift: section 1 by help2man
+# from each tool's --help and --version (scripts/gen-man.sh), section 5 by go-md2man from the
+# format docs (docs/dermis-*.5.md), completions from --help (scripts/gen-completion.sh).
+VERSION     := $(shell sed -n 's/^\#define DM_VERSION "\(.*\)"/\1/p' lib/core/dm_version.h)
+SOURCE_DATE_EPOCH ?= $(shell git log -1 --format=%ct 2>/dev/null)
+export SOURCE_DATE_EPOCH
+TOOL_BINS   := $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
+TOOL_NAMES  := $(notdir $(TOOL_BINS))
+MAN1        := $(patsubst %,$(BUILD)/share/man/man1/%.1,$(TOOL_NAMES))
+MAN5_SRC    := $(sort $(wildcard docs/*.5.md))
+MAN5        := $(patsubst docs/%.md,$(BUILD)/share/man/man5/%,$(MAN5_SRC))
+COMPLETIONS := $(patsubst %,$(BUILD)/share/bash-completion/completions/%,$(TOOL_NAMES))
+docs: $(MAN1) $(MAN5) $(COMPLETIONS)
+$(BUILD)/share/man/man1/%.1: $(BUILD)/bin/% scripts/gen-man.sh scripts/man-common.h2m
+	@mkdir -p $(@D)
+	bash scripts/gen-man.sh $< > $@.tmp && mv $@.tmp $@
+$(BUILD)/share/man/man5/%: docs/%.md
+	@mkdir -p $(@D)
+	{ echo '% $(basename $*) 5 "" "dermis $(VERSION)" "dermis file formats"'; cat $<; } > $@.md.tmp
+	go-md2man -in $@.md.tmp -out $@.tmp && rm -f $@.md.tmp && mv $@.tmp $@
+$(BUILD)/share/bash-completion/completions/%: $(BUILD)/bin/% scripts/gen-completion.sh scripts/help-options.sh
+	@mkdir -p $(@D)
+	bash scripts/gen-completion.sh $< > $@.tmp && mv $@.tmp $@
+
+# make install [PREFIX=/usr/local] [DESTDIR=]: DESTDIR prefixes every installed path and is
+# never compiled in. Headers keep lib/'s folders under
+# include/dermis/ (Cflags -I$(includedir)/dermis, so "core/dm_pack.h" reads as in the
+# sources); the *_impl.h and *_internal.h headers and C++-only ones are not installed.
+# Runtime (dermis.pc: pack reader + renderer) never names OpenEXR, OpenImageIO, OpenMesh or
+# Embree; the offline bakers are dermis-bake.pc. Static libraries only: their third-party
+# libraries are in Requires.private/Libs.private (pkg-config --static --libs).
+PREFIX      ?= /usr/local
+DESTDIR     ?=
+BINDIR      ?= $(PREFIX)/bin
+LIBDIR      ?= $(PREFIX)/lib
+INCLUDEDIR  ?= $(PREFIX)/include
+DATADIR     ?= $(PREFIX)/share
+MANDIR      ?= $(DATADIR)/man
+COMPDIR     ?= $(DATADIR)/bash-completion/completions
+PCDIR       ?= $(LIBDIR)/pkgconfig
+DOCDIR      ?= $(DATADIR)/doc/dermis
+PRIVATE_H   := $(wildcard lib/*/*_impl.h lib/*/*_internal.h) lib/bake/dm_mesh_gltf.h
+PUBLIC_H    := $(filter-out $(PRIVATE_H),$(sort $(wildcard lib/core/*.h lib/render/*.h lib/host/*.h lib/bake/*.h)))
+EXAMPLES    := $(wildcard examples/embed/*.c examples/embed/Makefile examples/embed/README.md)
+INSTALL_LIBS := $(CORE_LIB) $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB)
+# The .pc files are relocatable (as Meson's pkgconfig.relocatable): prefix is found from the
+# file's own place (${pcfiledir}) when PCDIR lies under PREFIX, so a staged tree (DESTDIR)
+# builds against its own headers and libraries with PKG_CONFIG_PATH alone; libdir and
+# includedir follow prefix when they lie under it.
+PC_PREFIX     := $(if $(filter $(PREFIX)/%,$(PCDIR)),$${pcfiledir}/$(shell realpath -m --relative-to=$(PCDIR) $(PREFIX)),$(PREFIX))
+PC_LIBDIR     := $(patsubst $(PREFIX)/%,$${prefix}/%,$(LIBDIR))
+PC_INCLUDEDIR := $(patsubst $(PREFIX)/%,$${prefix}/%,$(INCLUDEDIR))
+# The libraries a sanitizer build needs at link time travel in the .pc files (a sanitize
+# install is for testing dermis itself).
+SAN_LIBS    := $(if $(filter sanitize,$(config)),$(filter -fsanitize=%,$(OPT)))
+
+install: deps
+	@$(MAKE) --no-print-directory -j$(NPROC) tools docs $(INSTALL_LIBS)
+	@$(MAKE) --no-print-directory install-files
+
+install-files:
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PCDIR) $(DESTDIR)$(MANDIR)/man1 \
+	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(COMPDIR) $(DESTDIR)$(DATADIR)/dermis/scenes \
+	  $(DESTDIR)$(DOCDIR)/examples/embed $(addprefix $(DESTDIR)$(INCLUDEDIR)/dermis/,core render host bake)
+	install -m 755 $(TOOL_BINS) $(DESTDIR)$(BINDIR)
+	install -m 644 $(INSTALL_LIBS) $(DESTDIR)$(LIBDIR)
+	$(foreach d,core render host bake,install -m 644 $(filter lib/$(d)/%,$(PUBLIC_H)) $(DESTDIR)$(INCLUDEDIR)/dermis/$(d) &&) true
+	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
+	$(if $(MAN5),install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5)
+	install -m 644 $(COMPLETIONS) $(DESTDIR)$(COMPDIR)
+	install -m 644 assets/scenes/*.json $(DESTDIR)$(DATADIR)/dermis/scenes
+	$(if $(EXAMPLES),install -m 644 $(EXAMPLES) $(DESTDIR)$(DOCDIR)/examples/embed)
+	$(foreach pc,dermis dermis-osmesa dermis-bake,sed -e 's|@PREFIX@|$(PC_PREFIX)|; s|@LIBDIR@|$(PC_LIBDIR)|' \
+	  -e 's|@INCLUDEDIR@|$(PC_INCLUDEDIR)|; s|@VERSION@|$(VERSION)|; s|@SAN_LIBS@|$(SAN_LIBS)|' \
+	  scripts/pkgconfig/$(pc).pc.in > $(DESTDIR)$(PCDIR)/$(pc).pc &&) true
+
+# Removes what install-files installed (the same lists; the shared folders it may have made,
+# such as bin/ or man1/, stay).
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(ALL_TOOLS)) $(addprefix $(DESTDIR)$(LIBDIR)/,$(notdir $(INSTALL_LIBS))) \
+	  $(addprefix $(DESTDIR)$(PCDIR)/,dermis.pc dermis-osmesa.pc dermis-bake.pc) \
+	  $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(ALL_TOOLS))) \
+	  $(addprefix $(DESTDIR)$(MANDIR)/man5/,$(notdir $(MAN5_SRC:.md=))) \
+	  $(addprefix $(DESTDIR)$(COMPDIR)/,$(ALL_TOOLS))
+	rm -rf $(DESTDIR)$(INCLUDEDIR)/dermis $(DESTDIR)$(DATADIR)/dermis $(DESTDIR)$(DOCDIR)
 
 # --- entry points ------------------------------------------------------------------
 deps:

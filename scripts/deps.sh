@@ -10,6 +10,7 @@ required=(
   libglfw3-dev libosmesa6-dev xvfb xauth libglx-mesa0 libgl1-mesa-dri
   libcriterion-dev libcjson-dev libxxhash-dev zlib1g-dev
   libembree-dev libtinygltf-dev parallel
+  help2man go-md2man man-db bsdextrautils bash-completion
 )
 optional=(libimgui-dev gnuplot-nox clang libfuzzer-14-dev libclang-rt-14-dev)
 
