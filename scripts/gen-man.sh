@@ -19,7 +19,30 @@ case $(basename "$tool") in
   dermis-view)           what="show a dermis pack interactively" ;;
   *) echo "gen-man.sh: no summary for $(basename "$tool"): add it to the table" >&2; exit 1 ;;
 esac
+# help2man reads a second synopsis only as "  or: TOOL ..." and a synopsis only on one line:
+# the tools align theirs under the first and wrap long ones, so help2man runs the tool
+# through a wrapper of the same name that joins and relabels those lines (the rest of the
+# help text passes through unchanged).
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+name=$(basename "$tool")
+tool_abs=$(cd "$(dirname "$tool")" && pwd)/$name
+cat >"$tmp/$name" <<WRAP
+#!/usr/bin/env bash
+if [ "\$1" = --help ]; then
+  "$tool_abs" --help | awk '
+    usage && /^ +$name / { print held; held = \$0; sub(/^ +/, "  or: ", held); next }
+    usage && /^ +[[(-]/ { sub(/^ +/, " "); held = held \$0; next }
+    NR == 1 { held = \$0; usage = 1; next }
+    usage { print held; usage = 0 }
+    { print }
+    END { if (usage) print held }'
+else
+  exec "$tool_abs" "\$@"
+fi
+WRAP
+chmod +x "$tmp/$name"
 # The page's date is SOURCE_DATE_EPOCH's (the Makefile gives the last commit's), so the same
 # sources make the same page.
 SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(date +%s)} help2man -N -n "$what" --section 1 --manual "dermis manual" \
-  --include "$here/man-common.h2m" "$tool"
+  --include "$here/man-common.h2m" "$tmp/$name"
