@@ -46,9 +46,9 @@ tools=$(cd "$root/tools" && ls *.c | sed 's/\.c$//')
 # what this script needs once the checkout is hidden: help-options.sh, and the sanitizer
 # build's leak suppressions (scripts/run-tests.sh names them by their path in the checkout)
 cp "$root/scripts/help-options.sh" "$work/"
-if [[ ${LSAN_OPTIONS:-} == *suppressions=* ]]; then
-  supp=$(sed 's/.*suppressions=\([^:]*\).*/\1/' <<<"$LSAN_OPTIONS")
-  cp "$supp" "$work/lsan.supp" && export LSAN_OPTIONS=${LSAN_OPTIONS/"$supp"/"$work/lsan.supp"}
+if [[ ${LSAN_OPTIONS:-} =~ (^|:)suppressions=([^:]*) ]]; then
+  supp=${BASH_REMATCH[2]}
+  cp "$supp" "$work/lsan.supp" && export LSAN_OPTIONS=${LSAN_OPTIONS/"suppressions=$supp"/"suppressions=$work/lsan.supp"}
 fi
 
 # Runs a script with the checkout hidden: root (or a user namespace) mounts an empty tmpfs
