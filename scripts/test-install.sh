@@ -35,7 +35,10 @@ say() { echo "== $*"; }
 # The test runs inside `make test`: the outer make's jobserver must not leak into ours.
 unset MAKEFLAGS MFLAGS MAKELEVEL
 say "make install DESTDIR=$dest PREFIX=$prefix config=$config"
-make -C "$root" --no-print-directory install \
+# Criterion runs two of these at once: one make at a time in the build folder, so what is out
+# of date (a script newer than the man pages it makes, say) is remade once, not raced.
+mkdir -p "$root/build/$config"
+flock "$root/build/$config/.install-lock" make -C "$root" --no-print-directory install \
   DESTDIR="$dest" PREFIX="$prefix" config="$config" >"$work/install.log" 2>&1 ||
   { cat "$work/install.log" >&2; fail "make install failed"; }
 bin=$dest$prefix/bin
