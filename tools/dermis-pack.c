@@ -188,11 +188,11 @@ int main(int argc, char **argv)
     const char *failed = "";
     if (dm_pack_build_run(j, &failed, &err) != DM_OK) {
         fprintf(stderr, "error: %s: %s\n", failed, err.detail);
+        bool input = j->input_failed || err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_FILE_READ ||
+                     err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT || err.code == DM_ERR_UNSUPPORTED;
         dm_pack_build_free(j);
         free(j);
-        return err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT
-                   ? DM_EXIT_LOAD
-                   : DM_EXIT_PROCESS;
+        return input ? DM_EXIT_LOAD : DM_EXIT_PROCESS;
     }
     for (int f = 0; f < bo->env_file_count; ++f)
         if (!j->env_file_used[f] && !bo->quiet)

@@ -298,10 +298,10 @@ static int load(const options *o, source *src, dm_error *err)
                     o->pack, o->pack, stem, base, stem, base);
             return DM_EXIT_LOAD;
         }
-        if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK || dm_pack_open(o->pack, &src->pack, err) != DM_OK)
-            return DM_EXIT_LOAD;
+        if (dm_pack_open(o->pack, &src->pack, err) != DM_OK) return DM_EXIT_LOAD; /* the input rules first */
         src->pack_open = true;
-        if (dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
+        if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK ||
+            dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
             return DM_EXIT_LOAD;
         src->assets = &src->pack_assets;
         src->s = &src->scene;

@@ -1,5 +1,7 @@
 #include "core/dm_file.h"
 
+#include "core/dm_input.h"
+
 #include <assert.h>
 #include <dirent.h>
 #include <errno.h>
@@ -211,38 +213,5 @@ void dm_atomic_abort(dm_atomic_file *af)
 
 dm_result dm_read_file(const char *path, char **data, size_t *size, dm_error *err)
 {
-    *data = NULL;
-    *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap + 1);
-    if (!buf) {
-        fclose(f);
-        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    }
-    size_t got;
-    while ((got = fread(buf + n, 1, cap - n, f)) > 0) {
-        n += got;
-        if (n == cap) {
-            char *nb = realloc(buf, cap * 2 + 1);
-            if (!nb) {
-                free(buf);
-                fclose(f);
-                return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory at %zu bytes", path, cap);
-            }
-            buf = nb;
-            cap *= 2;
-        }
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return dm_fail(err, DM_ERR_FILE_READ, "%s: read error", path);
-    }
-    buf[n] = '\0';
-    *data = buf;
-    *size = n;
-    return DM_OK;
+    return dm_input_read(path, DM_INPUT_ANY, data, size, err);
 }

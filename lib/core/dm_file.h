@@ -57,7 +57,8 @@ void dm_cleanup_unregister(int slot);
 dm_result dm_mkdir_p(const char *dir, dm_error *err);
 
 /* Reads a whole file into a malloc'd buffer (NUL-terminated; *size excludes the NUL).
- * Free with free(). */
+ * Free with free(). The input rules of core/dm_input.h with the largest cap: a reader that
+ * knows its kind calls dm_input_read with it. */
 dm_result dm_read_file(const char *path, char **data, size_t *size, dm_error *err);
 
 /* The folder part of path ("." when none), into out. */

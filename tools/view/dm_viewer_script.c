@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dm_file.h"
+#include "core/dm_input.h"
 
 typedef struct command_spec {
     const char *name;
@@ -32,7 +32,7 @@ dm_result dm_script_read(const char *path, dm_script *s, dm_error *err)
     memset(s, 0, sizeof *s);
     char *text = NULL;
     size_t size = 0;
-    dm_result rc = dm_read_file(path, &text, &size, err);
+    dm_result rc = dm_input_read(path, DM_INPUT_SCRIPT, &text, &size, err);
     if (rc != DM_OK) return rc;
     if (memchr(text, 0, size)) rc = dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected text", path);
     if (rc == DM_OK) rc = dm_script_parse(text, path, s, err);
