@@ -113,6 +113,7 @@ int main(int argc, char **argv)
     args a;
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
+    if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
 
     /* Load. */
     dm_error err = {0};

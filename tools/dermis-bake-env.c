@@ -8,6 +8,7 @@
 #include "bake/dm_env_bake.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
+#include "core/dm_output.h"
 #include "core/dm_version.h"
 
 static const char *TOOL = "dermis-bake-env";
@@ -188,6 +189,8 @@ int main(int argc, char **argv)
         usage(stderr);
         return DM_EXIT_USAGE;
     }
+    int rc = dm_output_check_cli("-o", a.output, (const char *const[]){".exr", NULL}, &a.input, 1, NULL);
+    if (rc) return rc; /* before any work (core/dm_output.h) */
 
     dm_error err = {0};
     double t0 = dm_now_ms();

@@ -15,6 +15,7 @@
 #include "core/dm_brdf.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
+#include "core/dm_output.h"
 #include "core/dm_parallel.h"
 #include "core/dm_prov.h"
 #include "core/dm_version.h"
@@ -218,6 +219,26 @@ static const char *out_path(char *buf, size_t size, const char *given, const cha
     return buf;
 }
 
+/* Every output this run writes, checked before any work (core/dm_output.h). */
+static int check_outputs(const options *o)
+{
+    static const char *const png[] = {".png", NULL}, *const exr[] = {".exr", NULL};
+    const struct { int want; const char *opt, *given, *name; const char *const *ext; } outs[] = {
+        {o->want_beckmann, "--beckmann", o->beckmann_path, "beckmann.png", png},
+        {o->float_path != NULL, "--float", o->float_path, "", exr},
+        {o->want_rho_dt, "--rho-dt", o->rho_dt_path, "rho_dt.exr", exr},
+        {o->want_env_brdf, "--env-brdf", o->env_brdf_path, "env_brdf.exr", exr},
+        {o->want_preint, "--preintegrated", o->preint_path, "preintegrated.exr", exr}};
+    for (size_t k = 0; k < sizeof outs / sizeof outs[0]; ++k) {
+        char buf[4200];
+        const char *p = out_path(buf, sizeof buf, outs[k].given, o->out_dir, outs[k].name);
+        const char *opt = outs[k].given ? outs[k].opt : "-o";
+        int rc = outs[k].want ? dm_output_check_cli(opt, p, outs[k].ext, &o->profile, 1, NULL) : 0;
+        if (rc) return rc;
+    }
+    return 0;
+}
+
 /* The shared contract (bake/dm_lut_prov.h), so dermis-pack can take these files as they
  * are; the descriptive parameters after it are for people. */
 static void beckmann_prov(dm_provenance *p, int exact, const options *o)
@@ -323,7 +344,7 @@ int main(int argc, char **argv)
 {
     options o;
     int code = parse_args(argc, argv, &o);
-    if (code) return code;
+    if (code || (code = check_outputs(&o))) return code;
     double t_start = dm_now_ms();
     dm_error err = {0};
     dm_profile profile;

@@ -14,8 +14,8 @@
 #include "bake/dm_image.h"
 #include "core/dm_cli.h"
 #include "core/dm_brdf.h"
-#include "core/dm_file.h"
 #include "core/dm_format_version.h"
+#include "core/dm_input.h"
 #include "core/dm_lut_check.h"
 #include "core/dm_pack.h"
 #include "core/dm_pack_needs.h"
@@ -157,7 +157,7 @@ static void check_profile_json(result *r, const char *file)
     check_profile_values(r, &p, file);
     char *text = NULL;
     size_t size = 0;
-    if (dm_read_file(file, &text, &size, &err) != DM_OK) return;
+    if (dm_input_read(file, DM_INPUT_JSON, &text, &size, &err) != DM_OK) return;
     cJSON *root = cJSON_Parse(text);
     const cJSON *pv = cJSON_GetObjectItemCaseSensitive(root, "provenance");
     char *pt = pv ? cJSON_PrintUnformatted(pv) : NULL;
@@ -444,10 +444,10 @@ static void check_pack(result *r, const char *file)
 
 static void check_file(result *r, const char *file)
 {
-    struct stat st;
-    if (stat(file, &st) != 0 || !S_ISREG(st.st_mode)) {
+    dm_error ierr = {0}; /* core/dm_input.h: a regular file (a FIFO, a device, a folder said as such) */
+    if (dm_input_check(file, DM_INPUT_ANY, NULL, &ierr) != DM_OK) {
         r->type = "unknown";
-        fail(r, "%s: cannot open, expected a file", file);
+        fail(r, "%s", ierr.detail);
         return;
     }
     FILE *f = fopen(file, "rb");
@@ -467,7 +467,7 @@ static void check_file(result *r, const char *file)
         char *text = NULL;
         size_t size = 0;
         dm_error err = {0};
-        if (dm_read_file(file, &text, &size, &err) != DM_OK) {
+        if (dm_input_read(file, DM_INPUT_JSON, &text, &size, &err) != DM_OK) {
             fail(r, "%s", err.detail);
             return;
         }

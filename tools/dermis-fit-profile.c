@@ -11,6 +11,7 @@
 #include "bake/dm_profile_json.h"
 #include "core/dm_cli.h"
 #include "core/dm_diffusion.h"
+#include "core/dm_output.h"
 #include "core/dm_prov.h"
 #include "core/dm_version.h"
 
@@ -252,6 +253,8 @@ int main(int argc, char **argv)
     options o;
     int rc = parse(argc, argv, &o);
     if (rc) return rc;
+    if (o.output && (rc = dm_output_check_cli("-o", o.output, (const char *const[]){".json", NULL}, NULL, 0, NULL)))
+        return rc; /* before any work (core/dm_output.h) */
 
     /* Load: build the source. */
     dm_profile_source src;

@@ -9,6 +9,7 @@
 #include "bake/dm_lut.h"
 #include "bake/dm_pack_build.h"
 #include "core/dm_cli.h"
+#include "core/dm_output.h"
 #include "core/dm_pack.h"
 
 static void usage(FILE *f)
@@ -153,6 +154,11 @@ int main(int argc, char **argv)
     options opt;
     int rc = parse_args(argc, argv, &opt);
     if (rc != DM_EXIT_OK) return rc;
+    const char *in[5 + DM_PACK_BUILD_ENV_FILES] = {opt.scene, opt.build.beckmann, opt.build.rho_dt, opt.build.env_brdf,
+                                                   opt.build.stretch_file};
+    memcpy(in + 5, opt.build.env_files, sizeof opt.build.env_files);
+    if (opt.output && (rc = dm_output_check_cli("-o", opt.output, (const char *const[]){".dpk", NULL}, in, 13, NULL)))
+        return rc; /* before any work (core/dm_output.h) */
     const dm_pack_build_options *bo = &opt.build;
 
     dm_pack_build *j = malloc(sizeof *j);
@@ -188,11 +194,11 @@ int main(int argc, char **argv)
     const char *failed = "";
     if (dm_pack_build_run(j, &failed, &err) != DM_OK) {
         fprintf(stderr, "error: %s: %s\n", failed, err.detail);
+        bool input = j->input_failed || err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_FILE_READ ||
+                     err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT || err.code == DM_ERR_UNSUPPORTED;
         dm_pack_build_free(j);
         free(j);
-        return err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_MISMATCH || err.code == DM_ERR_FORMAT
-                   ? DM_EXIT_LOAD
-                   : DM_EXIT_PROCESS;
+        return input ? DM_EXIT_LOAD : DM_EXIT_PROCESS;
     }
     for (int f = 0; f < bo->env_file_count; ++f)
         if (!j->env_file_used[f] && !bo->quiet)

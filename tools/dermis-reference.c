@@ -15,6 +15,7 @@
 #include "bake/dm_reference_tiles.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
+#include "core/dm_output.h"
 #include "core/dm_pack.h"
 #include "core/dm_parallel.h"
 #include "core/dm_png.h"
@@ -191,8 +192,6 @@ static int parse(int argc, char **argv, args *a)
     if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
     if (!bad && !a->multipole && (a->thickness_mm > 0.0 || a->pairs)) bad = "--thickness and --pairs apply to --multipole";
     if (!bad && !a->medium && a->radial_gaussians) bad = "--radial-gaussians applies to --dipole/--multipole";
-    size_t n = strlen(a->out);
-    if (!bad && (n < 4 || strcmp(a->out + n - 4, ".exr"))) bad = "the output must be an .exr file";
     if (bad) {
         fprintf(stderr, "error: %s\n", bad);
         return DM_EXIT_USAGE;
@@ -564,6 +563,13 @@ int main(int argc, char **argv)
     args a;
     int code = parse(argc, argv, &a);
     if (code != -1) return code;
+    /* the outputs before any work (core/dm_output.h): OUT.exr, and --frame's OUT.png beside it */
+    const char *const exr[] = {".exr", NULL}, *const png[] = {".png", NULL}, *ins[2] = {a.pack, a.irradiance};
+    char png_out[4096];
+    snprintf(png_out, sizeof png_out, "%.*s.png", (int)strlen(a.out) - 4, a.out);
+    if ((code = dm_output_check_cli("-o", a.out, exr, a.merge_count ? a.merge : ins, a.merge_count ? a.merge_count : 2,
+                                    NULL)) || (a.frame && (code = dm_output_check_cli("-o", png_out, png, ins, 2, NULL))))
+        return code;
     if (a.merge_count) return merge(&a);
     dm_pack pack;
     dm_error err = {0};

@@ -7,6 +7,7 @@
 
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
+#include "core/dm_output.h"
 #include "core/dm_pack.h"
 #include "core/dm_prov.h"
 #include "core/dm_sort.h"
@@ -100,12 +101,6 @@ typedef struct options {
     bool timings, explain, verbose, quiet, compare_exact;
     dm_render_desc speed; /* the speed/accuracy fields only */
 } options;
-
-static bool ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
-}
 
 static int parse(int argc, char **argv, options *o)
 {
@@ -250,14 +245,6 @@ static int parse(int argc, char **argv, options *o)
                         "--compare-exact\n");
         return 0;
     }
-    if (o->reference && o->out && !ends_with(o->out, ".png")) {
-        fprintf(stderr, "error: -o: '%s': the comparison is a PNG\n", o->out);
-        return 0;
-    }
-    if (o->out && !ends_with(o->out, ".png") && !ends_with(o->out, ".exr")) {
-        fprintf(stderr, "error: -o: '%s' does not end in .png or .exr\n", o->out);
-        return 0;
-    }
     return 1;
 }
 
@@ -298,10 +285,10 @@ static int load(const options *o, source *src, dm_error *err)
                     o->pack, o->pack, stem, base, stem, base);
             return DM_EXIT_LOAD;
         }
-        if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK || dm_pack_open(o->pack, &src->pack, err) != DM_OK)
-            return DM_EXIT_LOAD;
+        if (dm_pack_open(o->pack, &src->pack, err) != DM_OK) return DM_EXIT_LOAD; /* the input rules first */
         src->pack_open = true;
-        if (dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
+        if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK ||
+            dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
             return DM_EXIT_LOAD;
         src->assets = &src->pack_assets;
         src->s = &src->scene;
@@ -396,10 +383,15 @@ int main(int argc, char **argv)
         return DM_EXIT_USAGE;
     }
     dm_error err = {0};
+    /* the output before any work (core/dm_output.h): the extension picks PNG or EXR; a comparison is a PNG */
+    int rc = 0, format = 0;
+    if (o.out && (rc = dm_output_check_cli("-o", o.out, (const char *const[]){".png", o.reference ? NULL : ".exr", NULL},
+                                           (const char *const[]){o.pack, o.reference}, 2, &format)))
+        return rc;
 
     /* load */
     source src;
-    int rc = load(&o, &src, &err);
+    rc = load(&o, &src, &err);
     if (rc) {
         fprintf(stderr, "error: %s\n", err.detail);
         unload(&src);
@@ -570,7 +562,7 @@ int main(int argc, char **argv)
         /* EXR: the view at full precision (texture views at their texture's size); PNG: the
          * display at the output size */
         int w, h;
-        bool exr = ends_with(o.out, ".exr");
+        bool exr = format == 1;
         if (exr) dm_renderer_view_size(r, &w, &h);
         else dm_renderer_size(r, &w, &h, NULL);
         dm_provenance prov;

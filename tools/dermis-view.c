@@ -396,11 +396,15 @@ int main(int argc, char **argv)
     if (!a) return DM_EXIT_PROCESS;
 
     /* load: the script and the pack are checked before any window opens */
-    if (o.script) {
-        if (dm_script_read(o.script, &a->script, &err) != DM_OK) {
-            fprintf(stderr, "%s\n", err.detail);
+    if (o.script) { /* a script that cannot be read: 2; one that is wrong: 1 (its lines say "error:") */
+        int bad = dm_script_read(o.script, &a->script, &err) == DM_OK              ? 0
+                  : err.code == DM_ERR_FILE_OPEN || err.code == DM_ERR_FILE_READ ? DM_EXIT_LOAD
+                                                                                 : DM_EXIT_USAGE;
+        if (bad) fprintf(stderr, "%s%s\n", bad == DM_EXIT_LOAD ? "error: " : "", err.detail);
+        if (bad || (bad = dm_script_check_outputs(&a->script, (const char *const[]){o.v.pack, o.reference, o.script}, 3))) {
+            dm_script_free(&a->script);
             free(a);
-            return DM_EXIT_USAGE;
+            return bad;
         }
         a->scripted = true;
     }

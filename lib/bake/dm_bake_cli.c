@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/dm_cli.h"
+#include "core/dm_output.h"
 
 bool dm_bake_cli_option(int argc, char **argv, int *i, int64_t size_max, dm_bake_cli *a)
 {
@@ -40,6 +41,12 @@ const char *dm_bake_cli_check(const dm_bake_cli *a)
     if (a->quiet && a->verbose) return "--quiet conflicts with -v";
     if (a->quiet && a->report) return "--quiet conflicts with --report";
     return NULL;
+}
+
+int dm_bake_cli_output(const dm_bake_cli *a)
+{
+    return dm_output_check_cli("-o", a->output, (const char *const[]){".exr", NULL},
+                               (const char *const[]){a->mesh, a->profile}, 2, NULL);
 }
 
 bool dm_bake_cli_profile(const dm_bake_cli *a, dm_profile *profile, char hash[DM_HASH_HEX_SIZE])

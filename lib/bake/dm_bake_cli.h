@@ -33,6 +33,11 @@ bool dm_bake_cli_option(int argc, char **argv, int *i, int64_t size_max, dm_bake
  * or --report), or NULL. */
 const char *dm_bake_cli_check(const dm_bake_cli *a);
 
+/* The output (-o) against core/dm_output.h's rules: an .exr name (any case), not the mesh
+ * or the profile, in a writable folder. 0 when fine, else the exit code (said on stderr).
+ * Called right after the options, before anything is loaded. */
+int dm_bake_cli_output(const dm_bake_cli *a);
+
 /* The profile: --profile's file or gems3-skin (hash "builtin"). The mesh: MESH (--mesh
  * picks glTF meshes). Each with its content hash; failures said on stderr as
  * "error: ...", the mesh freed. */

@@ -8,6 +8,7 @@
 #include <openexr.h>
 
 #include "core/dm_file.h"
+#include "core/dm_input.h"
 #include "core/dm_parallel.h"
 
 /* Errors from the library land here instead of on stderr (TOOLCHAIN.md). */
@@ -288,6 +289,8 @@ dm_result dm_exr_read(const char *path, dm_exr_image *out, dm_error *err)
 {
     assert(path && out);
     memset(out, 0, sizeof *out);
+    dm_result ir = dm_input_check(path, DM_INPUT_IMAGE, NULL, err); /* OpenEXR opens it by name */
+    if (ir != DM_OK) return ir;
     exr_msg msg = {{0}};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = on_exr_error;

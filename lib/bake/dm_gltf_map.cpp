@@ -4,6 +4,8 @@
 
 #include "bake/dm_isolate.h"
 #include "bake/dm_mesh_gltf.h"
+#include "core/dm_input.h"
+#include "core/dm_uri.h"
 
 #include <cctype>
 #include <cerrno>
@@ -128,22 +130,9 @@ dm_result parent(void *ctx, dm_isolate_pipe *pp, dm_error *err)
 
 dm_result query(map_query &q, dm_error *err)
 {
+    dm_result r = dm_input_check(q.path, DM_INPUT_MESH, nullptr, err); // here: a FIFO must not reach the child
+    if (r != DM_OK) return r;
     return dm_isolate_run(q.path, dm_isolate_limit_ms(q.path), child, parent, &q, err);
-}
-
-std::string decode_uri(const std::string &s)
-{
-    std::string out;
-    for (size_t i = 0; i < s.size(); ++i) {
-        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit((unsigned char)s[i + 1]) &&
-            std::isxdigit((unsigned char)s[i + 2])) {
-            out += (char)std::strtol(s.substr(i + 1, 2).c_str(), nullptr, 16);
-            i += 2;
-        } else {
-            out += s[i];
-        }
-    }
-    return out;
 }
 
 void describe(const map_query &q, char *source, size_t size)
@@ -186,14 +175,10 @@ extern "C" dm_result dm_gltf_map_read(const char *path, const char *mesh_name, d
     if (r != DM_OK) return r;
     const char *what = which == DM_GLTF_MAP_BASE_COLOR ? "baseColorTexture" : "normalTexture";
     if (!q.found) return dm_fail(err, DM_ERR_EMPTY, "%s: the material has no %s, expected one", path, what);
-    if (!q.uri.empty()) { // an external file, read where it is
-        std::string dir(path);
-        size_t slash = dir.rfind('/');
-        dir = slash == std::string::npos ? std::string() : dir.substr(0, slash + 1);
-        std::string rel = decode_uri(q.uri);
-        if (rel.compare(0, 7, "file://") == 0) rel = rel.substr(7);
-        std::string file = rel[0] == '/' ? rel : dir + rel; // absolute paths (not portable glTF) as they are
-        return dm_image_read(file.c_str(), type, out, err);
+    if (!q.uri.empty()) { // an external file, inside the glTF's folder (core/dm_uri.h)
+        std::vector<char> file(8192);
+        r = dm_uri_resolve(path, q.uri.c_str(), true, file.data(), file.size(), nullptr, err);
+        return r != DM_OK ? r : dm_image_read(file.data(), type, out, err);
     }
     // Embedded: through a temporary file named by the image's type (OpenImageIO picks
     // its reader by extension first).

@@ -3,7 +3,8 @@
  *
  * The material is the one of the first triangle primitive of the meshes dm_mesh_load
  * reads from the file (same scene traversal, same mesh_name filter). Its texture's image
- * is an external file (the URI resolved against the glTF file's folder, %XX decoded) or
+ * is an external file (the URI %XX-decoded, then resolved inside the glTF file's folder:
+ * core/dm_uri.h) or
  * embedded (a GLB buffer view or a data URI): external files are read where they are,
  * embedded bytes through a temporary file (in $TMPDIR, removed before returning), both
  * with dm_image_read. Like the mesh, the glTF file is parsed in a child process

@@ -1,5 +1,6 @@
 // dm_image_oiio.cpp — the OpenImageIO adapter behind dm_image.h. C++ stays in here.
 #include "bake/dm_image.h"
+#include "core/dm_input.h"
 
 #include <cassert>
 #include <cstdlib>
@@ -32,6 +33,8 @@ extern "C" dm_result dm_image_read(const char *path, dm_pixel_type type, dm_imag
 {
     assert(path && out);
     std::memset(out, 0, sizeof *out);
+    dm_result r = dm_input_check(path, DM_INPUT_IMAGE, nullptr, err); // OpenImageIO opens it by name
+    if (r != DM_OK) return r;
     ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
     auto in = ImageInput::open(path, &config);

@@ -13,7 +13,8 @@
  * determinant flips the winding); dm_mesh_load_options.mesh_name keeps only the meshes
  * of that name. TEXCOORD_0 is flipped to this convention (v = 1 − v_glTF); NORMAL and
  * TANGENT are kept when given; indices may be u8, u16 or u32; buffers may be the GLB's
- * own, data URIs or files relative to the .gltf. Vertices glTF split at UV seams are
+ * own, data URIs or files in the .gltf's folder and below (core/dm_uri.h: an absolute
+ * URI, a ".." or one that leaves the folder refuses the file, DM_ERR_FILE_OPEN). Vertices glTF split at UV seams are
  * welded back by bit-identical position, so computed normals are smooth across seams
  * and the mesh has the same shape as the OBJ of the same head. Refused, naming the
  * file and the place: sparse accessors, KHR_draco_mesh_compression and
@@ -81,7 +82,9 @@ typedef struct dm_mesh_load_options {
  * trip their asserts or loop forever), so by default the read runs in a forked child
  * that sends the mesh back through a pipe: a crash becomes DM_ERR_FORMAT "the reader
  * crashed on this file", a hang (30 s + 1 s per MB) the same after killing the child.
- * tinygltf runs in the child the same way. File normals are made unit length; a
+ * tinygltf runs in the child the same way. The file itself is checked here first under
+ * core/dm_input.h's rules (a regular file under the mesh cap), so a FIFO or a device never
+ * reaches the child. File normals are made unit length; a
  * zero-length one makes every normal computed (and file tangents dropped).
  * Fork from a point where no other thread holds a lock (tools load before they start
  * worker threads). Free with dm_mesh_free, also after a failure. */

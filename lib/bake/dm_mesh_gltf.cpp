@@ -1,9 +1,13 @@
 // dm_mesh_gltf.cpp — the tinygltf adapter behind dm_mesh_load (dm_mesh.h, dm_mesh_gltf.h).
 // C++ stays in here. tinygltf parses the JSON and resolves buffers (GLB chunk, data
-// URIs, files beside the .gltf); everything it does not check — accessor and buffer view
+// URIs, files in the .gltf's folder and below only: core/dm_uri.h, through the file
+// callbacks below); everything it does not check — accessor and buffer view
 // ranges, component types, index ranges, node cycles — is checked here before a byte is
 // read, so a malformed file is an error naming the file and the place.
 #include "bake/dm_mesh_gltf.h"
+
+#include "core/dm_input.h"
+#include "core/dm_uri.h"
 
 #include <array>
 #include <cctype>
@@ -15,6 +19,8 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include <unistd.h>
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -45,8 +51,14 @@ bool keep_image(tinygltf::Image *img, const int, std::string *, std::string *, i
 
 dm_result check_glb_header(const char *path, dm_error *err)
 {
-    FILE *f = std::fopen(path, "rb");
-    if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, std::strerror(errno));
+    int fd = -1;
+    dm_result r = dm_input_open(path, DM_INPUT_MESH, &fd, nullptr, err);
+    if (r != DM_OK) return r;
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, std::strerror(errno));
+    }
     unsigned char h[12];
     size_t got = std::fread(h, 1, sizeof h, f);
     std::fseek(f, 0, SEEK_END);
@@ -62,6 +74,62 @@ dm_result check_glb_header(const char *path, dm_error *err)
         return dm_fail(err, DM_ERR_FORMAT, "%s: the header says %u bytes, the file has %ld: truncated", path, length,
                        size);
     return DM_OK;
+}
+
+// tinygltf reads a buffer's or an image's file through these callbacks, so the glTF's
+// URIs follow dermis's rules (core/dm_uri.h, core/dm_input.h): inside the glTF's folder,
+// regular files under a cap. tinygltf looks a URI up as JoinPath(base, uri), then as
+// JoinPath(".", uri) (the current folder), which is never allowed. The first refusal is
+// kept: tinygltf only warns about an image it cannot read, and its own message for a
+// buffer would be "File not found".
+struct fs_guard {
+    std::string gltf, prefix; // the file, and its folder with a trailing '/'
+    std::string refusal;      // the first refusal's message
+    std::string fallback;     // the current-folder lookup that follows a failed one
+};
+
+bool fs_exists(const std::string &abs, void *user)
+{
+    fs_guard &g = *static_cast<fs_guard *>(user);
+    if (!g.fallback.empty() && abs == g.fallback) {
+        g.fallback.clear();
+        return false;
+    }
+    if (abs.compare(0, g.prefix.size(), g.prefix) != 0) return false;
+    const std::string uri = abs.substr(g.prefix.size());
+    std::vector<char> out(8192);
+    bool missing = false;
+    dm_error e = {};
+    dm_result r = dm_uri_resolve(g.gltf.c_str(), uri.c_str(), false, out.data(), out.size(), &missing, &e);
+    if (r == DM_OK) r = dm_input_check(out.data(), DM_INPUT_MESH, nullptr, &e);
+    if (r == DM_OK) return true;
+    if (!missing && g.refusal.empty()) g.refusal = e.detail;
+    g.fallback = "./" + uri;
+    return false;
+}
+
+std::string fs_expand(const std::string &path, void *) { return path; } // no ~, no $VAR
+
+bool fs_read(std::vector<unsigned char> *out, std::string *msg, const std::string &path, void *user)
+{
+    fs_guard &g = *static_cast<fs_guard *>(user);
+    char *data = nullptr;
+    size_t size = 0;
+    dm_error e = {};
+    if (dm_input_read(path.c_str(), DM_INPUT_MESH, &data, &size, &e) != DM_OK) {
+        if (g.refusal.empty()) g.refusal = e.detail;
+        if (msg) *msg = e.detail;
+        return false;
+    }
+    out->assign(data, data + size);
+    std::free(data);
+    return true;
+}
+
+bool fs_write(std::string *msg, const std::string &, const std::vector<unsigned char> &, void *)
+{
+    if (msg) *msg = "dermis writes no glTF";
+    return false;
 }
 
 std::string one_line(std::string s)
@@ -363,15 +431,23 @@ dm_result load(const char *path, bool keep_images, tinygltf::Model *model, dm_er
     }
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(keep_image, keep_images ? model : nullptr);
+    // A name without a folder gets "./", so that tinygltf's base folder is never empty.
+    const std::string name = std::strchr(path, '/') ? std::string(path) : "./" + std::string(path);
+    fs_guard guard;
+    guard.gltf = path;
+    const std::string base = name.substr(0, name.find_last_of("/\\")); // tinygltf's GetBaseDir
+    guard.prefix = base.empty() || base.back() == '/' ? base : base + "/";
+    loader.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &guard});
     std::string e, w;
     bool ok = false;
     try {
-        ok = glb ? loader.LoadBinaryFromFile(model, &e, &w, path) : loader.LoadASCIIFromFile(model, &e, &w, path);
+        ok = glb ? loader.LoadBinaryFromFile(model, &e, &w, name) : loader.LoadASCIIFromFile(model, &e, &w, name);
     } catch (const std::bad_alloc &) {
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory while reading", path);
     } catch (const std::exception &x) {
         e = x.what();
     }
+    if (!guard.refusal.empty()) return dm_fail(err, DM_ERR_FILE_OPEN, "%s", guard.refusal.c_str());
     if (!ok) return dm_fail(err, DM_ERR_FORMAT, "%s: not a valid glTF 2.0 file: %s", path, one_line(e).c_str());
     for (const std::string &x : model->extensionsRequired)
         if (x == "KHR_draco_mesh_compression" || x == "EXT_meshopt_compression" || x == "KHR_mesh_quantization")

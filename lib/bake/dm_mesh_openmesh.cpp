@@ -6,6 +6,7 @@
 
 #include "bake/dm_isolate.h"
 #include "bake/dm_mesh_gltf.h"
+#include "core/dm_input.h"
 
 #include <cassert>
 #include <cctype>
@@ -242,13 +243,13 @@ extern "C" dm_result dm_mesh_load(const char *path, const dm_mesh_load_options *
     if (!known_extension(path))
         return dm_fail(err, DM_ERR_UNSUPPORTED,
                        "%s: unknown mesh format, expected .obj, .ply, .off, .stl, .om, .gltf or .glb", path);
-    FILE *fp = std::fopen(path, "rb");
-    if (!fp) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open (%s)", path, std::strerror(errno));
-    int first = std::fgetc(fp);
-    std::fclose(fp);
-    if (first == EOF) return dm_fail(err, DM_ERR_EMPTY, "%s: the file is empty, expected a mesh", path);
+    // The input rules here, in this process: the reader's child must not get a FIFO (whose
+    // open would hang until its time limit) or /dev/zero (read until memory runs out).
+    uint64_t size = 0;
+    dm_result r = dm_input_check(path, DM_INPUT_MESH, &size, err);
+    if (r != DM_OK) return r;
+    if (size == 0) return dm_fail(err, DM_ERR_EMPTY, "%s: the file is empty, expected a mesh", path);
 
-    dm_result r = DM_OK;
     if ((r = dm_mesh_check_file(path, err)) != DM_OK) return r;
     const mesh_reader read = dm_mesh_is_gltf(path) ? dm_mesh_read_gltf : read_openmesh_c;
     r = o.in_process ? read(path, &o, out, err) : read_isolated(path, &o, read, out, err);

@@ -52,6 +52,8 @@ typedef struct dm_pack_build {
     dm_mesh mesh;                               /* loaded once, for the mesh and stretch steps */
     bool mesh_loaded;
     char mesh_hash[DM_HASH_HEX_SIZE];
+    bool input_failed; /* the failure of dm_pack_build_run was an input (the mesh, a map) that
+                        * did not load, whatever its code: the tools' exit 2 */
 } dm_pack_build;
 
 /* Reads the scene (relative paths searched in asset_dirs, core/dm_scene.h), hashes it, and

@@ -14,7 +14,7 @@
 #include "bake/dm_mesh.h"
 #include "bake/dm_mesh_plausible.h"
 #include "core/dm_brdf.h"
-#include "core/dm_file.h"
+#include "core/dm_input.h"
 #include "core/dm_ssss_kernel.h"
 
 #include "bake/dm_pack_build_impl.h"
@@ -50,6 +50,7 @@ static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path,
                                           DM_PIXEL_U8, &img, gltf_src, sizeof gltf_src, err)
                        : dm_image_read(path, DM_PIXEL_U8, &img, err);
     if (r != DM_OK) {
+        j->input_failed = true;
         dm_image_free(&img);
         return r;
     }
@@ -234,7 +235,7 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
     dm_result r = DM_OK;
     bool from_file = strcmp(j->scene.profile_source, "gems3-skin") != 0 && strcmp(j->scene.profile_source, "inline") != 0;
     if (from_file) { /* the file as it is: it keeps its fit error and its own provenance */
-        r = dm_read_file(j->scene.profile_source, &text, &size, err);
+        r = dm_input_read(j->scene.profile_source, DM_INPUT_JSON, &text, &size, err);
         if (r == DM_OK) r = dm_hash_file_hex(j->scene.profile_source, p.input_hash, err);
     } else {
         r = dm_profile_to_json(pr, &text, err);
@@ -286,6 +287,7 @@ dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err)
     dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
     if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
     j->mesh_loaded = r == DM_OK;
+    j->input_failed = r != DM_OK;
     char plausible[1024];
     if (r == DM_OK && dm_mesh_plausible(&j->mesh, j->scene.mm_per_unit, j->scene.mesh, plausible, sizeof plausible))
         fputs(plausible, stderr);

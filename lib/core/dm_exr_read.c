@@ -6,7 +6,7 @@
 
 #include <zlib.h>
 
-#include "core/dm_file.h"
+#include "core/dm_input.h"
 #include "core/dm_half.h"
 
 /* ---- bounded little-endian cursor -------------------------------------------------------- */
@@ -312,7 +312,7 @@ dm_result dm_exr_load(const char *path, dm_exr_file *out, dm_error *err)
     memset(out, 0, sizeof *out);
     char *data = NULL;
     size_t size = 0;
-    dm_result rc = dm_read_file(path, &data, &size, err);
+    dm_result rc = dm_input_read(path, DM_INPUT_IMAGE, &data, &size, err);
     if (rc != DM_OK) return rc;
     rc = dm_exr_decode((const uint8_t *)data, size, path, out, err);
     free(data);

@@ -1,5 +1,7 @@
 #include "core/dm_file.h"
 
+#include "core/dm_input.h"
+
 #include <assert.h>
 #include <dirent.h>
 #include <errno.h>
@@ -7,10 +9,13 @@
 #include <pthread.h>
 #include <signal.h>
 #include <stdatomic.h>
+#include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
+#include <sys/xattr.h>
 #include <unistd.h>
 
 /* --- cleanup on signals ---------------------------------------------------------------
@@ -95,24 +100,87 @@ dm_result dm_mkdir_p(const char *dir, dm_error *err)
     return DM_OK;
 }
 
-/* Removes "<base>.tmp.<PID>" in dir whose process is gone (a run killed by SIGKILL). */
+/* --- temporaries: their names and the proof that one is a dead run's own -----------------
+ * (The reasons are in dm_file.h.) The marker is the extended attribute TMP_XATTR holding
+ * "dermis-tmp 1 HOST PID START", START the process's start time in clock ticks since boot
+ * (field 22 of /proc/PID/stat), which tells a dead run from a live process that got its
+ * PID again. */
+#define TMP_XATTR "user.dermis.tmp"
+
+static bool process_start(long pid, unsigned long long *ticks)
+{
+    char path[64], buf[1024];
+    snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+    FILE *f = fopen(path, "r");
+    if (!f) return false;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    char *p = strrchr(buf, ')'), *save = NULL; /* the command name may hold spaces */
+    int field = 2;
+    for (char *t = p ? strtok_r(p + 1, " ", &save) : NULL; t; t = strtok_r(NULL, " ", &save))
+        if (++field == 22) return *ticks = strtoull(t, NULL, 10), true;
+    return false;
+}
+
+static void tmp_marker(long pid, char *out, size_t size)
+{
+    char host[256] = "";
+    unsigned long long start = 0;
+    gethostname(host, sizeof host - 1);
+    process_start(pid, &start);
+    snprintf(out, size, "dermis-tmp 1 %s %ld %llu", host, pid, start);
+}
+
+/* The PID of "<base>.tmp.<PID>.dermis" or "<base>.tmp.<PID>-<K>.dermis", else 0. */
+static long tmp_name_pid(const char *name, const char *base)
+{
+    size_t base_len = strlen(base);
+    if (strncmp(name, base, base_len) != 0 || strncmp(name + base_len, ".tmp.", 5) != 0) return 0;
+    const char *p = name + base_len + 5;
+    size_t digits = strspn(p, "0123456789");
+    if (digits == 0 || digits > 9) return 0;
+    long pid = atol(p);
+    p += digits;
+    if (*p == '-' && (digits = strspn(p + 1, "0123456789")) > 0 && digits <= 3) p += 1 + digits;
+    return strcmp(p, ".dermis") == 0 ? pid : 0;
+}
+
+/* Removes the temporaries of target `base` in dir that are provably a dead run's own. */
 static void remove_stale(const char *dir, const char *base)
 {
     DIR *d = opendir(dir);
     if (!d) return;
-    size_t base_len = strlen(base);
+    char mine[512];
+    tmp_marker(0, mine, sizeof mine); /* "dermis-tmp 1 HOST 0 0": the host part */
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
-        const char *n = e->d_name;
-        if (strncmp(n, base, base_len) != 0 || strncmp(n + base_len, ".tmp.", 5) != 0) continue;
-        const char *digits = n + base_len + 5;
-        if (!*digits || strspn(digits, "0123456789") != strlen(digits) || strlen(digits) > 9) continue;
-        long pid = atol(digits);
+        long pid = tmp_name_pid(e->d_name, base);
         if (pid <= 0 || pid == (long)getpid()) continue;
-        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* alive (or not ours to judge) */
-        char full[8400];
-        snprintf(full, sizeof full, "%s/%s", dir, n);
-        if (unlink(full) == 0)
+        char full[8400], mark[512];
+        snprintf(full, sizeof full, "%s/%s", dir, e->d_name);
+        ssize_t n = getxattr(full, TMP_XATTR, mark, sizeof mark - 1);
+        bool unsupported = n < 0 && (errno == ENOTSUP || errno == EOPNOTSUPP);
+        if (n < 0 && !unsupported) continue; /* no marker: not a dermis temporary, whatever its name */
+        char host[256] = "";
+        long marked_pid = 0;
+        unsigned long long start = 0;
+        if (n >= 0) {
+            mark[n] = '\0';
+            char want_host[256] = "";
+            if (sscanf(mark, "dermis-tmp 1 %255s %ld %llu", host, &marked_pid, &start) != 3 ||
+                sscanf(mine, "dermis-tmp 1 %255s", want_host) != 1 || strcmp(host, want_host) != 0 ||
+                marked_pid != pid)
+                continue; /* another host's (a shared folder) or not made as its name says */
+        }
+        unsigned long long now_start = 0;
+        bool alive = kill((pid_t)pid, 0) == 0 || errno != ESRCH;
+        if (alive && n >= 0 && process_start(pid, &now_start) && now_start != start) alive = false; /* PID reused */
+        if (alive) continue;
+        if (unsupported)
+            fprintf(stderr, "warning: %s looks left by an interrupted run (process %ld), but this file system keeps "
+                            "no marker to prove it: delete it if it is\n", full, pid);
+        else if (unlink(full) == 0)
             fprintf(stderr, "note: removed %s, left by an interrupted run (process %ld)\n", full, pid);
         else
             fprintf(stderr, "warning: %s is left by an interrupted run (process %ld): delete it (%s)\n", full, pid,
@@ -142,16 +210,40 @@ dm_result dm_atomic_begin(dm_atomic_file *af, const char *path, dm_error *err)
     if (strlen(path) >= sizeof af->path)
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%.64s...: output path too long", path);
     snprintf(af->path, sizeof af->path, "%s", path);
-    snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld", path, (long)getpid());
     char dir[4096];
     dm_dirname(path, dir, sizeof dir);
     dm_result r = dm_mkdir_p(dir, err);
     if (r != DM_OK) return r;
-    if (access(dir, W_OK) != 0)
-        return dm_fail(err, DM_ERR_FILE_WRITE, "%s: folder '%s' is not writable (%s)", path, dir, strerror(errno));
     const char *slash = strrchr(path, '/');
     remove_stale(dir, slash ? slash + 1 : path);
-    af->cleanup_slot = dm_cleanup_register(af->tmp_path);
+    /* O_EXCL: the temporary is a new file, never one that was there (the user's own). The
+     * signals wait while it is made and registered: none can fall between the two. */
+    pthread_once(&g_install_once, install_handlers);
+    sigset_t block, old;
+    sigemptyset(&block);
+    for (int s = 0; s < 3; ++s) sigaddset(&block, g_signals[s]);
+    pthread_sigmask(SIG_BLOCK, &block, &old);
+    int fd = -1;
+    for (int k = 0; fd < 0 && k < 100; ++k) {
+        if (k == 0) snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld.dermis", path, (long)getpid());
+        else snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld-%d.dermis", path, (long)getpid(), k);
+        fd = open(af->tmp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
+    }
+    int e = errno;
+    if (fd >= 0) {
+        char mark[512];
+        tmp_marker((long)getpid(), mark, sizeof mark);
+        (void)fsetxattr(fd, TMP_XATTR, mark, strlen(mark), 0); /* unsupported: no proof, never removed by others */
+        close(fd);
+        af->cleanup_slot = dm_cleanup_register(af->tmp_path);
+    }
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (fd < 0) {
+        af->tmp_path[0] = '\0';
+        return dm_fail(err, DM_ERR_FILE_WRITE, "%s: cannot write in the folder '%s' (%s)", path, dir,
+                       e == EEXIST ? "no free temporary name" : strerror(e));
+    }
     return DM_OK;
 }
 
@@ -160,7 +252,11 @@ dm_result dm_atomic_open(dm_atomic_file *af, const char *path, dm_error *err)
     dm_result r = dm_atomic_begin(af, path, err);
     if (r != DM_OK) return r;
     af->fp = fopen(af->tmp_path, "wb");
-    if (!af->fp) return dm_fail(err, DM_ERR_FILE_WRITE, "%s: %s", af->tmp_path, strerror(errno));
+    if (!af->fp) {
+        int e = errno;
+        dm_atomic_abort(af);
+        return dm_fail(err, DM_ERR_FILE_WRITE, "%s: cannot write (%s)", path, strerror(e));
+    }
     return DM_OK;
 }
 
@@ -211,38 +307,5 @@ void dm_atomic_abort(dm_atomic_file *af)
 
 dm_result dm_read_file(const char *path, char **data, size_t *size, dm_error *err)
 {
-    *data = NULL;
-    *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    char *buf = malloc(cap + 1);
-    if (!buf) {
-        fclose(f);
-        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    }
-    size_t got;
-    while ((got = fread(buf + n, 1, cap - n, f)) > 0) {
-        n += got;
-        if (n == cap) {
-            char *nb = realloc(buf, cap * 2 + 1);
-            if (!nb) {
-                free(buf);
-                fclose(f);
-                return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: out of memory at %zu bytes", path, cap);
-            }
-            buf = nb;
-            cap *= 2;
-        }
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return dm_fail(err, DM_ERR_FILE_READ, "%s: read error", path);
-    }
-    buf[n] = '\0';
-    *data = buf;
-    *size = n;
-    return DM_OK;
+    return dm_input_read(path, DM_INPUT_ANY, data, size, err);
 }

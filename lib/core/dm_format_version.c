@@ -8,9 +8,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <cJSON.h>
 
+#include "core/dm_input.h"
 #include "core/dm_pack.h"
 #include "core/dm_scene.h"
 
@@ -157,11 +159,16 @@ static dm_result scene_version(FILE *f, const char *path, dm_format_version *out
 dm_result dm_format_version_read(const char *path, dm_format_version *out, dm_error *err)
 {
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
-    if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
+    int fd;
+    dm_result r = dm_input_open(path, DM_INPUT_ANY, &fd, NULL, err);
+    if (r != DM_OK) return r;
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
+    }
     uint8_t head[DM_PACK_HEADER_SIZE];
     size_t got = fread(head, 1, sizeof head, f);
-    dm_result r;
     if (ferror(f)) {
         r = dm_fail(err, DM_ERR_FILE_READ, "%s: %s", path, strerror(errno));
     } else if (got >= 8 && memcmp(head, DM_PACK_MAGIC, 8) == 0) {

@@ -4,7 +4,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <unistd.h>
+
 #include <xxhash.h>
+
+#include "core/dm_input.h"
 
 uint64_t dm_hash64(const void *data, size_t size)
 {
@@ -36,8 +40,14 @@ void dm_hash_hex(const void *data, size_t size, char out[DM_HASH_HEX_SIZE])
 
 dm_result dm_hash_file_hex(const char *path, char out[DM_HASH_HEX_SIZE], dm_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
+    int fd;
+    dm_result r = dm_input_open(path, DM_INPUT_ANY, &fd, NULL, err); /* a FIFO or /dev/zero would never end */
+    if (r != DM_OK) return r;
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
+    }
     XXH3_state_t *st = XXH3_createState();
     if (!st) {
         fclose(f);

@@ -20,7 +20,7 @@ uint64_t dm_hash64(const void *data, size_t size);
 uint64_t dm_hash64_pair(const void *a, size_t a_size, const void *b, size_t b_size);
 /* "xxh3-128:<32 hex>" of a buffer, into out (DM_HASH_HEX_SIZE bytes). */
 void dm_hash_hex(const void *data, size_t size, char out[DM_HASH_HEX_SIZE]);
-/* The same over a whole file, streamed. */
+/* The same over a whole file, streamed; the file under the input rules (core/dm_input.h). */
 dm_result dm_hash_file_hex(const char *path, char out[DM_HASH_HEX_SIZE], dm_error *err);
 
 #ifdef __cplusplus

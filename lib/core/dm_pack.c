@@ -16,6 +16,7 @@
 #include <cJSON.h>
 
 #include "core/dm_hash.h"
+#include "core/dm_input.h"
 #include "core/dm_pack_needs.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
@@ -39,31 +40,28 @@ dm_result dm_pack_open_memory(const void *data, size_t size, const char *what, d
 dm_result dm_pack_open(const char *path, dm_pack *pack, dm_error *err)
 {
     memset(pack, 0, sizeof *pack);
-    int fd = open(path, O_RDONLY);
-    if (fd < 0) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    int fd;
+    uint64_t file_size;
+    dm_result r = dm_input_open(path, DM_INPUT_PACK, &fd, &file_size, err);
+    if (r != DM_OK) return r;
+    size_t size = (size_t)file_size;
+    if (size == 0) {
         close(fd);
-        return dm_fail(err, DM_ERR_FILE_OPEN, "%s: not a regular file", path);
+        return dm_fail(err, DM_ERR_FORMAT, "%s: the file is empty (0 bytes), expected a dermis pack", path);
     }
-    size_t size = (size_t)st.st_size;
-    void *m = NULL;
-    if (size > 0) {
-        m = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
-        if (m == MAP_FAILED) {
-            int e = errno;
-            close(fd);
-            return dm_fail(err, DM_ERR_FILE_READ, "%s: cannot map (%s)", path, strerror(e));
-        }
+    void *m = mmap(NULL, size, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (m == MAP_FAILED) {
+        int e = errno;
+        close(fd);
+        return dm_fail(err, DM_ERR_FILE_READ, "%s: cannot map (%s)", path, strerror(e));
     }
     close(fd);
-    static const uint8_t empty[1];
-    dm_result r = dm_pack_open_memory(m ? m : empty, size, path, pack, err);
+    r = dm_pack_open_memory(m, size, path, pack, err);
     if (r != DM_OK) {
-        if (m) munmap(m, size);
+        munmap(m, size);
         return r;
     }
-    pack->mapped = m != NULL;
+    pack->mapped = true;
     return DM_OK;
 }
 

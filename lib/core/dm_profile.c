@@ -7,7 +7,7 @@
 
 #include <cJSON.h>
 
-#include "core/dm_file.h"
+#include "core/dm_input.h"
 #include "core/dm_jread.h"
 #include "core/dm_math.h"
 #include "core/dm_sbuf.h"
@@ -201,7 +201,7 @@ dm_result dm_profile_read(const char *path, dm_profile *p, dm_error *err)
 {
     char *text = NULL;
     size_t size = 0;
-    dm_result r = dm_read_file(path, &text, &size, err);
+    dm_result r = dm_input_read(path, DM_INPUT_JSON, &text, &size, err);
     if (r != DM_OK) return r;
     r = dm_profile_from_json(text, path, p, err);
     free(text);

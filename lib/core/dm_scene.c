@@ -12,6 +12,7 @@
 #include <cJSON.h>
 
 #include "core/dm_file.h"
+#include "core/dm_input.h"
 #include "core/dm_format_version.h"
 #include "core/dm_jread.h"
 #include "core/dm_scene_paths.h"
@@ -458,7 +459,7 @@ dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, 
     char *text = NULL;
     size_t size = 0;
     dm_scene_defaults(s);
-    dm_result r = dm_read_file(path, &text, &size, err);
+    dm_result r = dm_input_read(path, DM_INPUT_JSON, &text, &size, err);
     if (r != DM_OK) return r;
     if (strlen(text) != size) {
         free(text);

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dm_file.h"
+#include "core/dm_input.h"
 
 /* Defined by the generated file (scripts/embed-shaders.sh). */
 typedef struct dm_embedded_shader {
@@ -21,7 +21,7 @@ dm_result dm_render_shader_source(const char *dir, const char *name, char **out,
         char path[4096];
         snprintf(path, sizeof path, "%s/%s", dir, name);
         size_t size = 0;
-        return dm_read_file(path, out, &size, err);
+        return dm_input_read(path, DM_INPUT_SHADER, out, &size, err);
     }
     for (int i = 0; i < dm_embedded_shader_count; ++i)
         if (strcmp(dm_embedded_shaders[i].name, name) == 0) {

@@ -135,27 +135,45 @@ Test(assets, output_folders_are_created, .init = setup)
     cr_expect(strstr(err.detail, "is not a folder"), "%s", err.detail);
 }
 
-/* A temporary file of a dead process (kill -9) is removed by the next write of the same
- * target; one of a live process, and other targets' files, are left alone. */
-Test(assets, stale_temporaries_of_dead_processes_removed, .init = setup)
+/* Leaves the temporary of `target` as a run killed with SIGKILL leaves it (a child that
+ * _exits inside the write); returns the child's (dead) PID. */
+static pid_t leave_temporary(const char *target)
 {
     pid_t child = fork();
-    if (child == 0) _exit(0);
-    waitpid(child, NULL, 0); /* a pid that is certainly dead (not reused within the test) */
-    char stale[512], live[512], other[512], out[512];
+    if (child == 0) {
+        dm_atomic_file af;
+        dm_error err = {0};
+        _exit(dm_atomic_begin(&af, target, &err) == DM_OK ? 0 : 1);
+    }
+    int st = 0;
+    waitpid(child, &st, 0);
+    cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    return child;
+}
+
+/* A temporary file of a dead process (kill -9) is removed by the next write of the same
+ * target; one of a live process, other targets' files, and files named like temporaries
+ * without dermis's marker (core/dm_file.h) are left alone. */
+Test(assets, stale_temporaries_of_dead_processes_removed, .init = setup)
+{
+    char stale[512], live[512], other[512], out[512], other_out[512], old_style[512];
     snprintf(out, sizeof out, "%s/o.txt", dir);
-    snprintf(stale, sizeof stale, "%s/o.txt.tmp.%ld", dir, (long)child);
-    snprintf(live, sizeof live, "%s/o.txt.tmp.%ld", dir, (long)getppid());
-    snprintf(other, sizeof other, "%s/p.txt.tmp.%ld", dir, (long)child);
-    write_text(stale, "half");
+    snprintf(other_out, sizeof other_out, "%s/p.txt", dir);
+    pid_t child = leave_temporary(out), other_child = leave_temporary(other_out);
+    snprintf(stale, sizeof stale, "%s/o.txt.tmp.%ld.dermis", dir, (long)child);
+    snprintf(other, sizeof other, "%s/p.txt.tmp.%ld.dermis", dir, (long)other_child);
+    snprintf(live, sizeof live, "%s/o.txt.tmp.%ld.dermis", dir, (long)getppid()); /* no marker, live PID */
+    snprintf(old_style, sizeof old_style, "%s/o.txt.tmp.%ld", dir, (long)child);  /* the user's own */
     write_text(live, "half");
-    write_text(other, "half");
+    write_text(old_style, "mine");
+    cr_assert_eq(access(stale, F_OK), 0);
     dm_atomic_file af;
     dm_error err = {0};
     cr_assert_eq(dm_atomic_open(&af, out, &err), DM_OK, "%s", err.detail);
     cr_assert_eq(dm_atomic_commit(&af, &err), DM_OK, "%s", err.detail);
     cr_expect_neq(access(stale, F_OK), 0, "stale file kept");
-    cr_expect_eq(access(live, F_OK), 0, "a live process's file removed");
+    cr_expect_eq(access(live, F_OK), 0, "a file without the marker removed");
+    cr_expect_eq(access(old_style, F_OK), 0, "a user's file named like an old temporary removed");
     cr_expect_eq(access(other, F_OK), 0, "another target's file removed");
 }
 

@@ -1,6 +1,5 @@
 #include "dm_viewer.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -83,9 +82,6 @@ dm_result dm_viewer_load(dm_viewer *v, const dm_viewer_options *opt, dm_error *e
     memset(v, 0, sizeof *v);
     v->opt = *opt;
     if (opt->pack) {
-        FILE *f = fopen(opt->pack, "rb");
-        if (!f) return dm_fail(err, DM_ERR_FILE_OPEN, "%s: cannot open the pack (%s)", opt->pack, strerror(errno));
-        fclose(f);
         dm_result rc = open_pack(opt->pack, &v->pack, &v->loaded, &v->profile, &v->assets, err);
         if (rc != DM_OK) return rc;
         v->pack_open = true;

@@ -5,7 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dm_file.h"
+#include "core/dm_cli.h"
+#include "core/dm_input.h"
+#include "core/dm_output.h"
 
 typedef struct command_spec {
     const char *name;
@@ -32,7 +34,7 @@ dm_result dm_script_read(const char *path, dm_script *s, dm_error *err)
     memset(s, 0, sizeof *s);
     char *text = NULL;
     size_t size = 0;
-    dm_result rc = dm_read_file(path, &text, &size, err);
+    dm_result rc = dm_input_read(path, DM_INPUT_SCRIPT, &text, &size, err);
     if (rc != DM_OK) return rc;
     if (memchr(text, 0, size)) rc = dm_fail(err, DM_ERR_FORMAT, "%s: holds a NUL byte, expected text", path);
     if (rc == DM_OK) rc = dm_script_parse(text, path, s, err);
@@ -105,6 +107,12 @@ dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *
                          line, e.args[4]);
             break;
         }
+        if ((!strcmp(spec->name, "screenshot") || !strcmp(spec->name, "window-shot")) &&
+            dm_output_extension(e.args[0], (const char *const[]){".png", NULL}) < 0) {
+            rc = dm_fail(err, DM_ERR_FORMAT, "%s:%d: error: %s %s: expected a name ending in .png (any case): "
+                         "screenshots are PNG", path, line, spec->name, e.args[0]);
+            break;
+        }
         if (s->count == cap) {
             cap = cap ? 2 * cap : 32;
             dm_script_event *n = realloc(s->events, (size_t)cap * sizeof *n);
@@ -118,6 +126,22 @@ dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *
     }
     if (rc != DM_OK) dm_script_free(s);
     return rc;
+}
+
+int dm_script_check_outputs(const dm_script *s, const char *const *inputs, int input_count)
+{
+    for (int k = 0; k < s->count; ++k) {
+        const dm_script_event *e = &s->events[k];
+        if (strcmp(e->command, "screenshot") && strcmp(e->command, "window-shot")) continue;
+        dm_error err = {0};
+        dm_result r = dm_output_check(e->command, e->args[0], (const char *const[]){".png", NULL}, inputs,
+                                      input_count, NULL, &err);
+        if (r != DM_OK) {
+            fprintf(stderr, "error: %s:%d: %s\n", s->path, e->line, err.detail);
+            return r == DM_ERR_FILE_WRITE ? DM_EXIT_SAVE : DM_EXIT_USAGE;
+        }
+    }
+    return 0;
 }
 
 void dm_script_free(dm_script *s)

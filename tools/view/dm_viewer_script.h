@@ -59,6 +59,10 @@ dm_result dm_script_read(const char *path, dm_script *s, dm_error *err);
 /* The same over NUL-terminated text (modified in place: lines and words are cut); path names
  * it in messages. */
 dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *err);
+/* Every screenshot and window-shot name against core/dm_output.h's rules (a writable
+ * folder, not one of the inputs), before the window opens: 0, or the exit code (1, 4) after
+ * "error: FILE:LINE: ..." on stderr. (Their .png extension is checked while parsing.) */
+int dm_script_check_outputs(const dm_script *s, const char *const *inputs, int input_count);
 void dm_script_free(dm_script *s);
 
 #ifdef __cplusplus
