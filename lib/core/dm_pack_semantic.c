@@ -140,7 +140,8 @@ static dm_result directional(const ctx *c)
     dm_result r = single(c);
     return r != DM_OK ? r
                       : all_texels_in(c, (range){0.0, DM_PACK_DIRECTIONAL_MAX, false,
-                                                 "a directional albedo: at most pi, reached as m -> 0"});
+                                                 "a directional albedo or its split-sum parts: at most pi, "
+                                                 "reached as m -> 0"});
 }
 
 static dm_result stretch(const ctx *c)
@@ -195,8 +196,8 @@ static dm_result sh(const ctx *c)
     for (int i = 0; i < 27; ++i) {
         bool dc = i < 3;
         if (dc ? !(v[i] >= 0.0f && v[i] <= DM_PACK_SH_MAX) : !(fabsf(v[i]) <= DM_PACK_SH_MAX))
-            return FAIL(c, DM_ERR_RANGE, "coefficient %d channel %d is %g, expected %s%g] (%s)", i / 3, i % 3,
-                        (double)v[i], dc ? "[0, " : "within [-", DM_PACK_SH_MAX,
+            return FAIL(c, DM_ERR_RANGE, "coefficient %d channel %d is %g, expected %s%g%s (%s)", i / 3, i % 3,
+                        (double)v[i], dc ? "[0, " : "within +-", DM_PACK_SH_MAX, dc ? "]" : "",
                         dc ? "the mean radiance times sqrt(4 pi)" : "radiance up to 1e18 times sqrt(4 pi)");
     }
     return DM_OK;

@@ -39,7 +39,7 @@ static const absurd_case absurd_cases[] = {
     {"rho_dt_minus_1e38", "texture-space", EDIT_ONE, "lut.rho_dt", 9, -1e38f, NULL, NULL,
      "entry \"lut.rho_dt\": texel (1, 1) of layer 0, component 0 is -1e+38, expected [0, 3.14"},
     {"env_sh_1e38", "texture-space", EDIT_ONE, "env.sh", 4, 1e38f, NULL, NULL,
-     "entry \"env.sh\": coefficient 1 channel 1 is 1e+38, expected within [-3.5"},
+     "entry \"env.sh\": coefficient 1 channel 1 is 1e+38, expected within +-3.5"},
     {"preintegrated_1e38", "pre-integrated", EDIT_ONE, "sss.preintegrated", 2, 1e38f, NULL, NULL,
      "entry \"sss.preintegrated\": texel (0, 0) of layer 0, component 2 is 1e+38, expected [0, 1.001]"},
     {"stretch_texel_1e38", "texture-space", EDIT_ONE, "stretch", 1, 1e38f, NULL, NULL,
