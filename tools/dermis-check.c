@@ -19,6 +19,7 @@
 #include "core/dm_lut_check.h"
 #include "core/dm_pack.h"
 #include "core/dm_pack_needs.h"
+#include "core/dm_pack_semantic.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
 #include "core/dm_scene.h"
@@ -134,27 +135,14 @@ static void report_lut(result *r, const char *where, const dm_lut_check *c)
 
 /* --- profiles ----------------------------------------------------------------------- */
 
-static void check_profile_values(result *r, const dm_profile *p, const char *where)
-{
-    for (int c = 0; c < 3; ++c) {
-        double sum = 0.0;
-        for (int k = 0; k < p->count; ++k) sum += p->weight[k][c];
-        /* A diffusion profile returns at most the light it receives; 1e-3 allows the
-         * rounding of weights printed with three decimals. */
-        if (!(sum > 0.0) || sum > 1.001)
-            fail(r, "%s: weights of channel %d sum to %.6g, expected a total in (0, 1.001]", where, c, sum);
-    }
-}
-
 static void check_profile_json(result *r, const char *file)
 {
     dm_error err = {0};
     dm_profile p;
-    if (dm_profile_read(file, &p, &err) != DM_OK) {
+    if (dm_profile_read(file, &p, &err) != DM_OK) { /* its ranges: dm_profile_validate */
         fail(r, "%s", err.detail);
         return;
     }
-    check_profile_values(r, &p, file);
     char *text = NULL;
     size_t size = 0;
     if (dm_input_read(file, DM_INPUT_JSON, &text, &size, &err) != DM_OK) return;
@@ -200,20 +188,20 @@ static void check_scene_json(result *r, const char *file)
 
 /* --- stretch ------------------------------------------------------------------------ */
 
-/* Stretch planes (UV units per mm) must be finite and > 0 at every texel: gutters are filled. */
-static void check_stretch_plane(result *r, const char *where, const float *v, int w, int h, int stride)
+/* Stretch planes (UV units per mm) must be in the pack's range at every texel
+ * (dm_pack_stretch_ok, the rule the pack reader applies to its stretch entry): gutters are filled. */
+static void check_stretch_plane(result *r, const char *where, const float *v, int w, int h)
 {
     int64_t bad = 0, first = -1;
     for (int64_t i = 0; i < (int64_t)w * h; ++i) {
-        float x = v[i * stride];
-        if (!isfinite(x) || !(x > 0.0f)) {
+        if (!dm_pack_stretch_ok(v[i])) {
             if (first < 0) first = i;
             ++bad;
         }
     }
     if (bad)
-        fail(r, "%s: %" PRId64 " texels not finite and positive, first at (%d, %d) = %g", where, bad,
-             (int)(first % w), (int)(first / w), (double)v[first * stride]);
+        fail(r, "%s: %" PRId64 " texels outside (0, %g] UV units per mm, first at (%d, %d) = %g", where, bad,
+             DM_PACK_STRETCH_MAX_PER_MM, (int)(first % w), (int)(first / w), (double)v[first]);
 }
 
 static void check_stretch_exr(result *r, const char *file, const dm_exr_image *img)
@@ -234,7 +222,7 @@ static void check_stretch_exr(result *r, const char *file, const dm_exr_image *i
             if (!p)
                 fail(r, "%s: missing, expected it beside stretch%d.u", where, k);
             else
-                check_stretch_plane(r, where, p, img->width, img->height, 1);
+                check_stretch_plane(r, where, p, img->width, img->height);
         }
     }
     const float *mask = dm_exr_find(img, "mask");
@@ -366,7 +354,10 @@ static void check_pack(result *r, const char *file)
 {
     dm_error err = {0};
     dm_pack pack;
-    if (dm_pack_open(file, &pack, &err) != DM_OK) { /* verification stops at the first fault */
+    /* every entry's format and values (core/dm_pack_semantic.h), as every reader of the pack
+     * sees them; it stops at the first fault. What follows is dermis-check's own: entries the
+     * scene does not need, provenance, LUT texels re-evaluated. */
+    if (dm_pack_open(file, &pack, &err) != DM_OK) {
         fail(r, "%s", err.detail);
         return;
     }
@@ -402,37 +393,17 @@ static void check_pack(result *r, const char *file)
                                      has ? prov_num(&p, "f0", DM_SKIN_F0) : DM_SKIN_F0,
                                      nodes >= 8 && nodes <= 128 ? nodes : 32, &c);
             report_lut(r, where, &c);
-        } else if (e->kind == DM_PACK_PROFILE) {
-            char *text = malloc(e->size + 1);
-            dm_profile prof;
-            if (text) {
-                memcpy(text, e->data, e->size);
-                text[e->size] = '\0';
-                if (dm_profile_from_json(text, where, &prof, &err) == DM_OK) {
-                    check_profile_values(r, &prof, where);
-                    if (s->effects[DM_EFFECT_SUBSURFACE] && prof.count != s->profile.count)
-                        fail(r, "%s: %d Gaussians, the scene's profile has %d", where, prof.count, s->profile.count);
-                }
-            }
-            free(text);
-        } else if (!strcmp(e->name, "stretch") && e->kind == DM_PACK_TEXTURE) {
-            /* cross-consistency: built for this pack's mesh, mm_per_unit and profile */
-            const dm_tex_format_info *fi = dm_tex_format_get(e->format);
-            if (fi->component_size == 4)
-                check_stretch_plane(r, where, e->data, e->width, e->height * e->layers, 1);
-            if (has) {
-                double mm = prov_num(&p, "mm_per_unit", NAN);
-                if (mm != s->mm_per_unit)
-                    fail(r, "%s: built for mm_per_unit %g, the scene says %g", where, mm, s->mm_per_unit);
-                const dm_pack_entry *mv = dm_pack_find(&pack, "mesh.vertices");
-                dm_provenance mp;
-                if (mv && mv->provenance_json && dm_prov_from_json(&mp, mv->provenance_json, where, &err) == DM_OK &&
-                    strcmp(mp.input_hash, p.input_hash) != 0)
-                    fail(r, "%s: built from mesh %s, the pack's mesh is %s", where, p.input_hash, mp.input_hash);
-            }
-            if (e->layers != s->profile.count)
-                fail(r, "%s: %d layers, expected one per Gaussian of the profile (%d)", where, e->layers,
-                     s->profile.count);
+        } else if (!strcmp(e->name, "stretch") && has) {
+            /* cross-consistency of its provenance: built for this pack's mesh and mm_per_unit
+             * (its values and layers were verified by dm_pack_open) */
+            double mm = prov_num(&p, "mm_per_unit", NAN);
+            if (mm != s->mm_per_unit)
+                fail(r, "%s: built for mm_per_unit %g, the scene says %g", where, mm, s->mm_per_unit);
+            const dm_pack_entry *mv = dm_pack_find(&pack, "mesh.vertices");
+            dm_provenance mp;
+            if (mv && mv->provenance_json && dm_prov_from_json(&mp, mv->provenance_json, where, &err) == DM_OK &&
+                strcmp(mp.input_hash, p.input_hash) != 0)
+                fail(r, "%s: built from mesh %s, the pack's mesh is %s", where, p.input_hash, mp.input_hash);
         }
     }
     note(r, "%d entries, %zu bytes, every checksum verified", pack.entry_count, pack.size);

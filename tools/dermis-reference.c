@@ -15,6 +15,7 @@
 #include "bake/dm_reference_tiles.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
+#include "core/dm_math.h"
 #include "core/dm_output.h"
 #include "core/dm_pack.h"
 #include "core/dm_parallel.h"
@@ -315,6 +316,15 @@ static int make_kernel(const args *a, const dm_profile *profile, dm_reference_ke
     return -1;
 }
 
+/* The last line of defence: a picture holding NaN or infinite values is not written. */
+static bool finite_or_say(const float *v, size_t n, const char *what)
+{
+    size_t first, bad = dm_count_nonfinite(v, n, &first);
+    if (bad) fprintf(stderr, "error: %s: %zu of %zu values are NaN or infinite (the first: value %zu); nothing written\n",
+                     what, bad, n, first);
+    return bad == 0;
+}
+
 static void base_provenance(const args *a, const char *mode, dm_provenance *prov)
 {
     dm_prov_init(prov, "dermis-reference");
@@ -423,7 +433,9 @@ static int texture_space(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "tile_index", a->tile_index);
         dm_prov_add_int(&prov, "tile_count", a->tile_count);
         dm_prov_add_int(&prov, "levels", a->levels);
-        if (dm_exr_write(a->out, N, N, ch, nch, &prov, &err) != DM_OK) {
+        if (!finite_or_say(planes, (size_t)nch * plane, "the texture-space reference")) {
+            code = DM_EXIT_PROCESS;
+        } else if (dm_exr_write(a->out, N, N, ch, nch, &prov, &err) != DM_OK) {
             fprintf(stderr, "error: %s\n", err.detail);
             code = DM_EXIT_SAVE;
         } else {
@@ -524,7 +536,9 @@ static int frame(const args *a, const dm_pack *pack)
         char png[4096];
         snprintf(png, sizeof png, "%.*s.png", (int)(strlen(a->out) - 4), a->out);
         dm_ref_frame_display(&scene, rgba, W, H, display);
-        if (planes && (dm_exr_write(a->out, W, H, ch, 4, &prov, &err) != DM_OK ||
+        if (planes && !finite_or_say(planes, 4 * n, "the ground-truth frame")) {
+            code = DM_EXIT_PROCESS;
+        } else if (planes && (dm_exr_write(a->out, W, H, ch, 4, &prov, &err) != DM_OK ||
                        dm_png_write_pixels(png, W, H, 4, 8, display, &prov, NULL, 0, &err) != DM_OK)) {
             fprintf(stderr, "error: %s\n", err.detail);
             code = DM_EXIT_SAVE;

@@ -328,7 +328,7 @@ static int compare_reference(const options *o, const dm_refcmp_ref *ref, dm_rend
     if (!px || !rel) {
         fprintf(stderr, "error: cannot allocate %dx%d\n", w, h);
         rc = DM_EXIT_PROCESS;
-    } else if (dm_renderer_read_view(r, px, &err) != DM_OK ||
+    } else if (dm_renderer_check_finite(r, &err) != DM_OK || dm_renderer_read_view(r, px, &err) != DM_OK ||
                dm_refcmp_stats_compute(ref->rgba, px, w, h, &st, rel, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_PROCESS;
@@ -568,9 +568,9 @@ int main(int argc, char **argv)
         dm_provenance prov;
         provenance(&o, src.s, src.hash, r, &prov);
         void *px = malloc((size_t)w * h * 4 * (exr ? sizeof(float) : 1));
-        dm_result res = px ? DM_OK : dm_fail(&err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the image", o.out);
-        if (res == DM_OK)
-            res = exr ? dm_renderer_read_view(r, px, &err) : dm_renderer_read_display(r, px, &err);
+        dm_result res = px ? dm_renderer_check_finite(r, &err) /* NaN or Inf: exit 3, nothing written */
+                           : dm_fail(&err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate the image", o.out);
+        if (res == DM_OK) res = exr ? dm_renderer_read_view(r, px, &err) : dm_renderer_read_display(r, px, &err);
         if (res != DM_OK) {
             rc = DM_EXIT_PROCESS;
         } else {

@@ -23,13 +23,14 @@
 
 #include <stdint.h>
 
+#include "core/dm_pack_semantic.h"
 #include "core/dm_result.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define DM_ENVMAP_RADIANCE_MAX 1e18
+#define DM_ENVMAP_RADIANCE_MAX DM_PACK_RADIANCE_MAX /* one bound: the pack reader takes what this takes */
 #define DM_ENVMAP_NEGATIVE_TOLERANCE_DEFAULT 0.01
 enum { DM_ENVMAP_LEVEL_MAX = 16, DM_ENVMAP_SIZE_MAX = 16384 };
 

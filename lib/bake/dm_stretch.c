@@ -11,6 +11,7 @@
 #include "bake/dm_uv_raster.h"
 #include "core/dm_cli.h"
 #include "core/dm_math.h"
+#include "core/dm_pack_semantic.h"
 #include "core/dm_parallel.h"
 
 void dm_triangle_stretch_of(const dm_mesh *m, int32_t t, double mm_per_unit, dm_triangle_stretch *out)
@@ -23,6 +24,12 @@ void dm_triangle_stretch_of(const dm_mesh *m, int32_t t, double mm_per_unit, dm_
     out->mirrored = j.det < 0.0;
     out->s_u = fabs(j.det) / j.la;
     out->s_v = fabs(j.det) / j.lb;
+    if (!(out->s_u <= DM_PACK_STRETCH_MAX_PER_MM && out->s_v <= DM_PACK_STRETCH_MAX_PER_MM)) {
+        /* a sliver: the atlas would span less than a nanometre along it (the pack's bound) */
+        out->kind = DM_TRIANGLE_ZERO_AREA;
+        out->s_u = out->s_v = 0.0;
+        out->mirrored = false;
+    }
 }
 
 /* Allocates a texture-sized buffer (freed with free()). Large buffers are 2 MiB aligned

@@ -14,7 +14,8 @@
  *  2. Degenerate triangles cover nothing (mask = 0 where they lie) and are counted:
  *     zero UV area (|D| ≤ 1e-9 of the squared UV edge lengths: e.g. an island collapsed
  *     to a point), zero surface area (|e1 × e2| ≤ 1e-9 of the squared edge lengths, or
- *     a stretch that does not fit a float). Mirrored UVs (D < 0) are ordinary triangles:
+ *     a stretch above DM_PACK_STRETCH_MAX_PER_MM, core/dm_pack_semantic.h: the atlas
+ *     spanning less than a nanometre). Mirrored UVs (D < 0) are ordinary triangles:
  *     s_u, s_v do not depend on the sign of D; they are counted.
  *  3. Every uncovered texel takes the values of the nearest covered texel
  *     (dm_gutter.h), over the whole texture: no blur reach reads an empty texel.

@@ -62,8 +62,10 @@
  * file size, manifest bounds, header+manifest checksum, manifest schema (strict: unknown
  * keys refused), each entry's descriptor and its size against its format, bounds and
  * overlaps, zero padding, each blob's checksum, contents (finite floats, indices in range,
- * JSON blobs parse), and that every entry the scene's effects need is there
- * (dm_pack_needs.h) with the right kind and format.
+ * JSON blobs parse), that every entry the scene's effects need is there (dm_pack_needs.h),
+ * and last every dermis entry's kind, format, shape and values in their physical ranges
+ * (unit normals, mesh bounds, LUT, table and environment magnitudes, stretch, kernel,
+ * t_range, layer_values: core/dm_pack_semantic.h), over every value, nothing sampled.
  */
 #ifndef DM_PACK_H
 #define DM_PACK_H

@@ -1,5 +1,6 @@
 /* dm_pack_verify.c — VERIFIED ON OPEN (dm_pack.h): header, bounds, overlaps, padding,
- * checksums, contents and the entries the scene needs. */
+ * checksums, contents, the entries the scene needs, and last the physical ranges of every
+ * entry's values (dm_pack_semantic.c). */
 #include "core/dm_pack.h"
 
 #include <errno.h>
@@ -18,6 +19,7 @@
 #include "core/dm_format_version.h"
 #include "core/dm_hash.h"
 #include "core/dm_pack_needs.h"
+#include "core/dm_pack_semantic.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
 
@@ -177,7 +179,7 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
             const dm_pack_need *nd = &needs[k];
             char name[DM_PACK_NAME_SIZE];
             const dm_pack_entry *e = dm_pack_find(pack, dm_pack_need_entry_name(nd, copy, name));
-            if (!e) {
+            if (!e) { /* the kind and format of those present: dm_pack_check_values */
                 if (!dm_pack_need_applies(nd, s)) continue;
                 char by[256] = "";
                 size_t m = 0;
@@ -188,12 +190,6 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
                 r = dm_fail(err, DM_ERR_FORMAT, "%s: missing required entry \"%s\" (%s, needed by %s%s%s)", pack->what,
                             name, nd->why, m ? by : "every scene", nd->when ? " with a " : "",
                             dm_need_when_text(nd->when));
-            } else if (e->kind != nd->kind || (nd->format >= 0 && e->format != (dm_tex_format)nd->format)) {
-                r = dm_fail(err, DM_ERR_FORMAT, "%s: entry \"%s\" is %s%s%s, expected %s%s%s", pack->what, e->name,
-                            dm_pack_kind_name(e->kind), e->kind == DM_PACK_TEXTURE ? " " : "",
-                            e->kind == DM_PACK_TEXTURE ? dm_tex_format_get(e->format)->name : "",
-                            dm_pack_kind_name(nd->kind), nd->format >= 0 ? " " : "",
-                            nd->format >= 0 ? dm_tex_format_get((dm_tex_format)nd->format)->name : "");
             }
         }
     }
@@ -331,6 +327,7 @@ dm_result dm_pack_verify(dm_pack *pack, dm_error *err)
     }
     if (!dm_pack_find(pack, "scene"))
         return dm_fail(err, DM_ERR_FORMAT, "%s: missing required entry \"scene\" (every pack holds its scene)", what);
-    return check_required(pack, err);
+    dm_result r = check_required(pack, err);
+    return r != DM_OK ? r : dm_pack_check_values(pack, err);
 }
 

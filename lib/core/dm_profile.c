@@ -118,18 +118,24 @@ dm_result dm_profile_validate(const dm_profile *p, const char *what, dm_error *e
                        DM_PROFILE_MAX_GAUSSIANS);
     for (int k = 0; k < p->count; ++k) {
         double v = p->variance_mm2[k];
-        if (!isfinite(v) || v <= 0.0)
-            return dm_fail(err, DM_ERR_RANGE, "%s: gaussians[%d].variance_mm2 = %g, expected a finite value > 0",
-                           what, k, v);
+        if (!(v > 0.0 && v <= DM_PROFILE_VARIANCE_MAX_MM2)) /* NaN too */
+            return dm_fail(err, DM_ERR_RANGE, "%s: gaussians[%d].variance_mm2 = %g, expected a value in (0, %g] mm^2",
+                           what, k, v, DM_PROFILE_VARIANCE_MAX_MM2);
         if (k > 0 && !(v > p->variance_mm2[k - 1]))
             return dm_fail(err, DM_ERR_RANGE,
                            "%s: gaussians[%d].variance_mm2 = %g, expected more than the previous %g (ascending)",
                            what, k, v, p->variance_mm2[k - 1]);
         for (int c = 0; c < 3; ++c)
-            if (!isfinite(p->weight[k][c]) || p->weight[k][c] < 0.0)
-                return dm_fail(err, DM_ERR_RANGE, "%s: gaussians[%d].weights[%d] = %g, expected a finite value >= 0",
+            if (!(p->weight[k][c] >= 0.0 && p->weight[k][c] <= 1.0))
+                return dm_fail(err, DM_ERR_RANGE, "%s: gaussians[%d].weights[%d] = %g, expected a value in [0, 1]",
                                what, k, c, p->weight[k][c]);
     }
+    double sum[3];
+    dm_profile_channel_sums(p, sum);
+    for (int c = 0; c < 3; ++c)
+        if (!(sum[c] <= DM_PROFILE_WEIGHT_SUM_MAX))
+            return dm_fail(err, DM_ERR_RANGE, "%s: the weights of channel %d sum to %.6g, expected a total in [0, %g]",
+                           what, c, sum[c], DM_PROFILE_WEIGHT_SUM_MAX);
     return DM_OK;
 }
 

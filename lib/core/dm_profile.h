@@ -27,11 +27,21 @@ extern "C" {
 
 enum { DM_PROFILE_MAX_GAUSSIANS = 8, DM_PROFILE_NAME_SIZE = 64 };
 
+/* What makes physical sense (dm_profile_validate; so every reader of a profile, a scene or a
+ * pack takes the same ones):
+ *   variance ≤ 1e8 mm² (σ ≤ 10 m, the largest scene a pack holds, core/dm_pack_semantic.h:
+ *   skin's widest is 7.41 mm²; no measured translucent material spreads light metres);
+ *   weights in [0, 1] and each channel's sum in [0, 1.001]: a profile returns at most the
+ *   light it receives (1e-3 allows weights printed with three decimals, as the GPU Gems
+ *   table is); a channel of no weight at all is a medium that scatters none of it back. */
+#define DM_PROFILE_VARIANCE_MAX_MM2 1e8
+#define DM_PROFILE_WEIGHT_SUM_MAX 1.001
+
 typedef struct dm_profile {
     char name[DM_PROFILE_NAME_SIZE];
     int count;                                      /* 1..DM_PROFILE_MAX_GAUSSIANS */
-    double variance_mm2[DM_PROFILE_MAX_GAUSSIANS];  /* strictly ascending, > 0 */
-    double weight[DM_PROFILE_MAX_GAUSSIANS][3];     /* ≥ 0, per RGB channel */
+    double variance_mm2[DM_PROFILE_MAX_GAUSSIANS];  /* strictly ascending, (0, DM_PROFILE_VARIANCE_MAX_MM2] */
+    double weight[DM_PROFILE_MAX_GAUSSIANS][3];     /* [0, 1] per RGB channel, sums [0, WEIGHT_SUM_MAX] */
 } dm_profile;
 
 /* G(v, r) = exp(−r²/2v) / (2πv): the unit-integral (∫ 2πr G dr = 1) radial Gaussian of
@@ -75,7 +85,8 @@ dm_result dm_blur_taps(int tap_count, double spacing_sigma, int fold_tails, doub
 /* The d'Eon/Luebke six-Gaussian skin profile of DESIGN.md ("gems3-skin"). */
 void dm_profile_gems3_skin(dm_profile *p);
 
-/* Checks the invariants above; names `what` and the offending index in the message. */
+/* Checks the invariants above (DM_ERR_RANGE); names `what`, the offending index and the
+ * value in the message. */
 dm_result dm_profile_validate(const dm_profile *p, const char *what, dm_error *err);
 
 /* Parses the JSON form; `what` (usually the file name) prefixes error messages, which

@@ -125,7 +125,13 @@ dm_result dm_ssss_kernel_from_texels(const float *t, int taps, dm_ssss_kernel *k
         if (a > 0 && !(t[a * 4 + 3] > t[a * 4 - 1]))
             return dm_fail(err, DM_ERR_RANGE, "sss.kernel: offset of tap %d (%g mm) not above tap %d's", a,
                            (double)t[a * 4 + 3], a - 1);
+        if (!(fabs(t[a * 4 + 3]) <= DM_SSSS_OFFSET_MAX_MM))
+            return dm_fail(err, DM_ERR_RANGE, "sss.kernel: offset of tap %d is %g mm, expected within +-%g mm", a,
+                           (double)t[a * 4 + 3], DM_SSSS_OFFSET_MAX_MM);
         for (int c = 0; c < 3; ++c) {
+            if (!(t[a * 4 + c] >= 0.0f))
+                return dm_fail(err, DM_ERR_RANGE, "sss.kernel: tap %d weight %d is %g, expected >= 0", a, c,
+                               (double)t[a * 4 + c]);
             k->weight[a][c] = t[a * 4 + c];
             sum[c] += t[a * 4 + c];
         }
@@ -133,7 +139,7 @@ dm_result dm_ssss_kernel_from_texels(const float *t, int taps, dm_ssss_kernel *k
     }
     for (int c = 0; c < 3; ++c)
         if (fabs(sum[c] - 1.0) > 1e-4)
-            return dm_fail(err, DM_ERR_RANGE, "sss.kernel: channel %d weights sum to %.6f, expected 1", c, sum[c]);
+            return dm_fail(err, DM_ERR_RANGE, "sss.kernel: channel %d weights sum to %.6g, expected 1", c, sum[c]);
     k->range_mm = fabs(k->offset_mm[0]);
     return DM_OK;
 }

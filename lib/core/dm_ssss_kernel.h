@@ -26,6 +26,8 @@ extern "C" {
 #endif
 
 enum { DM_SSSS_MAX_TAPS = 25 };
+/* The end taps sit at 3σ of the widest Gaussian: 3·√DM_PROFILE_VARIANCE_MAX_MM2, + 1e-3. */
+#define DM_SSSS_OFFSET_MAX_MM (3e4 * 1.001)
 
 typedef struct dm_ssss_kernel {
     int taps;                              /* odd, 3..DM_SSSS_MAX_TAPS */
@@ -42,8 +44,9 @@ dm_result dm_ssss_kernel_fit(const dm_profile *p, int taps, dm_ssss_kernel *k, d
 /* The kernel as taps RGBA float32 texels (rgb = weights, a = offset mm): the pack's
  * "sss.kernel" entry layout. out holds 4·taps floats. */
 void dm_ssss_kernel_texels(const dm_ssss_kernel *k, float *out);
-/* Reads that layout back, checking finiteness, odd taps, ascending offsets and weights that
- * sum to 1 per channel within 1e-4. */
+/* Reads that layout back, checking finiteness, odd taps, ascending offsets within
+ * ±DM_SSSS_OFFSET_MAX_MM and weights ≥ 0 that sum to 1 per channel within 1e-4 (so each is
+ * at most 1). The one reading of the layout: the pack reader and the renderer both call it. */
 dm_result dm_ssss_kernel_from_texels(const float *texels, int taps, dm_ssss_kernel *k, dm_error *err);
 
 #ifdef __cplusplus

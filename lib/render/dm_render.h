@@ -297,6 +297,12 @@ float dm_renderer_view_gain(const dm_renderer *r);
  * unchanged. */
 dm_result dm_render_view_with_legend(const dm_renderer *r, void **px, int w, int *h, dm_error *err);
 dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err);
+/* The last line of defence before a picture of the last frame is written (dermis-render,
+ * dermis-view's screenshot): DM_ERR_NON_FINITE when its view (what dm_renderer_read_view
+ * returns) holds a NaN or infinite value, the message naming the view, how many values, the
+ * first pixel, and every target of the frame holding such values, in the order the renderer
+ * made them ("irradiance", "blur3", "screen": where they arose). DM_OK otherwise. */
+dm_result dm_renderer_check_finite(dm_renderer *r, dm_error *err);
 
 /* Every intermediate render target, for inspection (tests scan them for NaN/Inf). */
 typedef struct dm_target_info {

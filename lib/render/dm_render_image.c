@@ -7,6 +7,7 @@
 #include <zlib.h>
 
 #include "core/dm_file.h"
+#include "core/dm_math.h"
 #include "core/dm_png.h"
 
 dm_result dm_render_write_png(const char *path, int width, int height, const uint8_t *rgba,
@@ -66,6 +67,13 @@ static void wb_attr(wbuf *b, const char *name, const char *type, int32_t size)
 dm_result dm_render_write_exr(const char *path, int width, int height, const float *rgba,
                               const dm_provenance *prov, dm_error *err)
 {
+    size_t n = (size_t)width * (size_t)height * 4, at;
+    size_t bad = dm_count_nonfinite(rgba, n, &at);
+    if (bad) /* rows bottom-up in memory, top-down in the file: the file's row is named */
+        return dm_fail(err, DM_ERR_NON_FINITE,
+                       "%s: %zu of %zu values are NaN or infinite, the first at pixel (%zu, %zu) channel %zu; nothing "
+                       "written",
+                       path, bad, n, at / 4 % (size_t)width, (size_t)height - 1 - at / 4 / (size_t)width, at % 4);
     char *json = malloc(16384);
     if (!json) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "%s: cannot allocate", path);
     dm_result rc = dm_prov_to_json(prov, json, 16384, err);

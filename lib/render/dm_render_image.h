@@ -25,7 +25,8 @@ extern "C" {
 /* rgba: width*height*4 bytes. */
 dm_result dm_render_write_png(const char *path, int width, int height, const uint8_t *rgba,
                               const dm_provenance *prov, dm_error *err);
-/* rgba: width*height*4 floats, written as given. */
+/* rgba: width*height*4 floats, written as given; refused (DM_ERR_NON_FINITE, nothing
+ * written) when one is NaN or infinite, the message naming the count and the first pixel. */
 dm_result dm_render_write_exr(const char *path, int width, int height, const float *rgba,
                               const dm_provenance *prov, dm_error *err);
 

@@ -1,12 +1,18 @@
+/* dm_render_pack.c — the renderer's assets from an open pack. dm_pack_open verified every
+ * entry's kind, format, shape and values (core/dm_pack_semantic.h), the one verification every
+ * reader shares: nothing here refuses an entry again, the asserts only state what it promised. */
 #include "render/dm_render_pack.h"
 
-#include "core/dm_ssss_kernel.h"
-
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dm_pack_semantic.h"
 #include "core/dm_prov.h"
+#include "core/dm_ssss_kernel.h"
+
+_Static_assert((int)DM_PACK_ENV_LEVELS_MAX <= (int)DM_RENDER_ENV_LEVELS_MAX, "every env.specular a pack holds fits");
 
 /* A single-level, single-layer texture entry as a dm_texture; absent → zero. */
 static dm_result texture(const dm_pack *pack, const char *name, dm_texture *out, dm_error *err)
@@ -52,17 +58,13 @@ static dm_result environment(const dm_pack *pack, int env, dm_render_assets *a, 
     char name[DM_PACK_NAME_SIZE];
     const dm_pack_entry *sh = dm_pack_find(pack, env_entry(env, "sh", name));
     if (sh) {
-        if (sh->sh_order != 2 || sh->size != sizeof a->env_sh)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: env.sh of order %d, expected order 2 (9 RGB)", pack->what,
-                           sh->sh_order);
+        assert(sh->sh_order == 2 && sh->size == sizeof a->env_sh);
         memcpy(a->env_sh, sh->data, sizeof a->env_sh);
         a->has_env_sh = true;
     }
     const dm_pack_entry *spec = dm_pack_find(pack, env_entry(env, "specular", name));
     if (spec) {
-        if (spec->levels != 1 || spec->layers < 1 || spec->layers > DM_RENDER_ENV_LEVELS_MAX)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: env.specular has %d layers, expected 1..%d (one per m)",
-                           pack->what, spec->layers, DM_RENDER_ENV_LEVELS_MAX);
+        assert(spec->levels == 1 && spec->layers >= 1 && spec->layers <= DM_PACK_ENV_LEVELS_MAX);
         dm_result r = dm_pack_env_level_m(pack, spec, a->env_level_m, err);
         if (r != DM_OK) return r;
         for (int k = 0; k < spec->layers; ++k) a->env_levels[k] = layer(spec, k);
@@ -75,9 +77,7 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
 {
     const dm_pack_entry *st = dm_pack_find(pack, "stretch");
     if (!st) return DM_OK;
-    if (st->kind != DM_PACK_TEXTURE || st->levels != 1 || st->layers < 1 || st->layers > DM_PROFILE_MAX_GAUSSIANS)
-        return dm_fail(err, DM_ERR_FORMAT, "%s: stretch has %d layers, expected 1..%d (one per chain level)",
-                       pack->what, st->layers, DM_PROFILE_MAX_GAUSSIANS);
+    assert(st->levels == 1 && st->layers >= 1 && st->layers <= DM_PROFILE_MAX_GAUSSIANS); /* one per Gaussian */
     for (int k = 0; k < st->layers; ++k) a->stretch[k] = layer(st, k);
     a->stretch_level_count = st->layers;
     return texture(pack, "stretch.mask", &a->stretch_mask, err);
@@ -149,10 +149,7 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
     if ((r = stretch(pack, assets, err)) != DM_OK) return r;
     const dm_pack_entry *k = dm_pack_find(pack, "sss.kernel");
     if (k) { /* screen-space kernel: taps x 1 RGBA32F texels (core/dm_ssss_kernel.h) */
-        if (k->kind != DM_PACK_TEXTURE || k->format != DM_TEX_RGBA32F || k->height != 1 || k->levels != 1 ||
-            k->layers != 1 || k->width < 3 || k->width > DM_SSSS_MAX_TAPS)
-            return dm_fail(err, DM_ERR_FORMAT, "%s: sss.kernel is %dx%d, expected taps x 1 rgba32f, taps 3..%d",
-                           pack->what, k->width, k->height, DM_SSSS_MAX_TAPS);
+        assert(k->format == DM_TEX_RGBA32F && k->height == 1 && k->width >= 3 && k->width <= DM_SSSS_MAX_TAPS);
         assets->ss_kernel = (const float *)k->data;
         assets->ss_kernel_taps = k->width;
     }
@@ -160,11 +157,7 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
     if ((r = texture(pack, "sss.curvature", &assets->curvature, err)) != DM_OK) return r;
     const dm_pack_entry *pi = dm_pack_find(pack, "sss.preintegrated");
     if (pi) { /* its rows span curvature t_range[0] = 0 .. t_range[1] (1/mm) */
-        if (!pi->has_t_range || pi->t_range[0] != 0.0f || !(pi->t_range[1] > 0.0f))
-            return dm_fail(err, DM_ERR_FORMAT,
-                           "%s: sss.preintegrated has no \"t_range\" [0, curvature max] (its rows' curvature in "
-                           "1/mm); pack the scene again with this dermis-pack",
-                           pack->what);
+        assert(pi->has_t_range && pi->t_range[0] == 0.0f && pi->t_range[1] > 0.0f);
         assets->preint_curvature_max_per_mm = pi->t_range[1];
     }
     return environment(pack, env, assets, err);

@@ -12,6 +12,7 @@
  * and SH diffuse are the Lambert path's. */
 #include <math.h>
 
+#include "core/dm_pack_semantic.h"
 #include "render/dm_render_internal.h"
 
 static dm_result need(const dm_texture *t, const char *what, dm_error *err)
@@ -27,9 +28,10 @@ dm_result dmr_preint_check(const dm_render_assets *a, dm_error *err)
     if (rc == DM_OK && a->preintegrated.height < 2)
         rc = dm_fail(err, DM_ERR_RANGE, "assets: pre-integrated table of height %d, expected 2 or more",
                      a->preintegrated.height);
-    if (rc == DM_OK && !(a->preint_curvature_max_per_mm >= 0.0f && a->preint_curvature_max_per_mm <= 1e3f))
-        rc = dm_fail(err, DM_ERR_RANGE, "assets: preint_curvature_max_per_mm = %g, expected 0 (default 1) or (0, 1000]",
-                     (double)a->preint_curvature_max_per_mm);
+    if (rc == DM_OK && !(a->preint_curvature_max_per_mm >= 0.0f &&
+                         a->preint_curvature_max_per_mm <= (float)DM_PACK_CURVATURE_MAX_PER_MM)) /* the pack's bound */
+        rc = dm_fail(err, DM_ERR_RANGE, "assets: preint_curvature_max_per_mm = %g, expected 0 (default 1) or (0, %g]",
+                     (double)a->preint_curvature_max_per_mm, DM_PACK_CURVATURE_MAX_PER_MM);
     return rc;
 }
 

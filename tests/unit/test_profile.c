@@ -35,6 +35,40 @@ Test(profile, gems3_each_channel_sums_to_one)
     cr_assert_eq(dm_profile_validate(&p, "gems3", NULL), DM_OK);
 }
 
+/* The physical ranges every reader of a profile shares (a scene's, a pack's, a file's):
+ * variances up to 1e8 mm^2, weights in [0, 1], channel sums at most 1.001; a channel of no
+ * weight at all is allowed (a medium that scatters none of that colour back). */
+Test(profile, validate_refuses_absurd_values)
+{
+    struct {
+        int k, c;
+        double variance, weight;
+        const char *expect;
+    } cases[] = {
+        {5, -1, 1e38, 0, "gems3: gaussians[5].variance_mm2 = 1e+38, expected a value in (0, 1e+08] mm^2"},
+        {5, -1, 1.0000001e8, 0, "gaussians[5].variance_mm2 = 1e+08"},
+        {0, 1, 0, 2.0, "gems3: gaussians[0].weights[1] = 2, expected a value in [0, 1]"},
+        {0, 1, 0, -1e-9, "gaussians[0].weights[1] = -1e-09"},
+        {0, 2, 0, 0.66, "gems3: the weights of channel 2 sum to 1.011, expected a total in [0, 1.001]"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        dm_profile p;
+        dm_profile_gems3_skin(&p);
+        if (cases[i].c < 0) p.variance_mm2[cases[i].k] = cases[i].variance;
+        else p.weight[cases[i].k][cases[i].c] = cases[i].weight;
+        dm_error err = {0};
+        cr_expect_eq(dm_profile_validate(&p, "gems3", &err), DM_ERR_RANGE, "case %zu", i);
+        cr_expect(strstr(err.detail, cases[i].expect), "'%s' not in: %s", cases[i].expect, err.detail);
+    }
+    dm_profile p;
+    dm_profile_gems3_skin(&p);
+    p.variance_mm2[5] = DM_PROFILE_VARIANCE_MAX_MM2;
+    for (int k = 0; k < p.count; ++k) p.weight[k][2] = 0.0; /* no blue scattered back */
+    p.weight[0][0] += 0.0009;                           /* 1.0009: three-decimal rounding */
+    dm_error err = {0};
+    cr_expect_eq(dm_profile_validate(&p, "edges", &err), DM_OK, "%s", err.detail);
+}
+
 Test(profile, each_gaussian_integrates_to_one)
 {
     dm_profile p;
@@ -219,7 +253,7 @@ Test(profile, json_writer_round_trips_exactly)
     dm_profile p;
     dm_profile_gems3_skin(&p);
     snprintf(p.name, sizeof p.name, "my \"skin\" \\ v2");
-    p.weight[2][1] = 1.0 / 3.0; /* a double that needs all 17 digits */
+    p.weight[2][1] = 1.0 / 7.0; /* a double that needs all 17 digits (the channel still sums to <= 1) */
     char *json = NULL;
     dm_error err = {0};
     cr_assert_eq(dm_profile_to_json(&p, &json, &err), DM_OK, "%s", err.detail);

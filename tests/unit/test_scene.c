@@ -63,8 +63,8 @@ Test(scene, inline_profile_round_trips_bit_for_bit)
 {
     const char *json = "{\"mesh\": {\"path\": \"head.obj\"}, \"effects\": {\"subsurface\": {\"profile\": "
                        "{\"name\": \"fit\", \"gaussians\": [{\"variance_mm2\": 0.39354874902655007, "
-                       "\"weights\": [0.04516739832256841, 1, 0.5]}, {\"variance_mm2\": 10.882114324236698, "
-                       "\"weights\": [1, 0.25, 0.125]}]}}}}";
+                       "\"weights\": [0.04516739832256841, 0.75, 0.5]}, {\"variance_mm2\": 10.882114324236698, "
+                       "\"weights\": [0.9, 0.25, 0.125]}]}}}}";
     dm_error err = {0};
     dm_scene a, b;
     cr_assert_eq(dm_scene_parse(json, "/scenes/test.json", &a, &err), DM_OK, "%s", err.detail);

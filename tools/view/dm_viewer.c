@@ -502,8 +502,9 @@ bool dm_viewer_screenshot(dm_viewer *v, const char *path)
     if (v->frames == 0) return dm_viewer_set_status(v, true, "%s: no frame rendered yet", path), false;
     dm_provenance prov;
     dm_viewer_provenance(v, &prov);
-    dm_error err = {0};
-    if (dm_render_write_png(path, v->opt.width, v->opt.height, v->rgba, &prov, &err) != DM_OK) {
+    dm_error err = {0}; /* a frame holding NaN or Inf is not written (dm_renderer_check_finite) */
+    if (dm_renderer_check_finite(v->r, &err) != DM_OK ||
+        dm_render_write_png(path, v->opt.width, v->opt.height, v->rgba, &prov, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "%s", err.detail);
         return false;
     }
