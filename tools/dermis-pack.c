@@ -39,7 +39,11 @@ static void usage(FILE *f)
             "  --quiet                print nothing but errors\n"
             "  -h, --help             this text\n"
             "\n"
-            "Exit codes: 0 ok, 1 usage, 2 cannot load an input, 3 processing failed, 4 cannot save.\n",
+            "A scene whose memory estimate (by its irradiance size) exceeds what is available is\n"
+            "refused before any work, naming both; DERMIS_MEM_AVAILABLE_MB (MiB) overrides what is\n"
+            "counted as available (default: MemAvailable, or a cgroup's limit when lower).\n"
+            "Exit codes: 0 ok, 1 usage, 2 cannot load an input, 3 processing failed or refused\n"
+            "(memory), 4 cannot save.\n",
             DM_LUT_BECKMANN_SIZE_DEFAULT, DM_LUT_SIZE_MAX, DM_LUT_DIRECTIONAL_SIZE_DEFAULT, DM_LUT_NODES_DEFAULT);
 }
 
@@ -181,6 +185,12 @@ int main(int argc, char **argv)
         dm_pack_build_free(j);
         free(j);
         return DM_EXIT_OK;
+    }
+    if (dm_pack_build_memory_check(j, &err) != DM_OK) { /* before any work: bake/dm_pack_build.h */
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_pack_build_free(j);
+        free(j);
+        return DM_EXIT_PROCESS;
     }
     /* Files given for entries the scene does not need are a mistake worth saying. */
     const struct { const char *file, *entry, *opt; } given[] = {

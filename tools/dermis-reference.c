@@ -23,6 +23,7 @@
 #include "core/dm_prov.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
+#include "render/dm_render_memory.h"
 #include "render/dm_render_pack.h"
 
 enum { MERGE_MAX = 4096 };
@@ -39,6 +40,7 @@ static void usage(FILE *f)
             "  --texture-space N    the NxN atlas of D, I = the renderer's own level-0 irradiance at N\n"
             "                       (float RGBA EXR, A = 1 on covered texels; the layout of\n"
             "                       dermis-render --view irradiance --size NxN --irradiance N); 16..8192\n"
+            "                       (~300 bytes a texel while I is rendered: 8192 needs ~20 GiB)\n"
             "  --irradiance FILE    take I from that EXR (R, G, B, A = coverage; NxN) instead of rendering it\n"
             "  --levels             also write each S_k as channels Sk.R, Sk.G, Sk.B\n"
             "  --frame              a ground-truth frame from the scene's camera: irradiance on the CPU\n"
@@ -67,8 +69,11 @@ static void usage(FILE *f)
             "  -v                   more detail on stderr\n"
             "  --quiet              nothing on stdout\n"
             "  -h, --help           this text\n"
-            "Exit codes: 0 success, 1 usage error, 2 cannot load an input, 3 processing failed,\n"
-            "            4 cannot save the output.\n");
+            "A run whose memory estimate (docs/dermis-reference.md, Memory) exceeds what is available\n"
+            "is refused before any work, naming both; DERMIS_MEM_AVAILABLE_MB (MiB) overrides what is\n"
+            "counted as available (default: MemAvailable, or a cgroup's limit when lower).\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load an input, 3 processing failed or\n"
+            "            refused (memory), 4 cannot save the output.\n");
 }
 
 typedef struct args {
@@ -591,6 +596,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "error: %s\n", err.detail);
         dm_pack_close(&pack);
         return DM_EXIT_LOAD;
+    }
+    /* memory, before any work: the run's estimate (bake/dm_reference.h) with the renderer's for I */
+    dm_render_memory rm = {0};
+    if (!a.frame && !a.irradiance)
+        dm_render_memory_estimate_pack(&pack, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = a.size},
+                                       true, &rm, NULL);
+    dm_reference_memory_options mo = {.texture_space = a.frame ? 0 : a.size, .irradiance_render_size = rm.total_size,
+                                      .level_count = a.levels ? (a.medium ? a.radial_gaussians : DM_PROFILE_MAX_GAUSSIANS) : 0,
+                                      .width = a.width, .height = a.height, .atlas_size = a.atlas, .atlas_samples = a.atlas_samples};
+    if (dm_reference_memory_check(&pack, &mo, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        dm_pack_close(&pack);
+        return DM_EXIT_PROCESS;
     }
     code = a.frame ? frame(&a, &pack) : texture_space(&a, &pack);
     dm_pack_close(&pack);

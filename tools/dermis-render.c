@@ -10,7 +10,6 @@
 #include "core/dm_output.h"
 #include "core/dm_pack.h"
 #include "core/dm_prov.h"
-#include "core/dm_sort.h"
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
@@ -20,6 +19,7 @@
 #include "render/dm_render_refcmp.h"
 #include "render/dm_render_image.h"
 #include "render/dm_render_synth.h"
+#include "render/dm_render_timing.h"
 
 static void usage(FILE *f)
 {
@@ -35,8 +35,11 @@ static void usage(FILE *f)
             "                       coverage); both carry the scene and parameters as provenance\n"
             "  --synthetic SHAPE    render the built-in synthetic scene (sphere: 18,240 triangles;\n"
             "                       quad: a 64 mm flat patch) instead of a pack\n"
-            "  --size WxH           output size, default the scene's (1280x720); 1..16384 per side\n"
+            "  --size WxH           output size, default the scene's (1280x720); 1..16384 per side, and\n"
+            "                       its RGBA32F screen target one texture this OpenGL makes (llvmpipe:\n"
+            "                       under 1.5 GiB on a 24 GiB machine, up to 10032x10032 or 16384x6140)\n"
             "  --irradiance N       texture-space irradiance size, default the scene's (1024); 8..8192\n"
+            "                       (~300 bytes a texel on llvmpipe: 4096 needs ~5 GiB, 8192 ~19 GiB)\n"
             "  --frames N           frames to render, default 1; 1..100000 (timings: median)\n"
             "  --view NAME          final (default), irradiance, blurK (1..5), stretchK (0..5),\n"
             "                       shadowK, specular, diffuse, uv, wireframe, diffusion (the\n"
@@ -85,9 +88,13 @@ static void usage(FILE *f)
             "  -v                   more detail on stderr\n"
             "  --quiet              nothing on stdout but requested output\n"
             "  -h, --help           this text\n"
-            "Environment: LP_NUM_THREADS sets llvmpipe's thread count (default: all cores).\n"
-            "Exit codes: 0 success, 1 usage error, 2 cannot load the input, 3 rendering failed,\n"
-            "            4 cannot save the output.\n");
+            "Sizes beyond this OpenGL's limits, or whose memory estimate exceeds what is available\n"
+            "(docs/dermis-render.md, Memory), are refused before anything is made, naming both.\n"
+            "Environment: LP_NUM_THREADS sets llvmpipe's thread count (default: all cores);\n"
+            "DERMIS_MEM_AVAILABLE_MB the memory (MiB) the check counts on (default: MemAvailable,\n"
+            "or a cgroup's limit when lower).\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load the input, 3 rendering failed or\n"
+            "            refused (limits, memory), 4 cannot save the output.\n");
 }
 
 typedef struct options {
@@ -428,7 +435,7 @@ int main(int argc, char **argv)
     /* context + renderer */
     dm_osmesa *ctx = NULL;
     dm_renderer *r = NULL, *exact = NULL;
-    double *exact_ms = NULL;
+    dm_render_timing_log log = {0}, exact_log = {0}; /* the run's timings (render/dm_render_timing.h) */
     dm_render_desc desc = o.speed;
     desc.shader_dir = o.shader_dir;
     desc.width = o.width;
@@ -447,9 +454,8 @@ int main(int argc, char **argv)
         dm_render_desc ed = {.shader_dir = o.shader_dir, .width = o.width, .height = o.height,
                              .irradiance_size = o.irradiance, .timings = true, .shadow_pcf_taps = 9,
                              .diffusion_per_pixel = true};
-        exact_ms = calloc((size_t)o.frames, sizeof *exact_ms);
-        if (!exact_ms || dm_renderer_create(src.assets, &ed, &exact, &err) != DM_OK) {
-            fprintf(stderr, "error: the exact path: %s\n", exact_ms ? err.detail : "out of memory");
+        if (dm_renderer_create(src.assets, &ed, &exact, &err) != DM_OK) {
+            fprintf(stderr, "error: the exact path: %s\n", err.detail);
             rc = DM_EXIT_PROCESS;
             goto done;
         }
@@ -472,9 +478,10 @@ int main(int argc, char **argv)
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 
-    /* frames */
-    double *ms = calloc((size_t)o.frames * (DM_PLAN_MAX_PASSES + 1), sizeof *ms);
-    if (!ms) {
+    /* frames; their timings' record is taken before the first frame */
+    if (desc.timings && (dm_render_timing_log_init(&log, o.frames, true, &err) != DM_OK ||
+                         (exact && dm_render_timing_log_init(&exact_log, o.frames, false, &err) != DM_OK))) {
+        fprintf(stderr, "error: %s\n", err.detail);
         rc = DM_EXIT_PROCESS;
         goto done;
     }
@@ -483,7 +490,6 @@ int main(int argc, char **argv)
     if (exact && (dm_render_frame(r, &fo, &err) != DM_OK || dm_render_frame(exact, &fo, &err) != DM_OK)) {
         fprintf(stderr, "error: warm-up frame: %s\n", err.detail);
         rc = err.code == DM_ERR_INVALID_ARGUMENT ? DM_EXIT_USAGE : DM_EXIT_PROCESS;
-        free(ms);
         goto done;
     }
     dm_progress prog;
@@ -492,20 +498,15 @@ int main(int argc, char **argv)
         if (dm_render_frame(r, &fo, &err) != DM_OK) {
             fprintf(stderr, "error: frame %d: %s\n", f, err.detail);
             rc = err.code == DM_ERR_INVALID_ARGUMENT ? DM_EXIT_USAGE : DM_EXIT_PROCESS;
-            free(ms);
             goto done;
         }
-        dm_renderer_last_timings(r, ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1),
-                                 ms + (size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES);
-        if (exact) {
-            if (dm_render_frame(exact, &fo, &err) != DM_OK) {
-                fprintf(stderr, "error: the exact path, frame %d: %s\n", f, err.detail);
-                rc = DM_EXIT_PROCESS;
-                free(ms);
-                goto done;
-            }
-            dm_renderer_last_timings(exact, NULL, &exact_ms[f]);
+        dm_render_timing_log_add(&log, r);
+        if (exact && dm_render_frame(exact, &fo, &err) != DM_OK) {
+            fprintf(stderr, "error: the exact path, frame %d: %s\n", f, err.detail);
+            rc = DM_EXIT_PROCESS;
+            goto done;
         }
+        if (exact) dm_render_timing_log_add(&exact_log, exact);
         dm_progress_update(&prog, (f + 1.0) / o.frames);
     }
     dm_progress_end(&prog);
@@ -515,40 +516,23 @@ int main(int argc, char **argv)
         if (dm_render_compare(exact, r, level, &d, &err) != DM_OK) {
             fprintf(stderr, "error: %s\n", err.detail);
             rc = DM_EXIT_PROCESS;
-            free(ms);
             goto done;
         }
-        double *col = malloc((size_t)o.frames * sizeof *col);
-        for (int f = 0; col && f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + DM_PLAN_MAX_PASSES];
-        double mine = col ? dm_median_doubles(col, (size_t)o.frames) : 0.0;
-        double ref = dm_median_doubles(exact_ms, (size_t)o.frames);
-        free(col);
         printf("compare-exact: this setting %.1f ms, exact path %.1f ms per frame (median of %d warm frames, after "
                "one warm-up frame each)\n",
-               mine, ref, o.frames);
+               dm_render_timing_log_median(&log, -1), dm_render_timing_log_median(&exact_log, -1), o.frames);
         printf("  output (linear, RGB): max |d| %.3e, mean %.3e (peak %.3g); display: %d steps of 255\n", d.out_max,
                d.out_mean, d.out_peak, d.display_steps);
         if (level)
             printf("  %s (coverage-normalised): max |d| %.3e, mean %.3e (peak %.3g)\n", level, d.level_max,
                    d.level_mean, d.level_peak);
     }
-    if (o.timings) {
-        const dm_render_plan *plan = dm_renderer_plan(r);
-        double *col = malloc((size_t)o.frames * sizeof *col);
-        printf("%-14s %10s   (median over %d frame%s; %s on %s)\n", "pass", "ms", o.frames, o.frames > 1 ? "s" : "",
-               !dm_renderer_timing_on_cpu(r) ? "GL timer queries"
-               : o.speed.timings_cpu        ? "process CPU time around glFinish, every thread"
-                                            : "wall clock around glFinish",
-               dm_renderer_gl_name(r));
-        for (int i = 0; col && i <= plan->pass_count; ++i) {
-            int slot = i < plan->pass_count ? i : DM_PLAN_MAX_PASSES;
-            for (int f = 0; f < o.frames; ++f) col[f] = ms[(size_t)f * (DM_PLAN_MAX_PASSES + 1) + slot];
-            printf("%-14s %10.2f\n", i < plan->pass_count ? plan->passes[i].name : "frame",
-                   dm_median_doubles(col, (size_t)o.frames));
-        }
-        free(col);
-    }
-    free(ms);
+    if (o.timings)
+        dm_render_timing_log_print(&log, r,
+                                   !dm_renderer_timing_on_cpu(r) ? "GL timer queries"
+                                   : o.speed.timings_cpu        ? "process CPU time around glFinish, every thread"
+                                                                : "wall clock around glFinish",
+                                   stdout);
 
     if (o.reference) {
         dm_provenance prov;
@@ -587,9 +571,10 @@ int main(int argc, char **argv)
         free(px);
     }
 done:
+    dm_render_timing_log_free(&log);
+    dm_render_timing_log_free(&exact_log);
     dm_refcmp_ref_free(&ref);
     dm_renderer_destroy(exact);
-    free(exact_ms);
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     unload(&src);

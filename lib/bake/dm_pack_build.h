@@ -70,6 +70,28 @@ dm_result dm_pack_build_run(dm_pack_build *b, const char **failed_step, dm_error
  * bake/dm_pack_write.h) with the pack's provenance: the scene, its hash and the options.
  * *written_size (when not NULL) gets the file's size. */
 dm_result dm_pack_build_write(const dm_pack_build *b, const char *path, size_t *written_size, dm_error *err);
+/* What a pack build holds at its peak, from the scene's sizes, before any work (bytes; N the
+ * irradiance size, L the profile's Gaussians):
+ *   base       DM_PACK_BUILD_MEMORY_BASE_SIZE: the libraries, the mesh, the decoded maps, the
+ *              LUTs and the environment bakes at the bundled assets' sizes (1024² maps, two 1k
+ *              HDRs), and the blobs they add; measured, not computed (larger maps add theirs)
+ *   + the largest step that scales with N:
+ *   stretch    N² (24 L + 6): the chain (s_u, s_v per level, float) and its mask as baked, the
+ *              interleaved RG32F copy and R8 mask, and the writer's copy of both (texture space)
+ *   curvature  N² x 16: the map, its mask, the writer's copy (pre-integrated)
+ *   write      2 x the pack's N²-sized entries: the blobs and the file read back to verify
+ * The pack file itself: about N² (8 L + 1) for the stretch chain, N² x 4 for the curvature,
+ * and the rest (~27 MiB with the bundled assets). Measured against dermis-pack's peak RSS:
+ * 0.9..1.1 from N = 512 to 4096 (docs/dermis-render.md, Memory). */
+#define DM_PACK_BUILD_MEMORY_BASE_SIZE ((uint64_t)176 << 20)
+typedef struct dm_pack_build_memory {
+    uint64_t base_size, stretch_size, curvature_size, write_size, total_size;
+    uint64_t pack_size; /* the file's N²-sized entries */
+} dm_pack_build_memory;
+void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory *out);
+/* The estimate against the memory available (core/dm_memory.h): DM_ERR_OUT_OF_MEMORY naming
+ * both and the scene key to lower when it does not fit. After dm_pack_build_begin. */
+dm_result dm_pack_build_memory_check(const dm_pack_build *b, dm_error *err);
 /* Prints, per pack entry, whether the scene needs it and which effect asks for it. */
 void dm_pack_build_explain(const dm_scene *s);
 void dm_pack_build_free(dm_pack_build *b);

@@ -45,6 +45,7 @@
 #include <stdint.h>
 
 #include "bake/dm_mesh.h"
+#include "core/dm_pack.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
 
@@ -144,6 +145,50 @@ dm_result dm_reference_eval(const dm_reference *ref, const dm_reference_target *
 dm_result dm_reference_atlas_targets(const dm_mesh *mesh, const dm_reference_atlas *atlas, int thread_count,
                                      dm_reference_target **targets, int64_t **texel_of, size_t *count,
                                      dm_error *err);
+
+
+/* ---- memory ---------------------------------------------------------------------- */
+
+/* What a dermis-reference run will hold at its peak, from its options, before any work; the
+ * tool refuses (core/dm_memory.h) what exceeds the memory available. Bytes; N the
+ * texture-space size, A the frame's atlas, F = A·k its fine atlas (k the atlas samples,
+ * reduced until F <= 8192), W x H the frame, K the Gaussians kept with --levels:
+ *   base           DM_REFERENCE_MEMORY_BASE_SIZE (the libraries, the mesh, Embree) + the pack
+ *                  (mapped and read whole when verified)
+ *   texture space  the larger of: the irradiance pass, the renderer's own estimate at N
+ *                  (render/dm_render_memory.h: its driver and the pack's textures included;
+ *                  0 with --irradiance FILE) + the atlas N² x 16; and base + the convolution,
+ *                  N² x (16 atlas + 16 lookup + 20 targets + 4 raster + 48 texel elements,
+ *                  built then sorted + 12 results + 16 planes [+ 24 K levels])
+ *   frame          base + the larger of: the CPU irradiance, A² x 16 + F² x 20 (the fine atlas
+ *                  and its triangle per texel); and the convolution, A² x (16 + 16 + 48
+ *                  elements); + W x H x 80 (hits, targets, results, the image, its planes, the
+ *                  display)
+ * Every texel is counted as covered (the head covers about half its atlas): the estimate is
+ * high by up to a third where the convolution dominates. Measured (docs/dermis-reference.md):
+ * within 0.9..1.3 of the peak RSS. */
+#define DM_REFERENCE_MEMORY_BASE_SIZE ((uint64_t)64 << 20)
+
+typedef struct dm_reference_memory_options {
+    int texture_space;   /* N, or 0 for a frame */
+    int level_count;     /* K Gaussians written as levels (--levels), else 0 */
+    uint64_t irradiance_render_size; /* texture space: the renderer's estimate for I at N, 0 when
+                                      * I comes from a file */
+    int width, height;   /* frame; 0 = the scene's */
+    int atlas_size;      /* frame; 0 = 1024 */
+    int atlas_samples;   /* frame; 0 = 4 */
+} dm_reference_memory_options;
+
+typedef struct dm_reference_memory {
+    uint64_t base_size, irradiance_size, convolution_size, pixels_size, total_size;
+} dm_reference_memory;
+
+/* The estimate for a run on `pack` (its scene gives the frame's default size). */
+void dm_reference_memory_estimate(const dm_pack *pack, const dm_reference_memory_options *o,
+                                  dm_reference_memory *out);
+/* The estimate against the memory available: DM_ERR_OUT_OF_MEMORY with both numbers and the
+ * option to lower (core/dm_memory.h) when it does not fit. */
+dm_result dm_reference_memory_check(const dm_pack *pack, const dm_reference_memory_options *o, dm_error *err);
 
 #ifdef __cplusplus
 }

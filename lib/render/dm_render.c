@@ -139,19 +139,15 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     r->desc = *desc;
     if (desc->shader_dir) snprintf(r->shader_dir, sizeof r->shader_dir, "%s", desc->shader_dir);
     r->desc.shader_dir = NULL;
-    r->width = desc->width > 0 ? desc->width : a->scene->width;
-    r->height = desc->height > 0 ? desc->height : a->scene->height;
-    r->irr_edge = desc->irradiance_size > 0 ? desc->irradiance_size : a->scene->irradiance_size;
-    r->shadow_edge = desc->shadow_size > 0 ? desc->shadow_size : 1024;
+    dmr_sizes sz;
+    dmr_resolve_sizes(a, desc, &sz);
+    r->width = sz.width, r->height = sz.height, r->irr_edge = sz.irr_edge, r->shadow_edge = sz.shadow_edge;
+    memcpy(r->level_edge, sz.level_edge, sizeof r->level_edge);
     r->taps = a->scene->blur_taps;
     r->scene.profile = r->profile;
     r->shadow_taps = desc->shadow_pcf_taps > 0 ? desc->shadow_pcf_taps : 4;
     r->level_format = desc->blur_half_float ? GL_RGBA16F : GL_RGBA32F;
     int shift = desc->blur_reduce_shift > 0 ? desc->blur_reduce_shift : 1;
-    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
-        bool reduced = desc->blur_reduce_from > 0 && k >= desc->blur_reduce_from;
-        r->level_edge[k] = reduced ? r->irr_edge >> shift : r->irr_edge;
-    }
 
     dm_result rc = DM_OK;
     if (r->width < 1 || r->height < 1 || r->width > 16384 || r->height > 16384)
@@ -177,21 +173,24 @@ dm_result dm_renderer_create(const dm_render_assets *a, const dm_render_desc *de
     if (rc == DM_OK) rc = dm_render_plan_build(&r->scene, DM_VIEW_FINAL, 0, &r->plan, err);
     /* the levels' sum per texel: exact at the texel centres only where every level has them
      * (reduced levels would be interpolated twice: to the centres, then to the pixel) */
-    r->diffusion_sum = r->plan.texture_space && !desc->diffusion_per_pixel && desc->blur_reduce_from == 0 &&
-                       !desc->blur_auto_resolution;
+    r->diffusion_sum = dmr_diffusion_summed(&r->plan, desc);
     if (rc == DM_OK && !r->diffusion_sum) dm_render_plan_sum_per_pixel(&r->plan);
     if (rc == DM_OK) rc = check_assets(a, &r->plan, &r->profile, err);
     for (int i = 0; rc == DM_OK && i < r->plan.pass_count; ++i)
         r->ts_pass_count += dmr_pass_get(r->plan.passes[i].kind)->texture_space;
+    if (rc == DM_OK && r->plan.texture_space) dmr_auto_level_edges(a, desc, &r->profile, r->irr_edge, r->level_edge);
+    if (rc == DM_OK) {
+        const char *name = (const char *)glGetString(GL_RENDERER);
+        snprintf(r->gl_name, sizeof r->gl_name, "%s", name ? name : "unknown");
+        r->timing_cpu = strstr(r->gl_name, "llvmpipe") || strstr(r->gl_name, "softpipe") ||
+                        strstr(r->gl_name, "Software") || strstr(r->gl_name, "swrast");
+        glGetError(); /* a context may start with a stale error */
+        rc = dmr_check_limits(r, a, err); /* before the first texture: sizes this GL makes, memory */
+    }
     if (rc != DM_OK) {
         free(r);
         return rc;
     }
-    const char *name = (const char *)glGetString(GL_RENDERER);
-    snprintf(r->gl_name, sizeof r->gl_name, "%s", name ? name : "unknown");
-    r->timing_cpu = strstr(r->gl_name, "llvmpipe") || strstr(r->gl_name, "softpipe") ||
-                    strstr(r->gl_name, "Software") || strstr(r->gl_name, "swrast");
-    glGetError(); /* a context may start with a stale error */
 
     rc = upload_assets(r, a, err);
     if (rc == DM_OK) rc = dmr_make_targets(r, err);

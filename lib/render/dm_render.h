@@ -185,6 +185,11 @@ typedef struct dm_render_desc {
                                * Reduced levels (blur_reduce_from, blur_auto_resolution) are
                                * always summed per pixel: a per-texel sum would interpolate
                                * them twice */
+    uint64_t memory_available_size; /* what create may count on: it refuses (DM_ERR_OUT_OF_MEMORY,
+                               * with both numbers) when its estimate (render/dm_render_memory.h)
+                               * exceeds it; 0 = what the machine has available now
+                               * (core/dm_memory.h: DERMIS_MEM_AVAILABLE_MB, a cgroup's limit,
+                               * MemAvailable); UINT64_MAX = no check */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (the scene: dm_renderer_set_scene; the light
                                * rotation; blur and roughness scales) changed since the last
@@ -198,7 +203,12 @@ typedef struct dm_renderer dm_renderer;
 bool dm_render_stretch_median(const dm_render_assets *a, float med[2]);
 
 /* Builds the pass plan, checks the assets against it, compiles the shaders and uploads
- * everything. Needs a current GL 3.3+ core context. Free with dm_renderer_destroy. */
+ * everything. Needs a current GL 3.3+ core context. Free with dm_renderer_destroy.
+ * Before it makes anything it refuses, with a message naming the size, the limit and the
+ * largest size that fits: a target beyond this OpenGL's limits (GL_MAX_TEXTURE_SIZE,
+ * GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS, and a proxy texture of the target's format
+ * and size: llvmpipe caps one texture's bytes) with DM_ERR_RANGE, and a renderer whose memory
+ * estimate exceeds what is available (desc.memory_available_size) with DM_ERR_OUT_OF_MEMORY. */
 dm_result dm_renderer_create(const dm_render_assets *assets, const dm_render_desc *desc, dm_renderer **out,
                              dm_error *err);
 void dm_renderer_destroy(dm_renderer *r);

@@ -99,8 +99,7 @@ dm_result dmr_blur_cpu_setup(dm_renderer *r, const dm_render_assets *a, dm_error
     if (path == DM_BLUR_PATH_CPU && r->level_format != GL_RGBA32F)
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
                        "renderer: the blur on the CPU keeps float levels: it does not take blur_half_float");
-    r->blur_cpu = r->plan.texture_space && r->level_format == GL_RGBA32F &&
-                  (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu));
+    r->blur_cpu = r->plan.texture_space && r->level_format == GL_RGBA32F && dmr_blur_cpu_wanted(&r->desc, r->timing_cpu);
     if (!r->blur_cpu) return DM_OK;
     if (allocate(r, a)) {
         r->cpu_held = r->cpu_tmp_level = r->cpu_sum_level = -1;

@@ -17,8 +17,7 @@ dm_result dmr_glow_targets(dm_renderer *r, dm_error *err)
     if (rc == DM_OK)
         rc = dmr_color_target(r, "glow_b", gw, gh, GL_RGBA32F, GL_CLAMP_TO_EDGE, &r->glow_tex[1], &r->glow_fbo[1],
                               err);
-    dm_blur_path path = r->desc.blur_path;
-    if (rc == DM_OK && (path == DM_BLUR_PATH_CPU || (path == DM_BLUR_PATH_AUTO && r->timing_cpu))) {
+    if (rc == DM_OK && dmr_blur_cpu_wanted(&r->desc, r->timing_cpu)) {
         for (int i = 0; i < 2; ++i) r->glow_buf[i] = malloc(sizeof(float) * 4 * (size_t)gw * (size_t)gh);
         r->glow_cpu = r->glow_buf[0] && r->glow_buf[1]; /* out of memory: in GL */
     }

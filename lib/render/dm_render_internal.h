@@ -26,6 +26,7 @@
 
 #include "core/dm_ssss_kernel.h"
 #include "render/dm_render.h"
+#include "render/dm_render_memory.h"
 
 /* GL side of each pack format (core/dm_pack.h owns names and sizes). */
 typedef struct fmt_gl {
@@ -214,6 +215,34 @@ static inline void dmr_target_begin(GLuint fbo, int w, int h)
     glViewport(0, 0, w, h);
 }
 
+/* ---- dm_render_memory.c ---- */
+/* The sizes dm_renderer_create resolves from the assets and options (zero: the scene's or the
+ * defaults): output, irradiance, shadow map, each level's edge under blur_reduce_from (the
+ * automatic resolution is dmr_auto_level_edges, once the stretch is checked). */
+typedef struct dmr_sizes {
+    int width, height, irr_edge, shadow_edge;
+    int level_edge[DM_PROFILE_MAX_GAUSSIANS];
+} dmr_sizes;
+void dmr_resolve_sizes(const dm_render_assets *a, const dm_render_desc *d, dmr_sizes *s);
+/* Whether the texture-space blurs (and the glow's) run on the CPU (dm_render_desc.blur_path):
+ * the one predicate create and the estimate share. */
+bool dmr_blur_cpu_wanted(const dm_render_desc *d, bool software_gl);
+/* What the estimate counts, as create resolved it. */
+typedef struct dmr_memory_in {
+    const dm_render_assets *a;
+    const dm_render_plan *plan;
+    const dmr_sizes *sizes;
+    bool half_levels, diffusion_sum, software_gl;
+    bool cpu_blur, cpu_glow; /* the texture-space blurs, the glow's, on the CPU */
+} dmr_memory_in;
+void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *out);
+/* Whether the diffusion pass sums the levels per texel (not per pixel in the final pass). */
+bool dmr_diffusion_summed(const dm_render_plan *p, const dm_render_desc *d);
+/* Refuses, naming the limit and the largest size that fits, targets beyond the context's
+ * limits (dm_render_gl_limits_get, proxy textures); then the estimate beyond the memory
+ * available (desc.memory_available_size, else core/dm_memory.h). */
+dm_result dmr_check_limits(const dm_renderer *r, const dm_render_assets *a, dm_error *err);
+
 /* ---- dm_render_gl.c ---- */
 const char *dmr_format_name(dm_tex_format f);
 dm_result dmr_gl_check(const char *what, dm_error *err);
@@ -277,6 +306,12 @@ dm_result dmr_tsd_check(const dm_render_assets *a, const dm_profile *prof, dm_er
 dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *err);
 dm_result dmr_tsd_targets(dm_renderer *r, dm_error *err);
 void dmr_prepare_blur(dm_renderer *r, float scale);
+/* The automatic blur resolution (dm_render_desc.blur_auto_resolution, without blur_reduce_from):
+ * level k at irr_edge >> j, j the largest (<= 3, >= level k-1's, edge >= 8) keeping its total
+ * sigma at least DM_BLUR_AUTO_SIGMA texels at the stretch's median along the coarser axis. No
+ * change without the option or a stretch map. */
+void dmr_auto_level_edges(const dm_render_assets *a, const dm_render_desc *d, const dm_profile *prof, int irr_edge,
+                          int level_edge[DM_PROFILE_MAX_GAUSSIANS]);
 /* Value i of a stretch level (RG32F or RG16F texels), as float. */
 float dmr_stretch_value(const dm_texture *t, size_t i);
 /* level_weight: the profile's weights divided by their sum per channel (TSD levels,

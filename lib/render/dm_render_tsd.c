@@ -88,17 +88,17 @@ bool dm_render_stretch_median(const dm_render_assets *a, float med[2])
     return k > 0;
 }
 
-/* The automatic blur resolution (dm_render_desc.blur_auto_resolution): level k at
- * irr_edge >> j, j the largest (<= 3, >= level k−1's, size >= 8) keeping its total σ at least
- * DM_BLUR_AUTO_SIGMA texels of that grid at the median stretch along the coarser axis (the
- * smaller of s_u, s_v). */
-static void auto_level_sizes(dm_renderer *r, double uv_per_mm)
+void dmr_auto_level_edges(const dm_render_assets *a, const dm_render_desc *d, const dm_profile *prof, int irr_edge,
+                          int level_edge[DM_PROFILE_MAX_GAUSSIANS])
 {
+    float med[2];
+    if (!d->blur_auto_resolution || d->blur_reduce_from != 0 || !dm_render_stretch_median(a, med)) return;
+    double uv_per_mm = fmin(med[0], med[1]);
     int j = 0;
-    for (int k = 1; k < r->profile.count && uv_per_mm > 0; ++k) {
-        double sigma_texels = sqrt(r->profile.variance_mm2[k]) * uv_per_mm * r->irr_edge;
-        while (j < 3 && (r->irr_edge >> (j + 1)) >= 8 && sigma_texels / (1 << (j + 1)) >= DM_BLUR_AUTO_SIGMA) ++j;
-        r->level_edge[k] = r->irr_edge >> j;
+    for (int k = 1; k < prof->count && uv_per_mm > 0; ++k) {
+        double sigma_texels = sqrt(prof->variance_mm2[k]) * uv_per_mm * irr_edge;
+        while (j < 3 && (irr_edge >> (j + 1)) >= 8 && sigma_texels / (1 << (j + 1)) >= DM_BLUR_AUTO_SIGMA) ++j;
+        level_edge[k] = irr_edge >> j;
     }
 }
 
@@ -108,10 +108,6 @@ dm_result dmr_tsd_upload(dm_renderer *r, const dm_render_assets *a, dm_error *er
     r->stretch_count = a->stretch_level_count;
     for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k)
         rc = dmr_upload(&a->stretch[k], "stretch", false, GL_LINEAR, &r->tex_stretch[k], err);
-    float med[2];
-    if (rc == DM_OK && r->desc.blur_auto_resolution && r->desc.blur_reduce_from == 0 &&
-        dm_render_stretch_median(a, med))
-        auto_level_sizes(r, fmin(med[0], med[1]));
     if (rc == DM_OK && a->stretch_mask.texels)
         rc = dmr_upload(&a->stretch_mask, "stretch_mask", false, GL_LINEAR, &r->tex_mask, err);
     return rc;

@@ -1,0 +1,303 @@
+/* dm_render_memory.c — the renderer's memory estimate (its formula: dm_render_memory.h) and
+ * the checks dm_renderer_create makes before its first texture: the sizes this OpenGL makes,
+ * then the memory available. */
+#include <stdio.h>
+#include <string.h>
+
+#include "core/dm_level_blur.h"
+#include "core/dm_memory.h"
+#include "render/dm_render_internal.h"
+#include "render/dm_render_pack.h"
+
+void dmr_resolve_sizes(const dm_render_assets *a, const dm_render_desc *d, dmr_sizes *s)
+{
+    s->width = d->width > 0 ? d->width : a->scene->width;
+    s->height = d->height > 0 ? d->height : a->scene->height;
+    s->irr_edge = d->irradiance_size > 0 ? d->irradiance_size : a->scene->irradiance_size;
+    s->shadow_edge = d->shadow_size > 0 ? d->shadow_size : 1024;
+    int shift = d->blur_reduce_shift > 0 ? d->blur_reduce_shift : 1;
+    for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
+        bool reduced = d->blur_reduce_from > 0 && k >= d->blur_reduce_from;
+        s->level_edge[k] = reduced ? s->irr_edge >> shift : s->irr_edge;
+    }
+}
+
+bool dmr_diffusion_summed(const dm_render_plan *p, const dm_render_desc *d)
+{
+    return p->texture_space && !d->diffusion_per_pixel && d->blur_reduce_from == 0 && !d->blur_auto_resolution;
+}
+
+bool dmr_blur_cpu_wanted(const dm_render_desc *d, bool software_gl)
+{
+    return d->blur_path == DM_BLUR_PATH_CPU || (d->blur_path == DM_BLUR_PATH_AUTO && software_gl);
+}
+
+static uint64_t texels(int w, int h)
+{
+    return (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0);
+}
+
+static uint64_t tex_size(const dm_texture *t)
+{
+    const dm_tex_format_info *f = t->texels ? dm_tex_format_get(t->format) : NULL;
+    return f ? texels(t->width, t->height) * (uint64_t)(f->components * f->component_size) : 0;
+}
+
+/* A texture the plan uploads: read once from the input (inputs), copied by GL (uploads; the
+ * mip chain adds a third). */
+static void count_upload(dm_render_memory *m, const dm_texture *t, bool mipmaps)
+{
+    uint64_t n = tex_size(t);
+    m->inputs_size += n;
+    m->uploads_size += mipmaps ? n + n / 3 : n;
+}
+
+void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
+{
+    const dm_render_assets *a = in->a;
+    const dm_render_plan *p = in->plan;
+    const dmr_sizes *s = in->sizes;
+    memset(m, 0, sizeof *m);
+    m->gl_host_memory = in->software_gl;
+
+    /* inputs and their GL copies (upload_assets, dmr_env_upload, dmr_tsd_upload, dmr_preint_upload) */
+    uint64_t mesh = (uint64_t)(a->vertex_count > 0 ? a->vertex_count : 0) * DM_VERTEX_STRIDE +
+                    (uint64_t)(a->index_count > 0 ? a->index_count : 0) * 4;
+    m->inputs_size += mesh;
+    m->uploads_size += mesh;
+    count_upload(m, &a->albedo, true);
+    count_upload(m, &a->normal_map, true);
+    count_upload(m, &a->specular_map, true);
+    count_upload(m, &a->roughness_map, true);
+    if (p->effects[DM_EFFECT_SPECULAR]) count_upload(m, &a->beckmann, false);
+    if (p->energy_conservation_active) count_upload(m, &a->rho_dt, false);
+    if (p->env_specular_active) {
+        count_upload(m, &a->env_brdf, false);
+        for (int k = 0; k < a->env_level_count && k < DM_RENDER_ENV_LEVELS_MAX; ++k) {
+            count_upload(m, &a->env_levels[k], false);
+            m->uploads_size += tex_size(&a->env_levels[k]); /* the array copy */
+        }
+    }
+    if (dm_render_plan_find(p, "background") >= 0) count_upload(m, &a->env_background, false);
+    if (p->texture_space) {
+        for (int k = 0; k < a->stretch_level_count && k < DM_PROFILE_MAX_GAUSSIANS; ++k)
+            count_upload(m, &a->stretch[k], false);
+        count_upload(m, &a->stretch_mask, false);
+    }
+    if (p->pre_integrated) {
+        count_upload(m, &a->preintegrated, false);
+        count_upload(m, &a->curvature, false);
+    }
+
+    /* shadow maps (dmr_shadow_targets): DEPTH_COMPONENT32F */
+    m->shadow_size = (uint64_t)p->shadow_count * texels(s->shadow_edge, s->shadow_edge) * 4;
+
+    /* texture space (dmr_tsd_targets) and its blur on the CPU (dm_render_blur_cpu.c) */
+    const uint64_t N2 = texels(s->irr_edge, s->irr_edge);
+    if (p->texture_space) {
+        const uint64_t level = in->half_levels ? 8 : 16;
+        const int *e = s->level_edge;
+        for (int k = 0; k < p->blur_levels; ++k) m->texture_space_size += texels(e[k], e[k]) * level;
+        for (int k = 1; k < p->blur_levels; ++k) {
+            int j = 1; /* one U target per distinct size */
+            while (j < k && !(e[j] == e[k] && e[j - 1] == e[k - 1])) ++j;
+            if (j == k) m->texture_space_size += texels(e[k], e[k - 1]) * level;
+        }
+        if (in->diffusion_sum) m->texture_space_size += N2 * 16;
+        m->texture_space_size += N2 * (4 * 16 + 4); /* the surface G-buffer and its depth */
+    }
+
+    /* the screen (dmr_make_targets) */
+    const uint64_t px = texels(s->width, s->height);
+    uint64_t per_px = 16 + 4; /* screen RGBA32F, depth */
+    if (p->deferred) per_px += 4 * 16;
+    if (p->screen_space) per_px += 16 + 8 + 16 + 16;
+    if (p->effects[DM_EFFECT_TONEMAP]) per_px += 4;
+    const uint64_t glow_px = texels(s->width / 2 > 0 ? s->width / 2 : 1, s->height / 2 > 0 ? s->height / 2 : 1);
+    m->screen_size = px * per_px;
+    if (p->effects[DM_EFFECT_GLOW]) m->screen_size += glow_px * 32;
+    if (!in->software_gl) { /* a GPU holds GL's textures and targets itself */
+        m->uploads_size = m->shadow_size = m->texture_space_size = m->screen_size = 0;
+    }
+    m->driver_size = in->software_gl ? DM_RENDER_MEMORY_DRIVER_SIZE : 0;
+
+    /* the CPU's share: blur buffers, read-back */
+    if (p->texture_space && in->cpu_blur) {
+        const int *e = s->level_edge;
+        m->cpu_blur_size += 3 * (uint64_t)dm_level_blur_floats(s->irr_edge, s->irr_edge) * 4;
+        for (int k = 1; k < p->blur_levels; ++k)
+            m->cpu_blur_size += (texels(e[k], e[k - 1]) + texels(e[k], e[k])) * 4;
+        if (in->diffusion_sum) m->cpu_blur_size += N2 * 16;
+    }
+    if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
+    m->readback_size = px * (16 + 4 + 4);
+    m->total_size = m->driver_size + m->inputs_size + m->uploads_size + m->shadow_size + m->texture_space_size +
+                    m->screen_size + m->cpu_blur_size + m->readback_size;
+}
+
+dm_result dm_render_memory_estimate(const dm_render_assets *a, const dm_render_desc *desc, bool software_gl,
+                                    dm_render_memory *out, dm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    dm_render_plan plan;
+    dm_scene scene = *a->scene;
+    scene.profile = a->profile ? *a->profile : a->scene->profile;
+    dm_result rc = dm_render_plan_build(&scene, DM_VIEW_FINAL, 0, &plan, err);
+    if (rc != DM_OK) return rc;
+    dmr_sizes s;
+    dmr_resolve_sizes(a, desc, &s);
+    if (plan.texture_space) dmr_auto_level_edges(a, desc, &scene.profile, s.irr_edge, s.level_edge);
+    bool wanted = dmr_blur_cpu_wanted(desc, software_gl);
+    dmr_memory_in in = {.a = a, .plan = &plan, .sizes = &s, .half_levels = desc->blur_half_float,
+                        .diffusion_sum = dmr_diffusion_summed(&plan, desc), .software_gl = software_gl,
+                        .cpu_blur = wanted && !desc->blur_half_float, .cpu_glow = wanted};
+    dmr_memory_count(&in, out);
+    return DM_OK;
+}
+
+dm_result dm_render_memory_estimate_pack(const dm_pack *pack, const dm_render_desc *desc, bool software_gl,
+                                         dm_render_memory *out, dm_error *err)
+{
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets assets;
+    dm_result rc = dm_render_assets_from_pack(pack, &scene, &profile, &assets, err);
+    if (rc != DM_OK) {
+        memset(out, 0, sizeof *out);
+        return rc;
+    }
+    return dm_render_memory_estimate(&assets, desc, software_gl, out, err);
+}
+
+void dm_render_memory_text(const dm_render_memory *m, char *out, size_t out_size)
+{
+    struct part { const char *name; uint64_t size; } part[] = {
+        {"texture space", m->texture_space_size}, {"blur on the CPU", m->cpu_blur_size},
+        {"screen targets", m->screen_size},       {"read-back", m->readback_size},
+        {"shadow maps", m->shadow_size},          {"uploads", m->uploads_size},
+        {"inputs", m->inputs_size},               {"OpenGL driver", m->driver_size}};
+    enum { PARTS = sizeof part / sizeof part[0] };
+    for (int i = 1; i < PARTS; ++i) /* largest first */
+        for (int j = i; j > 0 && part[j].size > part[j - 1].size; --j) {
+            struct part t = part[j];
+            part[j] = part[j - 1], part[j - 1] = t;
+        }
+    size_t n = 0;
+    out[0] = 0;
+    for (int i = 0; i < PARTS && n < out_size && part[i].size; ++i) {
+        char t[32];
+        dm_memory_size_text(part[i].size, t, sizeof t);
+        n += (size_t)snprintf(out + n, out_size - n, "%s%s %s", i ? ", " : "", part[i].name, t);
+    }
+}
+
+/* ---- what this OpenGL makes ----------------------------------------------------------- */
+
+void dm_render_gl_limits_get(dm_render_gl_limits *out)
+{
+    GLint v = 0, vp[2] = {0, 0};
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &v);
+    out->max_texture_size = v;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &v);
+    out->max_renderbuffer_size = v;
+    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, vp);
+    out->max_viewport[0] = vp[0], out->max_viewport[1] = vp[1];
+}
+
+bool dm_render_gl_can_make(unsigned int internal, int width, int height)
+{
+    bool depth = internal == GL_DEPTH_COMPONENT32F || internal == GL_DEPTH_COMPONENT24;
+    GLint w = 0;
+    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, (GLint)internal, width, height, 0, depth ? GL_DEPTH_COMPONENT : GL_RGBA,
+                 GL_FLOAT, NULL);
+    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
+    glGetError(); /* a proxy beyond GL_MAX_TEXTURE_SIZE raises GL_INVALID_VALUE: that is the answer, not an error */
+    return w == width;
+}
+
+int dm_render_gl_largest_square(unsigned int internal, int max_edge)
+{
+    int lo = 0, hi = max_edge; /* lo makes one (0: none yet), hi + 1 does not */
+    while (lo < hi) {
+        int mid = lo + (hi - lo + 1) / 2;
+        if (dm_render_gl_can_make(internal, mid, mid)) lo = mid;
+        else hi = mid - 1;
+    }
+    return lo;
+}
+
+static const char *format_name(GLenum f)
+{
+    return f == GL_RGBA32F ? "RGBA32F" : f == GL_RGBA16F ? "RGBA16F" : f == GL_DEPTH_COMPONENT32F ? "32-bit depth" : "RGBA8";
+}
+
+/* One target the plan makes: within the context's limits, or a refusal that names them. */
+static dm_result check_target(const dm_renderer *r, const dm_render_gl_limits *L, const char *what, const char *target,
+                              GLenum format, int w, int h, bool renderbuffer, dm_error *err)
+{
+    int max_w = L->max_texture_size, max_h = L->max_texture_size;
+    if (renderbuffer) {
+        if (L->max_renderbuffer_size < max_w) max_w = max_h = L->max_renderbuffer_size;
+        if (L->max_viewport[0] < max_w) max_w = L->max_viewport[0];
+        if (L->max_viewport[1] < max_h) max_h = L->max_viewport[1];
+    }
+    if (w > max_w || h > max_h)
+        return dm_fail(err, DM_ERR_RANGE,
+                       "renderer: %s %dx%d: beyond this OpenGL's limits (%s: GL_MAX_TEXTURE_SIZE %d, "
+                       "GL_MAX_RENDERBUFFER_SIZE %d, GL_MAX_VIEWPORT_DIMS %dx%d): at most %dx%d",
+                       what, w, h, r->gl_name, L->max_texture_size, L->max_renderbuffer_size, L->max_viewport[0],
+                       L->max_viewport[1], max_w, max_h);
+    if (dm_render_gl_can_make(format, w, h)) return DM_OK;
+    const int bpt = format == GL_RGBA32F ? 16 : format == GL_RGBA16F ? 8 : 4;
+    char size[32];
+    dm_memory_size_text(texels(w, h) * (uint64_t)bpt, size, sizeof size);
+    int sq = dm_render_gl_largest_square(format, w > h ? w : h);
+    return dm_fail(err, DM_ERR_RANGE,
+                   "renderer: %s %dx%d: this OpenGL (%s) does not make its %s target, %dx%d %s (%s in one texture: "
+                   "more than it holds in one, although within GL_MAX_TEXTURE_SIZE %d); the largest square it makes "
+                   "in that format is %dx%d",
+                   what, w, h, r->gl_name, target, w, h, format_name(format), size, L->max_texture_size, sq, sq);
+}
+
+dm_result dmr_check_limits(const dm_renderer *r, const dm_render_assets *a, dm_error *err)
+{
+    const dm_render_plan *p = &r->plan;
+    dm_render_gl_limits L;
+    dm_render_gl_limits_get(&L);
+    glGetError();
+    dm_result rc = check_target(r, &L, "output size", "screen", GL_RGBA32F, r->width, r->height, true, err);
+    if (rc == DM_OK && p->texture_space) {
+        rc = check_target(r, &L, "irradiance size", "surface G-buffer", GL_RGBA32F, r->irr_edge, r->irr_edge, true, err);
+        if (rc == DM_OK && r->level_format != GL_RGBA32F)
+            rc = check_target(r, &L, "irradiance size", "irradiance", r->level_format, r->irr_edge, r->irr_edge, true,
+                              err);
+    }
+    if (rc == DM_OK && p->shadow_count)
+        rc = check_target(r, &L, "shadow map size", "shadow", GL_DEPTH_COMPONENT32F, r->shadow_edge, r->shadow_edge,
+                          true, err);
+    if (rc != DM_OK || r->desc.memory_available_size == UINT64_MAX) return rc;
+
+    /* memory: the estimate as create resolved it, against what is available */
+    dmr_sizes s = {r->width, r->height, r->irr_edge, r->shadow_edge, {0}};
+    memcpy(s.level_edge, r->level_edge, sizeof s.level_edge);
+    bool wanted = dmr_blur_cpu_wanted(&r->desc, r->timing_cpu);
+    dmr_memory_in in = {.a = a, .plan = p, .sizes = &s, .half_levels = r->level_format != GL_RGBA32F,
+                        .diffusion_sum = r->diffusion_sum, .software_gl = r->timing_cpu,
+                        .cpu_blur = wanted && r->level_format == GL_RGBA32F, .cpu_glow = wanted};
+    dm_render_memory m;
+    dmr_memory_count(&in, &m);
+    dm_memory_available avail;
+    if (r->desc.memory_available_size) {
+        avail.size = r->desc.memory_available_size;
+        snprintf(avail.source, sizeof avail.source, "dm_render_desc.memory_available_size");
+    } else {
+        dm_memory_available_get(&avail);
+    }
+    char what[128], parts[512];
+    if (p->texture_space) snprintf(what, sizeof what, "the renderer at %dx%d, irradiance %d", r->width, r->height, r->irr_edge);
+    else snprintf(what, sizeof what, "the renderer at %dx%d", r->width, r->height);
+    dm_render_memory_text(&m, parts, sizeof parts);
+    const char *advice = p->texture_space ? "lower the irradiance size (--irradiance) or the output size (--size)"
+                                          : "lower the output size (--size)";
+    return dm_memory_check_against(m.total_size, &avail, what, parts, advice, err);
+}
