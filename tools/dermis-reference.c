@@ -15,7 +15,6 @@
 #include "bake/dm_reference_tiles.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
-#include "core/dm_math.h"
 #include "core/dm_output.h"
 #include "core/dm_pack.h"
 #include "core/dm_parallel.h"
@@ -295,18 +294,10 @@ static int make_kernel(const args *a, const dm_profile *profile, dm_reference_ke
         fprintf(stderr, "error: %s: %s\n", a->pack, err.detail);
         return DM_EXIT_PROCESS;
     }
-    dm_profile_source src = {.kind = a->burley ? DM_SOURCE_BURLEY : DM_SOURCE_MEDIUM};
+    dm_profile_source src;
     double e[3];
     const char *opt = a->burley ? "--burley" : a->multipole ? "--multipole" : "--dipole";
-    char albedo[256];
-    const char *slash = strchr(a->medium, '/');
-    snprintf(albedo, sizeof albedo, "%.*s", slash ? (int)(slash - a->medium) : 0, a->medium);
-    if (a->burley && (!slash || dm_burley_parse(albedo, slash + 1, opt, &src.burley, &err) != DM_OK)) {
-        fprintf(stderr, "error: %s\n", slash ? err.detail : "--burley: expected ALBEDO/MFP, e.g. 0.8,0.6,0.4/1,0.5,0.25");
-        return DM_EXIT_USAGE;
-    }
-    if (!a->burley && dm_medium_parse(a->medium, a->multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, a->thickness_mm, a->pairs, opt,
-                        &src.medium, &err) != DM_OK) {
+    if (dm_profile_source_parse(a->medium, a->burley, a->multipole, a->thickness_mm, a->pairs, opt, &src, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         return DM_EXIT_USAGE;
     }
@@ -319,15 +310,6 @@ static int make_kernel(const args *a, const dm_profile *profile, dm_reference_ke
         printf("%s %s in %d Gaussians (sigma %.3g..%.3g mm): relative L2 error %.2e %.2e %.2e\n", opt, a->medium, k->count,
                sqrt(k->variance_mm2[0]), sqrt(k->variance_mm2[k->count - 1]), e[0], e[1], e[2]);
     return -1;
-}
-
-/* The last line of defence: a picture holding NaN or infinite values is not written. */
-static bool finite_or_say(const float *v, size_t n, const char *what)
-{
-    size_t first, bad = dm_count_nonfinite(v, n, &first);
-    if (bad) fprintf(stderr, "error: %s: %zu of %zu values are NaN or infinite (the first: value %zu); nothing written\n",
-                     what, bad, n, first);
-    return bad == 0;
 }
 
 static void base_provenance(const args *a, const char *mode, dm_provenance *prov)
@@ -438,7 +420,7 @@ static int texture_space(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "tile_index", a->tile_index);
         dm_prov_add_int(&prov, "tile_count", a->tile_count);
         dm_prov_add_int(&prov, "levels", a->levels);
-        if (!finite_or_say(planes, (size_t)nch * plane, "the texture-space reference")) {
+        if (!dm_cli_finite(planes, (size_t)nch * plane, "the texture-space reference")) {
             code = DM_EXIT_PROCESS;
         } else if (dm_exr_write(a->out, N, N, ch, nch, &prov, &err) != DM_OK) {
             fprintf(stderr, "error: %s\n", err.detail);
@@ -541,7 +523,7 @@ static int frame(const args *a, const dm_pack *pack)
         char png[4096];
         snprintf(png, sizeof png, "%.*s.png", (int)(strlen(a->out) - 4), a->out);
         dm_ref_frame_display(&scene, rgba, W, H, display);
-        if (planes && !finite_or_say(planes, 4 * n, "the ground-truth frame")) {
+        if (planes && !dm_cli_finite(planes, 4 * n, "the ground-truth frame")) {
             code = DM_EXIT_PROCESS;
         } else if (planes && (dm_exr_write(a->out, W, H, ch, 4, &prov, &err) != DM_OK ||
                        dm_png_write_pixels(png, W, H, 4, 8, display, &prov, NULL, 0, &err) != DM_OK)) {

@@ -554,3 +554,19 @@ dm_result dm_profile_represent(const dm_profile_source *s, int gaussian_count, d
     grid_free(&g);
     return DM_OK;
 }
+
+dm_result dm_profile_source_parse(const char *spec, bool burley, bool multipole, double thickness_mm, int pair_count,
+                                  const char *what, dm_profile_source *out, dm_error *err)
+{
+    *out = (dm_profile_source){.kind = burley ? DM_SOURCE_BURLEY : DM_SOURCE_MEDIUM};
+    if (!burley)
+        return dm_medium_parse(spec, multipole ? DM_MODEL_MULTIPOLE : DM_MODEL_DIPOLE, thickness_mm, pair_count, what,
+                               &out->medium, err);
+    const char *slash = strchr(spec, '/');
+    if (!slash)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: '%s': expected ALBEDO/MFP, e.g. 0.8,0.6,0.4/1,0.5,0.25", what,
+                       spec);
+    char albedo[256];
+    snprintf(albedo, sizeof albedo, "%.*s", (int)(slash - spec), spec);
+    return dm_burley_parse(albedo, slash + 1, what, &out->burley, err);
+}

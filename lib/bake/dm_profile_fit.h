@@ -23,6 +23,8 @@
 #ifndef DM_PROFILE_FIT_H
 #define DM_PROFILE_FIT_H
 
+#include <stdbool.h>
+
 #include "core/dm_diffusion.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
@@ -58,6 +60,13 @@ typedef struct dm_profile_source {
     dm_burley burley;     /* DM_SOURCE_BURLEY */
 } dm_profile_source;
 
+/* A radial source as a command line names it (dermis-reference's --dipole, --multipole,
+ * --burley): burley, "ALBEDO/MFP" (dm_burley_parse's two lists, e.g. "0.8,0.6,0.4/1,0.5,0.25");
+ * otherwise a medium SPEC (dm_medium_parse) for the dipole, or for the multipole of a slab
+ * thickness_mm thick with pair_count pairs (0: default). `what` names the option in errors.
+ * DM_ERR_INVALID_ARGUMENT (and dm_*_parse's errors) for a malformed spec. */
+dm_result dm_profile_source_parse(const char *spec, bool burley, bool multipole, double thickness_mm, int pair_count,
+                                  const char *what, dm_profile_source *out, dm_error *err);
 /* Checks the source (dm_profile_validate, dm_medium_validate or dm_burley_validate). */
 dm_result dm_profile_source_validate(const dm_profile_source *s, const char *what, dm_error *err);
 /* R(r) of the source per channel, mm⁻². */

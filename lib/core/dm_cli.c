@@ -9,6 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "core/dm_math.h"
 #include "core/dm_version.h"
 
 bool dm_cli_int(const char *option, const char *text, int64_t min, int64_t max, int64_t *out)
@@ -96,4 +97,13 @@ void dm_progress_end(dm_progress *p)
     if (!p->enabled) return;
     dm_progress_update(p, 1.0);
     fprintf(stderr, "\n");
+}
+
+bool dm_cli_finite(const float *values, size_t count, const char *what)
+{
+    size_t first, bad = dm_count_nonfinite(values, count, &first);
+    if (bad)
+        fprintf(stderr, "error: %s: %zu of %zu values are NaN or infinite (the first: value %zu); nothing written\n",
+                what, bad, count, first);
+    return bad == 0;
 }

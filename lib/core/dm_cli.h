@@ -10,6 +10,7 @@
 #define DM_CLI_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "core/dm_result.h"
@@ -31,6 +32,11 @@ const char *dm_cli_value(int argc, char **argv, int *i);
 
 /* True for "--version", after printing "TOOL VERSION" on stdout (every tool answers it). */
 bool dm_cli_version(const char *arg, const char *tool);
+
+/* The last line of defence before writing a picture: true when all n values are finite; else
+ * prints "error: WHAT: K of N values are NaN or infinite (the first: value I); nothing
+ * written" to stderr and returns false. */
+bool dm_cli_finite(const float *values, size_t count, const char *what);
 
 /* Monotonic clock in milliseconds. */
 double dm_now_ms(void);
