@@ -14,7 +14,7 @@
 #include "core/dm_pack.h"
 #include "core/dm_uri.h"
 #include "../common/gltf_write.h"
-#include "../common/tmpdir.h"
+#include "../common/expect_tool.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 
@@ -25,28 +25,9 @@ static void setup(void)
 }
 TestSuite(inputs, .init = setup, .timeout = 120);
 
-static const char *in_dir(const char *name)
-{
-    static char path[8][512];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
-
-/* Runs cmd in dir under `timeout 20`; expects exit code rc and every needle in its output. */
-static void expect(const char *cmd, int rc, const char *n1, const char *n2)
-{
-    char line[4096], log[320];
-    snprintf(log, sizeof log, "%s/log.txt", dir);
-    snprintf(line, sizeof line, "cd '%s' && timeout 20 %s", dir, cmd);
-    int got = test_run(line, log);
-    char *text = test_slurp(log);
-    cr_expect_eq(got, rc, "%s: exit %d, expected %d: %s", cmd, got, rc, text ? text : "");
-    if (n1) cr_expect(text && strstr(text, n1), "%s: '%s' not in: %s", cmd, n1, text ? text : "");
-    if (n2) cr_expect(text && strstr(text, n2), "%s: '%s' not in: %s", cmd, n2, text ? text : "");
-    free(text);
-}
+#define in_dir(name) test_path_in(dir, name)
+/* the tool under `timeout 20`: a hang fails instead of hanging */
+#define expect(cmd, rc, n1, n2) ((void)test_expect_tool(dir, 20, cmd, rc, n1, n2))
 
 static void fifo(const char *name)
 {

@@ -14,7 +14,7 @@
 
 #include "core/dm_file.h"
 #include "../common/gltf_write.h"
-#include "../common/tmpdir.h"
+#include "../common/expect_tool.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 #define ENV DERMIS_ASSETS "/env/venice_sunset_1k.hdr"
@@ -37,39 +37,9 @@ static void teardown(void)
 }
 TestSuite(outputs, .init = setup, .fini = teardown, .timeout = 120);
 
-static const char *in_dir(const char *name)
-{
-    static char path[8][512];
-    static int k;
-    k = (k + 1) % 8;
-    snprintf(path[k], sizeof path[k], "%s/%s", dir, name);
-    return path[k];
-}
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* Runs cmd in dir under `timeout 60`; expects exit code rc and every needle in its output;
- * returns the seconds it took. */
-static double expect(const char *cmd, int rc, const char *n1, const char *n2)
-{
-    char line[4096], log[320];
-    snprintf(log, sizeof log, "%s/log.txt", dir);
-    snprintf(line, sizeof line, "cd '%s' && timeout 60 %s", dir, cmd);
-    double t0 = now_s();
-    int got = test_run(line, log);
-    double s = now_s() - t0;
-    char *text = test_slurp(log);
-    cr_expect_eq(got, rc, "%s: exit %d, expected %d: %s", cmd, got, rc, text ? text : "");
-    if (n1) cr_expect(text && strstr(text, n1), "%s: '%s' not in: %s", cmd, n1, text ? text : "");
-    if (n2) cr_expect(text && strstr(text, n2), "%s: '%s' not in: %s", cmd, n2, text ? text : "");
-    free(text);
-    return s;
-}
+#define in_dir(name) test_path_in(dir, name)
+/* the tool under `timeout 60`; the seconds it took */
+#define expect(cmd, rc, n1, n2) test_expect_tool(dir, 60, cmd, rc, n1, n2)
 
 static bool starts_with_bytes(const char *path, const char *magic, size_t n)
 {

@@ -5,27 +5,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../common/tmpdir.h"
+#include "../common/expect_tool.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 #define ENV DERMIS_ASSETS "/env/venice_sunset_1k.hdr"
 
 static char dir[256];
 static void setup(void) { cr_assert(test_tmpdir(dir, sizeof dir)); }
-
-/* Runs cmd in dir; expects exit code rc and every needle in its output. */
-static void expect(const char *cmd, int rc, const char *n1, const char *n2)
-{
-    char line[4096], log[320];
-    snprintf(log, sizeof log, "%s/log.txt", dir);
-    snprintf(line, sizeof line, "cd '%s' && %s", dir, cmd);
-    int got = test_run(line, log);
-    char *text = test_slurp(log);
-    cr_expect_eq(got, rc, "%s: exit %d, expected %d: %s", cmd, got, rc, text ? text : "");
-    if (n1) cr_expect(text && strstr(text, n1), "'%s' not in: %s", n1, text ? text : "");
-    if (n2) cr_expect(text && strstr(text, n2), "'%s' not in: %s", n2, text ? text : "");
-    free(text);
-}
+#define expect(cmd, rc, n1, n2) ((void)test_expect_tool(dir, 0, cmd, rc, n1, n2))
 
 Test(wrong_inputs, ldr_environment_refused_with_the_conversion, .init = setup)
 {
