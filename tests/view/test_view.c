@@ -360,6 +360,19 @@ Test(view, script_numbers_are_finite)
     cr_expect_eq(rc, 1, "exit %d:\n%s", rc, out);
     cr_expect(strstr(out, "set: 'nan' is not a number") != NULL, "%s", out);
     free(out);
+    /* the irradiance size is an int: 3e9 was cast to -2147483648 */
+    const char *bad[] = {"3e9", "-3e9", "4.5", "7", "8193"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        char text[64], want[96];
+        snprintf(text, sizeof text, "0 set irradiance %s\n", bad[i]);
+        write_text(path, text);
+        rc = test_run(line, log);
+        out = test_slurp(log);
+        snprintf(want, sizeof want, "set irradiance: '%s' is not an integer in [8, 8192]", bad[i]);
+        cr_expect_eq(rc, 1, "%s: exit %d:\n%s", bad[i], rc, out);
+        cr_expect(strstr(out, want) != NULL, "%s", out);
+        free(out);
+    }
 }
 
 /* A view the pass list cannot show fails the script (exit 3) with a message; no crash. */

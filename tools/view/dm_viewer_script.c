@@ -107,6 +107,13 @@ dm_result dm_script_parse(char *text, const char *path, dm_script *s, dm_error *
                          line, e.args[4]);
             break;
         }
+        /* an int-valued setting is checked here, as an integer in its range: (int)3e9 is undefined */
+        double irr = !strcmp(spec->name, "set") && !strcmp(e.args[0], "irradiance") ? strtod(e.args[1], NULL) : 512;
+        if (!(irr >= 8 && irr <= 8192 && irr == floor(irr))) {
+            rc = dm_fail(err, DM_ERR_FORMAT, "%s:%d: error: set irradiance: '%s' is not an integer in [8, 8192]", path,
+                         line, e.args[1]);
+            break;
+        }
         if ((!strcmp(spec->name, "screenshot") || !strcmp(spec->name, "window-shot")) &&
             dm_output_extension(e.args[0], (const char *const[]){".png", NULL}) < 0) {
             rc = dm_fail(err, DM_ERR_FORMAT, "%s:%d: error: %s %s: expected a name ending in .png (any case): "
