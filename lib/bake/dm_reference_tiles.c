@@ -7,6 +7,7 @@
 
 #include "bake/dm_exr.h"
 #include "bake/dm_reference.h"
+#include "core/dm_math.h"
 
 /* Everything but the tile index must match; returns the differing parameter's name or NULL. */
 static const char *prov_differs(const dm_provenance *a, const dm_provenance *b)
@@ -80,11 +81,18 @@ dm_result dm_reference_merge_tiles(const char *const *paths, int count, const ch
     int64_t merged = 0;
     for (int f = 0; r == DM_OK && f < count; ++f) {
         const float *alpha = dm_exr_find(&img[f], "A");
-        for (size_t i = 0; i < n; ++i) {
+        for (size_t i = 0; r == DM_OK && i < n; ++i) {
             if (!(alpha[i] > 0.0f)) continue;
             ++merged;
             for (int c = 0; c < nch; ++c) planes[(size_t)c * n + i] = img[f].planes[c][i];
         }
+        /* a tile is a result, never repaired: one NaN or infinite value refuses the merge */
+        size_t first = 0;
+        for (int c = 0; r == DM_OK && c < nch; ++c)
+            if (dm_count_nonfinite(img[f].planes[c], n, &first))
+                r = dm_fail(err, DM_ERR_NON_FINITE, "%s: channel %s, texel (%zu, %zu) is %g: a tile holds finite values only",
+                            paths[f], img[f].names[c], first % (size_t)img[f].width, first / (size_t)img[f].width,
+                            (double)img[f].planes[c][first]);
     }
     if (r == DM_OK && merged != covered)
         r = dm_fail(err, DM_ERR_MISMATCH, "the tiles hold %lld texels, the run covers %lld (overlapping tiles?)",

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "../common/tmpdir.h"
 #include "bake/dm_exr.h"
@@ -62,6 +63,28 @@ Test(reference_tool, tiles_threads_and_irradiance_file, .init = setup, .timeout 
     cr_expect_eq(run(a), 2);
     snprintf(a, sizeof a, "--merge %s/t1.exr %s/t1.exr %s/t2.exr -o %s/bad.exr", dir, dir, dir, dir);
     cr_expect_eq(run(a), 2);
+    /* a tile holding an infinite value: refused naming it, nothing written (was merged) */
+    {
+        dm_exr_image t;
+        dm_error e = {0};
+        snprintf(y, sizeof y, "%s/t2.exr", dir);
+        cr_assert_eq(dm_exr_read(y, &t, &e), DM_OK, "%s", e.detail);
+        dm_exr_channel ch[4 + 6 * 3];
+        for (int c = 0; c < t.channel_count; ++c) ch[c] = (dm_exr_channel){t.names[c], t.planes[c], DM_EXR_FLOAT};
+        t.planes[0][5] = INFINITY;
+        snprintf(y, sizeof y, "%s/t2inf.exr", dir);
+        cr_assert_eq(dm_exr_write(y, t.width, t.height, ch, t.channel_count, &t.prov, &e), DM_OK, "%s", e.detail);
+        dm_exr_free(&t);
+        snprintf(a, sizeof a, "--merge %s/t1.exr %s/t2inf.exr %s/t3.exr -o %s/inf.exr", dir, dir, dir, dir);
+        cr_expect_eq(run(a), 2);
+        char log[700];
+        snprintf(log, sizeof log, "%s/log.txt", dir);
+        char *text = test_slurp(log);
+        cr_expect(text && strstr(text, "t2inf.exr: channel") && strstr(text, "is inf"), "%s", text ? text : "");
+        free(text);
+        snprintf(y, sizeof y, "%s/inf.exr", dir);
+        cr_expect(access(y, F_OK) != 0, "a merge of a tile with Inf was written");
+    }
     /* the renderer's irradiance as a file: the same reference */
     snprintf(a, sizeof a, DERMIS_BIN "/dermis-render %s --view irradiance --size 32x32 --irradiance 32 -o %s/irr.exr", pack,
              dir);
