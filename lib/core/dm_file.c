@@ -16,11 +16,15 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/xattr.h>
+#include <time.h>
 #include <unistd.h>
 
 /* --- cleanup on signals ---------------------------------------------------------------
- * Slots: state 0 free, 2 being written, 1 live. The handler reads only live slots, and
- * unlink is async-signal-safe; a name that no longer exists (already renamed) is harmless. */
+ * Slots: state 0 free, 2 being written, 1 live, 3 a temporary being created (its thread has
+ * the signals blocked, but a process-directed signal may be taken by another thread: that
+ * handler waits until the creation ends, live or failed). The handler unlinks only live
+ * slots, and unlink is async-signal-safe; a name that no longer exists (already renamed) is
+ * harmless. */
 enum { CLEANUP_SLOTS = 32 };
 static char g_cleanup_path[CLEANUP_SLOTS][4200];
 static atomic_int g_cleanup_state[CLEANUP_SLOTS];
@@ -31,8 +35,10 @@ static pthread_once_t g_install_once = PTHREAD_ONCE_INIT;
 static void on_signal(int sig)
 {
     int saved = errno;
-    for (int k = 0; k < CLEANUP_SLOTS; ++k)
+    for (int k = 0; k < CLEANUP_SLOTS; ++k) {
+        while (atomic_load(&g_cleanup_state[k]) == 3) nanosleep(&(struct timespec){0, 1000000}, NULL);
         if (atomic_load(&g_cleanup_state[k]) == 1) unlink(g_cleanup_path[k]);
+    }
     for (int s = 0; s < 3; ++s)
         if (g_signals[s] == sig) sigaction(sig, &g_previous[s], NULL);
     errno = saved;
@@ -56,20 +62,26 @@ static void install_handlers(void)
     }
 }
 
-int dm_cleanup_register(const char *path)
+/* A free slot holding path in state `state` (1 live, 3 being created), or -1. */
+static int cleanup_take(const char *path, int state)
 {
-    assert(path);
     pthread_once(&g_install_once, install_handlers);
     if (strlen(path) >= sizeof g_cleanup_path[0]) return -1;
     for (int k = 0; k < CLEANUP_SLOTS; ++k) {
         int expected = 0;
         if (atomic_compare_exchange_strong(&g_cleanup_state[k], &expected, 2)) {
             memcpy(g_cleanup_path[k], path, strlen(path) + 1);
-            atomic_store(&g_cleanup_state[k], 1);
+            atomic_store(&g_cleanup_state[k], state);
             return k;
         }
     }
     return -1;
+}
+
+int dm_cleanup_register(const char *path)
+{
+    assert(path);
+    return cleanup_take(path, 1);
 }
 
 void dm_cleanup_unregister(int slot)
@@ -223,10 +235,16 @@ dm_result dm_atomic_begin(dm_atomic_file *af, const char *path, dm_error *err)
     sigemptyset(&block);
     for (int s = 0; s < 3; ++s) sigaddset(&block, g_signals[s]);
     pthread_sigmask(SIG_BLOCK, &block, &old);
+    /* the slot is taken first, "being created": a signal another thread takes meanwhile waits
+     * for the outcome (on_signal) instead of missing the new file */
+    snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld.dermis", path, (long)getpid());
+    int slot = cleanup_take(af->tmp_path, 3);
     int fd = -1;
     for (int k = 0; fd < 0 && k < 100; ++k) {
-        if (k == 0) snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld.dermis", path, (long)getpid());
-        else snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld-%d.dermis", path, (long)getpid(), k);
+        if (k > 0) {
+            snprintf(af->tmp_path, sizeof af->tmp_path, "%s.tmp.%ld-%d.dermis", path, (long)getpid(), k);
+            if (slot >= 0) memcpy(g_cleanup_path[slot], af->tmp_path, strlen(af->tmp_path) + 1);
+        }
         fd = open(af->tmp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 && errno != EEXIST) break;
     }
@@ -236,8 +254,9 @@ dm_result dm_atomic_begin(dm_atomic_file *af, const char *path, dm_error *err)
         tmp_marker((long)getpid(), mark, sizeof mark);
         (void)fsetxattr(fd, TMP_XATTR, mark, strlen(mark), 0); /* unsupported: no proof, never removed by others */
         close(fd);
-        af->cleanup_slot = dm_cleanup_register(af->tmp_path);
     }
+    af->cleanup_slot = fd >= 0 ? slot : -1;
+    if (slot >= 0) atomic_store(&g_cleanup_state[slot], fd >= 0 ? 1 : 0);
     pthread_sigmask(SIG_SETMASK, &old, NULL);
     if (fd < 0) {
         af->tmp_path[0] = '\0';
