@@ -39,6 +39,9 @@ static long rss_kib(pid_t pid)
 /* dermis-render --frames 1200 --timings on the small quad, its RSS sampled every 100 ms. */
 Test(soak, dermis_render_rss_flat_over_a_run, .timeout = 60)
 {
+#ifdef __SANITIZE_ADDRESS__
+    cr_skip_test("peak RSS means nothing under AddressSanitizer (shadow memory, quarantine): measured in release builds");
+#endif
     pid_t pid = fork();
     cr_assert_geq(pid, 0);
     if (pid == 0) {
@@ -67,6 +70,9 @@ Test(soak, dermis_render_rss_flat_over_a_run, .timeout = 60)
  * reused between them, read-backs; RSS after malloc_trim every 100 frames. */
 Test(soak, renderer_rss_flat_over_frames, .timeout = 60)
 {
+#ifdef __SANITIZE_ADDRESS__
+    cr_skip_test("peak RSS means nothing under AddressSanitizer (shadow memory, quarantine): measured in release builds");
+#endif
     fixture f;
     open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_QUAD});
     open_renderer_desc(&f, (dm_render_desc){.width = 32, .height = 32, .irradiance_size = 32, .shadow_size = 64,
