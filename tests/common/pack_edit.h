@@ -16,17 +16,17 @@
 #include "core/dm_hash.h"
 #include "core/dm_pack.h"
 
-static inline uint64_t test_pack_u64(const uint8_t *p)
+/* The manifest's size, from the header (dm_pack_header_decode: the reader's own decoding). */
+static inline uint64_t test_pack_manifest_size(const uint8_t *buf)
 {
-    uint64_t v = 0;
-    for (int k = 7; k >= 0; --k) v = (v << 8) | p[k];
-    return v;
+    dm_pack_header h;
+    dm_pack_header_decode(buf, &h);
+    return h.manifest_size;
 }
-
 /* The manifest as a NUL-terminated copy (free it). */
 static inline char *test_pack_manifest(const uint8_t *buf)
 {
-    uint64_t n = test_pack_u64(buf + 32);
+    uint64_t n = test_pack_manifest_size(buf);
     char *m = malloc(n + 1);
     if (m) memcpy(m, buf + DM_PACK_HEADER_SIZE, n), m[n] = '\0';
     return m;
@@ -55,7 +55,7 @@ static inline bool test_pack_blob(const uint8_t *buf, const char *name, uint64_t
 /* Rewrites every entry's "xxh3" to the hash of its bytes (within size), then the header's. */
 static inline void test_pack_fix_checksums(uint8_t *buf, size_t size)
 {
-    uint64_t msize = test_pack_u64(buf + 32);
+    uint64_t msize = test_pack_manifest_size(buf);
     if (msize > size - DM_PACK_HEADER_SIZE) return;
     char *m = test_pack_manifest(buf), *text = (char *)buf + DM_PACK_HEADER_SIZE;
     cJSON *root = m ? cJSON_Parse(m) : NULL;
