@@ -40,7 +40,10 @@ CXXFLAGS := -std=c++17 $(OPT) $(WARN) -pthread
 # --as-needed: a tool loads only the libraries it calls (OpenImageIO alone costs ~0.3 s).
 LDFLAGS  := $(OPT) -pthread -Wl,--as-needed
 
-# Dependencies, by side. lib/core needs libc, cJSON, xxHash and zlib only.
+# Dependencies, by side. The runtime side (lib/core, lib/pack, lib/render, lib/host) needs libc,
+# cJSON, xxHash and zlib only (and the caller's GL); the offline side (lib/image, lib/mesh,
+# lib/bake, lib/reference, lib/packer) adds OpenEXR, OpenImageIO, OpenMesh, tinygltf, Embree.
+# docs/architecture.md draws the folders; scripts/check-layers.sh checks who includes whom.
 CORE_CFLAGS   := $(shell $(PKG) --cflags libcjson libxxhash 2>/dev/null)
 CORE_LIBS     := $(shell $(PKG) --libs libcjson libxxhash zlib 2>/dev/null) -lm
 BAKE_CFLAGS   := $(shell $(PKG) --cflags OpenEXR OpenImageIO openmesh tinygltf 2>/dev/null)
@@ -50,9 +53,13 @@ GLFW_LIBS     := $(shell $(PKG) --libs glfw3 2>/dev/null) -lGL
 TEST_CFLAGS   := $(shell $(PKG) --cflags criterion 2>/dev/null)
 TEST_LIBS     := $(shell $(PKG) --libs criterion 2>/dev/null)
 
-CORE_SRC   := $(sort $(wildcard lib/core/*.c))
-BAKE_SRC   := $(sort $(wildcard lib/bake/*.c lib/bake/*.cpp))
-RENDER_SRC := $(sort $(wildcard lib/render/*.c))
+# One archive per side: libdermis_core (core, pack), libdermis_render (render and its
+# subfolders), libdermis_host_osmesa, libdermis_bake (the offline folders).
+CORE_DIRS    := core pack
+OFFLINE_DIRS := image mesh bake reference packer
+CORE_SRC   := $(sort $(foreach d,$(CORE_DIRS),$(wildcard lib/$(d)/*.c)))
+BAKE_SRC   := $(sort $(foreach d,$(OFFLINE_DIRS),$(wildcard lib/$(d)/*.c lib/$(d)/*.cpp)))
+RENDER_SRC := $(sort $(wildcard lib/render/*.c lib/render/*/*.c))
 HOST_SRC   := $(sort $(wildcard lib/host/*.c))
 # Shaders are embedded at build time: scripts/embed-shaders.sh turns shaders/*.glsl into
 # one generated C file (byte arrays + a name table) that joins the render library.
@@ -98,15 +105,15 @@ all: tools docs $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
 tools: $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
 
 # --- objects -----------------------------------------------------------------------
-$(BUILD)/obj/lib/core/%.c.o: lib/core/%.c
+$(call obj,$(CORE_SRC)): $(BUILD)/obj/%.o: %
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) -c $< -o $@
 # Scenes look for assets missing beside them in --assets, DERMIS_ASSETS, then this default.
 $(BUILD)/obj/lib/core/dm_scene_paths.c.o: CPPFLAGS += -DDM_ASSETS_DEFAULT='"$(abspath $(ASSETS))"'
-$(BUILD)/obj/lib/bake/%.c.o: lib/bake/%.c
+$(call obj,$(filter %.c,$(BAKE_SRC))): $(BUILD)/obj/%.o: %
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $(CORE_CFLAGS) $(BAKE_CFLAGS) -c $< -o $@
-$(BUILD)/obj/lib/bake/%.cpp.o: lib/bake/%.cpp
+$(call obj,$(filter %.cpp,$(BAKE_SRC))): $(BUILD)/obj/%.o: %
 	@mkdir -p $(@D)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(CORE_CFLAGS) $(BAKE_CFLAGS) -c $< -o $@
 $(BUILD)/obj/lib/render/%.c.o: lib/render/%.c
@@ -206,7 +213,7 @@ $(BUILD)/share/bash-completion/completions/%: $(BUILD)/bin/% scripts/gen-complet
 
 # make install [PREFIX=/usr/local] [DESTDIR=]: DESTDIR prefixes every installed path and is
 # never compiled in. Headers keep lib/'s folders under
-# include/dermis/ (Cflags -I$(includedir)/dermis, so "core/dm_pack.h" reads as in the
+# include/dermis/ (Cflags -I$(includedir)/dermis, so "pack/dm_pack.h" reads as in the
 # sources); the *_impl.h and *_internal.h headers and C++-only ones are not installed.
 # Runtime (dermis.pc: pack reader + renderer) never names OpenEXR, OpenImageIO, OpenMesh or
 # Embree; the offline bakers are dermis-bake.pc. Static libraries only: their third-party
@@ -221,8 +228,9 @@ MANDIR      ?= $(DATADIR)/man
 COMPDIR     ?= $(DATADIR)/bash-completion/completions
 PCDIR       ?= $(LIBDIR)/pkgconfig
 DOCDIR      ?= $(DATADIR)/doc/dermis
-PRIVATE_H   := $(wildcard lib/*/*_impl.h lib/*/*_internal.h) lib/bake/dm_mesh_gltf.h
-PUBLIC_H    := $(filter-out $(PRIVATE_H),$(sort $(wildcard lib/core/*.h lib/render/*.h lib/host/*.h lib/bake/*.h)))
+PRIVATE_H   := $(wildcard lib/*/*_impl.h lib/*/*_internal.h) lib/mesh/dm_mesh_gltf.h
+LIB_DIRS    := $(CORE_DIRS) render host $(OFFLINE_DIRS)
+PUBLIC_H    := $(filter-out $(PRIVATE_H),$(sort $(foreach d,$(LIB_DIRS),$(wildcard lib/$(d)/*.h))))
 EXAMPLES    := $(wildcard examples/embed/*.c examples/embed/Makefile examples/embed/README.md)
 INSTALL_LIBS := $(CORE_LIB) $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB)
 # The .pc files are relocatable (as Meson's pkgconfig.relocatable): prefix is found from the
@@ -243,10 +251,10 @@ install: deps
 install-files:
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PCDIR) $(DESTDIR)$(MANDIR)/man1 \
 	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(COMPDIR) $(DESTDIR)$(DATADIR)/dermis/scenes \
-	  $(DESTDIR)$(DOCDIR)/examples/embed $(addprefix $(DESTDIR)$(INCLUDEDIR)/dermis/,core render host bake)
+	  $(DESTDIR)$(DOCDIR)/examples/embed $(addprefix $(DESTDIR)$(INCLUDEDIR)/dermis/,$(LIB_DIRS))
 	install -m 755 $(TOOL_BINS) $(DESTDIR)$(BINDIR)
 	install -m 644 $(INSTALL_LIBS) $(DESTDIR)$(LIBDIR)
-	$(foreach d,core render host bake,install -m 644 $(filter lib/$(d)/%,$(PUBLIC_H)) $(DESTDIR)$(INCLUDEDIR)/dermis/$(d) &&) true
+	$(foreach d,$(LIB_DIRS),install -m 644 $(filter lib/$(d)/%,$(PUBLIC_H)) $(DESTDIR)$(INCLUDEDIR)/dermis/$(d) &&) true
 	install -m 644 $(MAN1) $(DESTDIR)$(MANDIR)/man1
 	$(if $(MAN5),install -m 644 $(MAN5) $(DESTDIR)$(MANDIR)/man5)
 	install -m 644 $(COMPLETIONS) $(DESTDIR)$(COMPDIR)
@@ -299,7 +307,7 @@ FUZZ_CC      ?= clang
 FUZZ_SECONDS ?= 5
 FUZZ_TARGETS := $(patsubst fuzz/%.c,build/fuzz/%,$(wildcard fuzz/*.c))
 fuzz: $(FUZZ_TARGETS)
-build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h)
+build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h lib/pack/*.h)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $< $(CORE_SRC) $(CORE_LIBS) -o $@
@@ -310,8 +318,8 @@ build/fuzz/fuzz_script: fuzz/fuzz_script.c $(CORE_SRC) $(FUZZ_SCRIPT_SRC) tools/
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -Itools/view -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $< $(FUZZ_SCRIPT_SRC) $(CORE_SRC) $(CORE_LIBS) -o $@
 # fuzz_bake_exr: the bake side's EXR reader (OpenEXR's C API) beside the core library.
-FUZZ_BAKE_EXR_SRC := lib/bake/dm_exr.c
-build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) lib/bake/dm_exr.h $(wildcard lib/core/*.h)
+FUZZ_BAKE_EXR_SRC := lib/image/dm_exr.c
+build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) lib/image/dm_exr.h $(wildcard lib/core/*.h)
 	@mkdir -p $(@D)
 	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
 	  $(CORE_CFLAGS) $(shell $(PKG) --cflags OpenEXR 2>/dev/null) $< $(FUZZ_BAKE_EXR_SRC) $(CORE_SRC) -lOpenEXRCore-3_1 $(CORE_LIBS) -o $@
@@ -319,9 +327,9 @@ build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) 
 # compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
 FUZZ_CXX       ?= clang++
 FUZZ_MESH      := build/fuzz/fuzz_gltf build/fuzz/fuzz_obj
-FUZZ_MESH_SRC  := $(addprefix lib/bake/,dm_isolate.c dm_mesh.c dm_mesh_check.c dm_mesh_gpu.c dm_mesh_gltf.cpp dm_mesh_openmesh.cpp)
+FUZZ_MESH_SRC  := $(addprefix lib/mesh/,dm_isolate.c dm_mesh.c dm_mesh_check.c dm_mesh_gpu.c dm_mesh_gltf.cpp dm_mesh_openmesh.cpp)
 FUZZ_SAN       := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -pthread -D_POSIX_C_SOURCE=200809L
-$(FUZZ_MESH): build/fuzz/%: fuzz/%.c $(CORE_SRC) $(FUZZ_MESH_SRC) $(wildcard lib/core/*.h lib/bake/dm_mesh*.h lib/bake/dm_isolate.h)
+$(FUZZ_MESH): build/fuzz/%: fuzz/%.c $(CORE_SRC) $(FUZZ_MESH_SRC) $(wildcard lib/core/*.h lib/pack/*.h lib/mesh/dm_mesh*.h lib/mesh/dm_isolate.h)
 	@rm -rf $@.obj && mkdir -p $@.obj
 	cd $@.obj && $(FUZZ_CC) -std=c11 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -I$(CURDIR)/lib $(CORE_CFLAGS) -c \
 	  $(abspath $< $(CORE_SRC) $(filter %.c,$(FUZZ_MESH_SRC)))

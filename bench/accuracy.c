@@ -32,12 +32,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_ref_regions.h"
-#include "bake/dm_ref_surface.h"
-#include "bake/dm_reference.h"
+#include "reference/dm_ref_regions.h"
+#include "reference/dm_ref_surface.h"
+#include "reference/dm_reference.h"
 #include "common/bench_util.h"
 #include "core/dm_hash.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
 #include "render/dm_render_image.h"

@@ -12,7 +12,7 @@
 
 #include "core/dm_cli.h"
 #include "core/dm_file.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_parallel.h"
 #include "core/dm_sort.h"
 

@@ -18,8 +18,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "bake/dm_exr.h"
-#include "bake/dm_mesh.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_mesh.h"
 #include "bake/dm_stretch.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"

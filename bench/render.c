@@ -24,7 +24,7 @@
 #include "common/bench_util.h"
 #include "core/dm_cli.h"
 #include "core/dm_sort.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
 #include "render/dm_render_compare.h"

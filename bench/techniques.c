@@ -19,7 +19,7 @@
 #include <sys/resource.h>
 
 #include "common/bench_util.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_ssss_kernel.h"
 #include "host/dm_osmesa.h"
 #include "core/dm_cli.h"

@@ -1,4 +1,4 @@
-/* libFuzzer target: the bake side's EXR reader (lib/bake/dm_exr.c, dm_exr_read through
+/* libFuzzer target: the bake side's EXR reader (lib/image/dm_exr.c, dm_exr_read through
  * OpenEXR's C API: the stretch chain and environment files dermis-pack takes) on arbitrary
  * bytes, given to it as an in-memory file (memfd). What it accepts has sane dimensions and
  * channel planes; what it refuses explains itself. */
@@ -10,7 +10,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

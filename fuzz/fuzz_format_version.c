@@ -1,4 +1,4 @@
-/* libFuzzer target: dm_format_version_read (core/dm_format_version.h) on arbitrary files.
+/* libFuzzer target: dm_format_version_read (pack/dm_format_version.h) on arbitrary files.
  * Every input either reports a known format with the verdict its version implies and a
  * summary, or fails with a message; nothing reads outside its buffers (ASan). The function
  * takes a path, so each input is first written to one scratch file in the working folder
@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
-#include "core/dm_format_version.h"
+#include "pack/dm_format_version.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -11,7 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

@@ -9,7 +9,7 @@
  *    (one per subsurface technique), blob values and the manifest's t_range and
  *    layer_values, with plausible and absurd numbers (0, -0, 1e-38, 1e38, -1e38, FLT_MAX,
  *    huge indices, raw bits...); every checksum is right, so only the semantic checks
- *    (core/dm_pack_semantic.h) stand. Whatever opens is then checked here, independently,
+ *    (pack/dm_pack_semantic.h) stand. Whatever opens is then checked here, independently,
  *    to be finite and in the documented ranges;
  *  - any other even byte: the bytes as they are.
  * Every refusal must carry a message. */
@@ -22,9 +22,9 @@
 #include <string.h>
 
 #include "core/dm_hash.h"
-#include "core/dm_pack.h"
-#include "core/dm_pack_impl.h"
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack.h"
+#include "pack/dm_pack_impl.h"
+#include "pack/dm_pack_semantic.h"
 #include "core/dm_profile.h"
 #include "core/dm_ssss_kernel.h"
 

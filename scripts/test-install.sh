@@ -83,7 +83,7 @@ tree)
   for f in usr/lib/libdermis_core.a usr/lib/libdermis_render.a usr/lib/libdermis_host_osmesa.a \
            usr/lib/libdermis_bake.a usr/lib/pkgconfig/dermis.pc usr/lib/pkgconfig/dermis-osmesa.pc \
            usr/lib/pkgconfig/dermis-bake.pc usr/share/man/man5/dermis-scene.5 usr/share/man/man5/dermis-dpk.5 \
-           usr/include/dermis/core/dm_pack.h usr/include/dermis/render/dm_render.h \
+           usr/include/dermis/pack/dm_pack.h usr/include/dermis/render/dm_render.h \
            usr/include/dermis/host/dm_osmesa.h usr/share/dermis/scenes/lps.json \
            usr/share/doc/dermis/examples/embed/Makefile; do
     grep -qx "./$f" "$work/files.txt" || fail "$f is not installed"

@@ -7,8 +7,8 @@
 
 #include "bake/dm_curvature.h"
 #include "bake/dm_bake_cli.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_mesh.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_mesh.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_profile.h"

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_exr.h"
-#include "bake/dm_image.h"
+#include "image/dm_exr.h"
+#include "image/dm_image.h"
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
 #include "bake/dm_preintegrated.h"

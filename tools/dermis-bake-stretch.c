@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "bake/dm_bake_cli.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_mesh.h"
-#include "bake/dm_mesh_plausible.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_mesh.h"
+#include "mesh/dm_mesh_plausible.h"
 #include "bake/dm_stretch.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"

@@ -10,16 +10,16 @@
 
 #include <cJSON.h>
 
-#include "bake/dm_exr.h"
-#include "bake/dm_image.h"
+#include "image/dm_exr.h"
+#include "image/dm_image.h"
 #include "core/dm_cli.h"
 #include "core/dm_brdf.h"
-#include "core/dm_format_version.h"
+#include "pack/dm_format_version.h"
 #include "core/dm_input.h"
 #include "core/dm_lut_check.h"
-#include "core/dm_pack.h"
-#include "core/dm_pack_needs.h"
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack.h"
+#include "pack/dm_pack_needs.h"
+#include "pack/dm_pack_semantic.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
 #include "core/dm_scene.h"
@@ -354,7 +354,7 @@ static void check_pack(result *r, const char *file)
 {
     dm_error err = {0};
     dm_pack pack;
-    /* every entry's format and values (core/dm_pack_semantic.h), as every reader of the pack
+    /* every entry's format and values (pack/dm_pack_semantic.h), as every reader of the pack
      * sees them; it stops at the first fault. What follows is dermis-check's own: entries the
      * scene does not need, provenance, LUT texels re-evaluated. */
     if (dm_pack_open(file, &pack, &err) != DM_OK) {
@@ -520,7 +520,7 @@ int main(int argc, char **argv)
             continue;
         }
         if (!files_only && argv[i][0] == '-' && argv[i][1]) continue;
-        if (fmt_version) { /* core/dm_format_version.h: reads only what names the version */
+        if (fmt_version) { /* pack/dm_format_version.h: reads only what names the version */
             dm_format_version v;
             dm_error e = {0};
             int c = dm_format_version_read(argv[i], &v, &e) != DM_OK ? CHECK_USAGE : v.verdict != DM_FORMAT_READABLE;

@@ -1,5 +1,5 @@
 /* dermis-pack — scene + sources → one .dpk pack holding only what the scene's effects need.
- * parse → load the scene (once) → run the bake steps that apply (bake/dm_pack_build.h) →
+ * parse → load the scene (once) → run the bake steps that apply (packer/dm_pack_build.h) →
  * write → report. */
 #include <inttypes.h>
 #include <stdio.h>
@@ -7,10 +7,10 @@
 #include <string.h>
 
 #include "bake/dm_lut.h"
-#include "bake/dm_pack_build.h"
+#include "packer/dm_pack_build.h"
 #include "core/dm_cli.h"
 #include "core/dm_output.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 
 static void usage(FILE *f)
 {
@@ -186,7 +186,7 @@ int main(int argc, char **argv)
         free(j);
         return DM_EXIT_OK;
     }
-    if (dm_pack_build_memory_check(j, &err) != DM_OK) { /* before any work: bake/dm_pack_build.h */
+    if (dm_pack_build_memory_check(j, &err) != DM_OK) { /* before any work: packer/dm_pack_build.h */
         fprintf(stderr, "error: %s\n", err.detail);
         dm_pack_build_free(j);
         free(j);

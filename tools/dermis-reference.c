@@ -7,16 +7,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "bake/dm_profile_fit.h"
-#include "bake/dm_ref_frame.h"
-#include "bake/dm_ref_surface.h"
-#include "bake/dm_reference.h"
-#include "bake/dm_reference_tiles.h"
+#include "reference/dm_ref_frame.h"
+#include "reference/dm_ref_surface.h"
+#include "reference/dm_reference.h"
+#include "reference/dm_reference_tiles.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_output.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_parallel.h"
 #include "core/dm_png.h"
 #include "core/dm_prov.h"
@@ -579,7 +579,7 @@ int main(int argc, char **argv)
         dm_pack_close(&pack);
         return DM_EXIT_LOAD;
     }
-    /* memory, before any work: the run's estimate (bake/dm_reference.h) with the renderer's for I */
+    /* memory, before any work: the run's estimate (reference/dm_reference.h) with the renderer's for I */
     dm_render_memory rm = {0};
     if (!a.frame && !a.irradiance)
         dm_render_memory_estimate_pack(&pack, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = a.size},

@@ -8,7 +8,7 @@
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_output.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_prov.h"
 #include "core/dm_version.h"
 #include "host/dm_osmesa.h"

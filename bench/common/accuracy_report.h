@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_ref_regions.h"
+#include "reference/dm_ref_regions.h"
 #include "common/bench_util.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_prov.h"
 #include "render/dm_render.h"
 #include "render/dm_render_image.h"
@@ -171,7 +171,7 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
         else fprintf(md, " – | – |");
         fprintf(md, "\n");
     }
-    fprintf(md, "\n## Texture-space error by region\n\nLabels from the geometry (`lib/bake/dm_ref_regions.h`), per "
+    fprintf(md, "\n## Texture-space error by region\n\nLabels from the geometry (`lib/reference/dm_ref_regions.h`), per "
                 "texel at the reference's own surface point for it (`dm_reference_atlas_targets`), first match wins: "
                 "**seam**: within 3 mm (3-D) of a seam edge — an edge whose two triangles give it different UVs, or "
                 "a mesh boundary (the atlas ends there too), positions welded by exact value (%lld edges on this "

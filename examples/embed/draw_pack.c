@@ -7,7 +7,7 @@
  *   - dm_pack_open maps the file and verifies every byte of it (checksums, schema, sizes,
  *     finite floats, indices in range) before you touch anything: after it succeeds the
  *     blobs can go straight to glBufferData / glTexImage2D, no parsing, no copies.
- *   - the vertex blob is interleaved float32 in one fixed layout (core/dm_pack.h,
+ *   - the vertex blob is interleaved float32 in one fixed layout (pack/dm_pack.h,
  *     DM_PACK_VERTEX_*): position, normal, uv, tangent; indices are uint32 triangles.
  *   - textures are stored bottom-up (row 0 is v = 0), so they upload as they are.
  *   - the pack carries its scene (camera, lights, output size) as a parsed struct.
@@ -23,7 +23,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_png.h"
 #include "core/dm_scene.h"
 

@@ -21,7 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_png.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"

@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 #include "core/dm_hash.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"

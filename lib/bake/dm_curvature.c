@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_gutter.h"
-#include "bake/dm_uv_raster.h"
+#include "mesh/dm_gutter.h"
+#include "mesh/dm_uv_raster.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
 #include "core/dm_sort.h"

@@ -29,7 +29,7 @@
 
 #include <stdint.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
 

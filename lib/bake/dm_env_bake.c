@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "bake/dm_env_sh.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_cli.h"
 #include "core/dm_parallel.h"
 

@@ -24,7 +24,7 @@
  *   rows level<k>_y …           level k, level<k>_width × level<k>_width/2
  * the rest zero. Every rectangle's place, each level's m and measured error, and every bake
  * parameter are typed provenance attributes (dm.level0_m, dm.level0_y, dm.level0_width,
- * dm.level0_error_rms, dm.level0_error_max, dm.background_y, …; bake/dm_exr.h).
+ * dm.level0_error_rms, dm.level0_error_max, dm.background_y, …; image/dm_exr.h).
  * Why this shape: one file is one provenance, one input hash and one path for the pack;
  * the levels need different resolutions, which one EXR part can only hold as rectangles
  * (dm_exr writes one part; subsampled channels are poorly supported by readers); 32-bit

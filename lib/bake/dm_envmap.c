@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_image.h"
+#include "image/dm_image.h"
 
 void dm_envmap_free(dm_envmap *map)
 {

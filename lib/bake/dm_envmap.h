@@ -23,7 +23,7 @@
 
 #include <stdint.h>
 
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack_semantic.h"
 #include "core/dm_result.h"
 
 #ifdef __cplusplus

@@ -7,11 +7,11 @@
 #include <string.h>
 #include <sys/mman.h>
 
-#include "bake/dm_gutter.h"
-#include "bake/dm_uv_raster.h"
+#include "mesh/dm_gutter.h"
+#include "mesh/dm_uv_raster.h"
 #include "core/dm_cli.h"
 #include "core/dm_math.h"
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack_semantic.h"
 #include "core/dm_parallel.h"
 
 void dm_triangle_stretch_of(const dm_mesh *m, int32_t t, double mm_per_unit, dm_triangle_stretch *out)

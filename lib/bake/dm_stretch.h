@@ -14,7 +14,7 @@
  *  2. Degenerate triangles cover nothing (mask = 0 where they lie) and are counted:
  *     zero UV area (|D| ≤ 1e-9 of the squared UV edge lengths: e.g. an island collapsed
  *     to a point), zero surface area (|e1 × e2| ≤ 1e-9 of the squared edge lengths, or
- *     a stretch above DM_PACK_STRETCH_MAX_PER_MM, core/dm_pack_semantic.h: the atlas
+ *     a stretch above DM_PACK_STRETCH_MAX_PER_MM, pack/dm_pack_semantic.h: the atlas
  *     spanning less than a nanometre). Mirrored UVs (D < 0) are ordinary triangles:
  *     s_u, s_v do not depend on the sign of D; they are counted.
  *  3. Every uncovered texel takes the values of the nearest covered texel
@@ -35,7 +35,7 @@
 
 #include <stdint.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
 #include "core/dm_result.h"

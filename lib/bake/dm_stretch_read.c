@@ -2,7 +2,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "bake/dm_stretch.h"
 
 static float *copy_plane(const float *src, size_t n)

@@ -1,5 +1,5 @@
 /* dm_exr_read.h — a small, strict OpenEXR reader for the runtime side, which never links
- * OpenEXR (DESIGN.md). It reads what dermis writes: lib/bake/dm_exr.c (ZIP) and
+ * OpenEXR (DESIGN.md). It reads what dermis writes: lib/image/dm_exr.c (ZIP) and
  * lib/render/dm_render_image.c (NO_COMPRESSION), and the usual files of other tools
  * that keep to the same subset.
  *
@@ -18,7 +18,7 @@
  * ratio limit is ~1032), so a tiny file cannot ask for gigabytes.
  *
  * Images in memory are planar float, rows bottom-up (row 0 is the last file line, as
- * bake/dm_exr.h and the rest of dermis have it); files are top-down.
+ * image/dm_exr.h and the rest of dermis have it); files are top-down.
  */
 #ifndef DM_EXR_READ_H
 #define DM_EXR_READ_H

@@ -1,7 +1,7 @@
 /* dm_memory.h — will a run fit in memory? What the machine has available now, and the one
  * refusal every tool gives, before any work, when a run's estimate exceeds it (each tool
- * family's estimate from its options: render/dm_render_memory.h, bake/dm_pack_build.h,
- * bake/dm_reference.h).
+ * family's estimate from its options: render/dm_render_memory.h, packer/dm_pack_build.h,
+ * reference/dm_reference.h).
  *
  *   uint64_t need = ...;                                  // the tool's estimate, bytes
  *   if (dm_memory_check(need, "--irradiance 8192", NULL, "lower --irradiance", &err) != DM_OK)

@@ -1,7 +1,7 @@
 /* dm_png.h — a small, deterministic PNG encoder over zlib, for 8/16-bit grey, grey+alpha,
  * RGB and RGBA. Used by the bakes and by the runtime, which must not link OpenImageIO
  * (DESIGN.md); OpenImageIO alone adds ~0.3 s to a process's start (measured, Debian 12).
- * Reading PNG (and every other format) goes through bake/dm_image.h.
+ * Reading PNG (and every other format) goes through image/dm_image.h.
  *
  * Pixels are interleaved, rows bottom-up (row 0 is v ≈ 0), 16-bit values in host order;
  * the encoder flips and byte-swaps. Text chunks (tEXt, Latin-1 keys of 1..79 bytes) carry

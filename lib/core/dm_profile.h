@@ -29,7 +29,7 @@ enum { DM_PROFILE_MAX_GAUSSIANS = 8, DM_PROFILE_NAME_SIZE = 64 };
 
 /* What makes physical sense (dm_profile_validate; so every reader of a profile, a scene or a
  * pack takes the same ones):
- *   variance ≤ 1e8 mm² (σ ≤ 10 m, the largest scene a pack holds, core/dm_pack_semantic.h:
+ *   variance ≤ 1e8 mm² (σ ≤ 10 m, the largest scene a pack holds, pack/dm_pack_semantic.h:
  *   skin's widest is 7.41 mm²; no measured translucent material spreads light metres);
  *   weights in [0, 1] and each channel's sum in [0, 1.001]: a profile returns at most the
  *   light it receives (1e-3 allows weights printed with three decimals, as the GPU Gems

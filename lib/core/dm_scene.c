@@ -13,7 +13,7 @@
 
 #include "core/dm_file.h"
 #include "core/dm_input.h"
-#include "core/dm_format_version.h"
+#include "core/dm_format_policy.h"
 #include "core/dm_jread.h"
 #include "core/dm_scene_paths.h"
 

@@ -34,7 +34,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
 #include "core/dm_scene.h"
@@ -44,7 +44,7 @@
 extern "C" {
 #endif
 
-/* Interleaved vertex: 12 float32 (48 bytes), the pack's layout (core/dm_pack.h,
+/* Interleaved vertex: 12 float32 (48 bytes), the pack's layout (pack/dm_pack.h,
  * DM_PACK_VERTEX_*), so a pack's vertex blob uploads as it is:
  *   [0..2]  position, mesh units
  *   [3..5]  normal, unit
@@ -60,7 +60,7 @@ enum {
     DM_VERTEX_TANGENT = DM_PACK_VERTEX_TANGENT / 4
 };
 
-/* Texel formats are the pack's (core/dm_pack.h: dm_tex_format, dm_tex_format_get): rows
+/* Texel formats are the pack's (pack/dm_pack.h: dm_tex_format, dm_tex_format_get): rows
  * bottom-up, texels tightly packed, "16f" formats hold IEEE half floats (uint16_t). */
 
 typedef struct dm_texture {

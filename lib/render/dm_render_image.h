@@ -1,14 +1,14 @@
 /* dm_render_image.h — the runtime's image writers: 8-bit RGBA PNG (core/dm_png.h) and
  * an uncompressed float RGBA EXR written by hand, both with provenance. The runtime never links OpenImageIO
- * or OpenEXR (DESIGN.md); the offline side keeps bake/dm_image.h and bake/dm_exr.h.
+ * or OpenEXR (DESIGN.md); the offline side keeps image/dm_image.h and image/dm_exr.h.
  *
  * Pixels in memory are interleaved RGBA, rows bottom-up (OpenGL readback order); files
  * are top-down, the flip happens here. Both write through a temporary file renamed into
  * place (core/dm_file.h) and contain nothing time-dependent.
  * PNG: text chunks "Software" = "<tool> <version>" and "dermis:provenance" = the JSON of
- * dm_prov_to_json, as bake/dm_image.h writes them, so either reader finds them.
+ * dm_prov_to_json, as image/dm_image.h writes them, so either reader finds them.
  * EXR: scanline, NO_COMPRESSION, FLOAT channels A, B, G, R, and a string attribute
- * "dermis.provenance" (the same JSON) that bake/dm_exr.h reads back.
+ * "dermis.provenance" (the same JSON) that image/dm_exr.h reads back.
  */
 #ifndef DM_RENDER_IMAGE_H
 #define DM_RENDER_IMAGE_H

@@ -28,7 +28,7 @@
 #include "render/dm_render.h"
 #include "render/dm_render_memory.h"
 
-/* GL side of each pack format (core/dm_pack.h owns names and sizes). */
+/* GL side of each pack format (pack/dm_pack.h owns names and sizes). */
 typedef struct fmt_gl {
     GLenum internal, format, type;
 } fmt_gl;

@@ -1,5 +1,5 @@
 /* dm_render_pack.c — the renderer's assets from an open pack. dm_pack_open verified every
- * entry's kind, format, shape and values (core/dm_pack_semantic.h), the one verification every
+ * entry's kind, format, shape and values (pack/dm_pack_semantic.h), the one verification every
  * reader shares: nothing here refuses an entry again, the asserts only state what it promised. */
 #include "render/dm_render_pack.h"
 
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack_semantic.h"
 #include "core/dm_prov.h"
 #include "core/dm_ssss_kernel.h"
 

@@ -14,7 +14,7 @@
 #ifndef DM_RENDER_PACK_H
 #define DM_RENDER_PACK_H
 
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_profile.h"
 #include "core/dm_scene.h"
 #include "render/dm_render.h"

@@ -12,7 +12,7 @@
  * and SH diffuse are the Lambert path's. */
 #include <math.h>
 
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack_semantic.h"
 #include "render/dm_render_internal.h"
 
 static dm_result need(const dm_texture *t, const char *what, dm_error *err)

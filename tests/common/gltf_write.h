@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 
 static inline void glb_u32(FILE *f, uint32_t v)
 {

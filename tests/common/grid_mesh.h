@@ -4,7 +4,7 @@
 
 #include <criterion/criterion.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 
 /* A (nu × nv)-cell grid: P = pos(s, t), UV = uv(s, t) for s, t in [0, 1], two
  * triangles per cell (counter-clockwise in (s, t)); corners are per triangle, so

@@ -1,6 +1,6 @@
 /* pack_edit.h — edits a valid pack's values in memory as a bug or an attacker would, then
  * makes every checksum right again (each blob's "xxh3" and the header's), so that only the
- * reader's semantic checks (core/dm_pack_semantic.h) stand between the edit and a renderer.
+ * reader's semantic checks (pack/dm_pack_semantic.h) stand between the edit and a renderer.
  * Buffers are 64-byte aligned (test_pack_load) so dm_pack_open_memory takes them. */
 #ifndef TEST_PACK_EDIT_H
 #define TEST_PACK_EDIT_H
@@ -14,7 +14,7 @@
 #include <cJSON.h>
 
 #include "core/dm_hash.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 
 /* The manifest's size, from the header (dm_pack_header_decode: the reader's own decoding). */
 static inline uint64_t test_pack_manifest_size(const uint8_t *buf)

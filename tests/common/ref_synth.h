@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_ref_surface.h"
+#include "reference/dm_ref_surface.h"
 
 #define SYNTH_PI 3.14159265358979323846
 

@@ -5,7 +5,7 @@
  * root where `make test` runs). It passes when the largest per-channel difference is at
  * most tol->max_abs and the mean is at most tol->mean_abs (in 8-bit steps). With
  * DERMIS_UPDATE_GOLDEN=1 it writes the image as the new golden instead and passes.
- * Reading and writing go through bake/dm_image.h (tests link the bake library).
+ * Reading and writing go through image/dm_image.h (tests link the bake library).
  */
 #ifndef DM_GOLDEN_H
 #define DM_GOLDEN_H
@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/dm_image.h"
+#include "image/dm_image.h"
 #include "core/dm_prov.h"
 
 typedef struct golden_tolerance {

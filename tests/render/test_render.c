@@ -6,9 +6,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_cli.h"
-#include "bake/dm_image.h"
+#include "image/dm_image.h"
 #include "dm_golden.h"
 #include "../common/render_fixture.h"
 #include "host/dm_osmesa.h"

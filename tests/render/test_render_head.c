@@ -12,7 +12,7 @@
 
 #include "../common/render_fixture.h"
 #include "../common/tmpdir.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_scene.h"
 #include "dm_golden.h"
 #include "host/dm_osmesa.h"

@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_exr_read.h"
 #include "host/dm_osmesa.h"
 #include "render/dm_render.h"
@@ -275,7 +275,7 @@ Test(views, final_linear_alpha_is_coverage)
     close_fixture(&f);
 }
 
-/* The renderer's own diffusion view written as a texture-space reference (bake/dm_exr.h,
+/* The renderer's own diffusion view written as a texture-space reference (image/dm_exr.h,
  * ZIP) compares with zero error; the same reference 1 % brighter gives 1/1.01 relative
  * error wherever ref exceeds the floor (all but the darkest texels). */
 Test(views, refcmp_own_diffusion_is_zero_error_and_a_known_offset_is_measured)

@@ -1,5 +1,5 @@
-/* dermis-pack's and dermis-reference's memory estimates (bake/dm_pack_build.h,
- * bake/dm_reference.h) against their peak resident sets, and their refusals before any work
+/* dermis-pack's and dermis-reference's memory estimates (packer/dm_pack_build.h,
+ * reference/dm_reference.h) against their peak resident sets, and their refusals before any work
  * of what does not fit (issue #31: an 8192 irradiance packed a 3.3 GB file; dermis-reference
  * --texture-space 8192 reached 15 GB in a minute with nothing printed). The refusals are
  * tested by pretending less memory is available (DERMIS_MEM_AVAILABLE_MB, core/dm_memory.h). */
@@ -15,10 +15,10 @@
 #include <unistd.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_pack_build.h"
-#include "bake/dm_reference.h"
+#include "packer/dm_pack_build.h"
+#include "reference/dm_reference.h"
 #include "core/dm_cli.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "render/dm_render_memory.h"
 
 #define PACK DERMIS_BIN "/dermis-pack"

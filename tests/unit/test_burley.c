@@ -10,7 +10,7 @@
 #include "../common/tmpdir.h"
 #include "core/dm_profile.h"
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "bake/dm_profile_fit.h"
 #include "core/dm_diffusion.h"
 #include "core/dm_math.h"

@@ -11,7 +11,7 @@
 #include "../common/grid_mesh.h"
 #include "../common/tmpdir.h"
 #include "bake/dm_curvature.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_math.h"
 
 static int g_flip; /* 1: mirror u */

@@ -115,7 +115,7 @@ Test(curvature_smoothing, sinusoid_attenuated_by_the_gaussian_of_sigma, .timeout
     dm_mesh_free(&m);
 }
 
-/* The radius dermis-pack smooths with (bake/dm_pack_build_bake.c) is the profile's RMS radius
+/* The radius dermis-pack smooths with (packer/dm_pack_build_bake.c) is the profile's RMS radius
  * per axis, √(Σ_c Σ_k w_kc v_k / Σ_c Σ_k w_kc): from DESIGN.md's gems3-skin table here,
  * independently of lib/core's copy: 0.7014 mm; a 5 % change fails. */
 Test(curvature_smoothing, pack_radius_is_the_profiles_rms_radius)

@@ -12,7 +12,7 @@
 #include "bake/dm_env_prefilter.h"
 #include "bake/dm_env_sh.h"
 #include "bake/dm_envmap.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_equirect.h"
 #include "core/dm_math.h"
 #include "core/dm_sh.h"

@@ -8,8 +8,8 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
-#include "core/dm_pack.h"
+#include "image/dm_exr.h"
+#include "pack/dm_pack.h"
 
 #define BIN DERMIS_BIN "/dermis-bake-env"
 #define FAST "--samples 32 --levels 2 --spec-size 32 --background-size 64 --check-texels 2 --quiet"

@@ -1,5 +1,5 @@
 /* The runtime's strict EXR reader (core/dm_exr_read.h) against files written by the
- * offline side's OpenEXR writer (bake/dm_exr.h, ZIP): every sample back bit for bit
+ * offline side's OpenEXR writer (image/dm_exr.h, ZIP): every sample back bit for bit
  * (FLOAT) or exactly as its half (HALF), rows bottom-up, provenance back; then every
  * truncation and single-byte corruption of a small file is either decoded or refused
  * with a message, never a crash (ASan in config=sanitize). */
@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_exr_read.h"
 #include "core/dm_file.h"
 #include "../common/tmpdir.h"
@@ -180,7 +180,7 @@ Test(exr_read, refuses_what_it_does_not_support)
     free(data);
 }
 
-/* The offline reader (bake/dm_exr.h) and what fuzz_bake_exr found: OpenEXR allocates what a
+/* The offline reader (image/dm_exr.h) and what fuzz_bake_exr found: OpenEXR allocates what a
  * header or chunk claims before reading it, so a 1 KiB file claiming a data window 218
  * million texels wide made it ask for 3 GB. Refused now: sides beyond DM_EXR_SIDE_MAX; a chunk
  * claiming more bytes than the file holds is refused too (OpenEXR's leader check). */

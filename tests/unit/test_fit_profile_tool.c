@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "core/dm_profile.h"
 
 #define BIN DERMIS_BIN "/dermis-fit-profile"

@@ -12,8 +12,8 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
-#include "core/dm_format_version.h"
-#include "core/dm_pack.h"
+#include "pack/dm_format_version.h"
+#include "pack/dm_pack.h"
 #include "core/dm_scene.h"
 
 #define FIXTURE "tests/fixtures/pack-v1/pack-v1.dpk"

@@ -8,11 +8,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_image.h"
-#include "bake/dm_mesh.h"
+#include "image/dm_image.h"
+#include "mesh/dm_mesh.h"
 #include "bake/dm_stretch.h"
 #include "core/dm_file.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_png.h"
 #include "core/dm_scene.h"
 #include "../common/gltf_write.h"

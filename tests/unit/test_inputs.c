@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "core/dm_input.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_uri.h"
 #include "../common/gltf_write.h"
 #include "../common/expect_tool.h"

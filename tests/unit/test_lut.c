@@ -7,8 +7,8 @@
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_image.h"
+#include "image/dm_exr.h"
+#include "image/dm_image.h"
 #include "bake/dm_lut.h"
 #include "core/dm_brdf.h"
 #include "core/dm_prov.h"

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "bake/dm_mesh.h"
+#include "mesh/dm_mesh.h"
 #include "bake/dm_stretch.h"
 
 static char tmpdir[256];

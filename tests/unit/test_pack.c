@@ -10,12 +10,12 @@
 #include <unistd.h>
 
 #include "bake/dm_lut.h"
-#include "bake/dm_pack_write.h"
+#include "pack/dm_pack_write.h"
 #include "core/dm_brdf.h"
 #include "core/dm_hash.h"
 #include "core/dm_lut_check.h"
-#include "core/dm_pack.h"
-#include "core/dm_pack_needs.h"
+#include "pack/dm_pack.h"
+#include "pack/dm_pack_needs.h"
 #include "core/dm_profile.h"
 
 /* specular + energy conservation: needs scene, lut.beckmann (r8), lut.rho_dt (r32f) */
@@ -626,8 +626,8 @@ Test(lut_check, corrupted_texel_and_wrong_f0_fail)
 
 /* --- already-baked LUT files: provenance matching ----------------------------------- */
 
-#include "bake/dm_exr.h"
-#include "bake/dm_image.h"
+#include "image/dm_exr.h"
+#include "image/dm_image.h"
 #include "bake/dm_lut_prov.h"
 
 Test(lut_prov, matching_and_mismatching_files)

@@ -1,4 +1,4 @@
-/* Pack building as a library (bake/dm_pack_build.h): the scene read once, only the entries
+/* Pack building as a library (packer/dm_pack_build.h): the scene read once, only the entries
  * its effects need, and the same bytes as dermis-pack, which is this API behind options. */
 #include <criterion/criterion.h>
 #include <stdio.h>
@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_pack_build.h"
-#include "core/dm_pack.h"
-#include "core/dm_pack_needs.h"
+#include "packer/dm_pack_build.h"
+#include "pack/dm_pack.h"
+#include "pack/dm_pack_needs.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "../common/tmpdir.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_scene.h"
 
 #define FIXTURE_DIR "tests/fixtures/pack-v1"

@@ -1,4 +1,4 @@
-/* The physical ranges of every pack entry (core/dm_pack_semantic.h), checked by dm_pack_open
+/* The physical ranges of every pack entry (pack/dm_pack_semantic.h), checked by dm_pack_open
  * for every reader: each reproduction of issue #31 point 1 (finite but absurd values, every
  * checksum recomputed, tests/common/pack_absurd.h) is refused with a message naming the
  * entry, where, the value and the range; values at the edges of the ranges, and the real
@@ -12,8 +12,8 @@
 
 #include "../common/pack_absurd.h"
 #include "bake/dm_stretch.h"
-#include "core/dm_pack.h"
-#include "core/dm_pack_semantic.h"
+#include "pack/dm_pack.h"
+#include "pack/dm_pack_semantic.h"
 
 /* The base pack of `technique` in memory (free it). */
 static uint8_t *base(const char *technique, size_t *size)

@@ -8,7 +8,7 @@
 #include <stdio.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 #include "bake/dm_preintegrated.h"
 #include "core/dm_math.h"
 

@@ -12,8 +12,8 @@
 
 #include "../common/ref_synth.h"
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_ref_frame.h"
+#include "image/dm_exr.h"
+#include "reference/dm_ref_frame.h"
 
 enum { W = 64, H = 48 };
 

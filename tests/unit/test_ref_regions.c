@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "../common/grid_mesh.h"
-#include "bake/dm_ref_regions.h"
+#include "reference/dm_ref_regions.h"
 #include "core/dm_math.h"
 
 /* ---- the plane: x in [-30, 30] mm, y in [-20, 20] mm, cut at x = 0 into two charts ---- */

@@ -8,9 +8,9 @@
 #include <string.h>
 
 #include "../common/ref_synth.h"
-#include "bake/dm_ref_shade.h"
+#include "reference/dm_ref_shade.h"
 #include "core/dm_half.h"
-#include "bake/dm_ref_texture.h"
+#include "reference/dm_ref_texture.h"
 #include "core/dm_brdf.h"
 
 /* ---- textures ----------------------------------------------------------------------- */

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "../common/grid_mesh.h"
-#include "bake/dm_reference.h"
+#include "reference/dm_reference.h"
 #include "core/dm_math.h"
 
 /* ---- fixtures ---------------------------------------------------------------------- */

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
+#include "image/dm_exr.h"
 
 #define REF DERMIS_BIN "/dermis-reference"
 

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "core/dm_pack_needs.h"
+#include "pack/dm_pack_needs.h"
 #include "core/dm_scene.h"
 
 #define SCENES "assets/scenes/"

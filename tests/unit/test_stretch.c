@@ -12,13 +12,13 @@
 
 #include "../common/grid_mesh.h"
 #include "../common/tmpdir.h"
-#include "bake/dm_exr.h"
-#include "bake/dm_gutter.h"
-#include "bake/dm_mesh.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_gutter.h"
+#include "mesh/dm_mesh.h"
 #include "bake/dm_stretch.h"
-#include "bake/dm_uv_raster.h"
+#include "mesh/dm_uv_raster.h"
 #include "core/dm_math.h"
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 

@@ -15,7 +15,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "core/dm_pack.h"
+#include "pack/dm_pack.h"
 #include "core/dm_prov.h"
 #include "core/dm_scene.h"
 #include "render/dm_render.h"

@@ -1,0 +1,33 @@
+/* dm_pack_build_impl.h — what the pack-building files share (not installed): the helpers
+ * of dm_pack_build.c and the steps of dm_pack_build_steps.c and dm_pack_build_bake.c. */
+#ifndef DM_PACK_BUILD_IMPL_H
+#define DM_PACK_BUILD_IMPL_H
+
+#include "packer/dm_pack_build.h"
+#include "core/dm_prov.h"
+
+/* The entry into the writer, with its report row. */
+dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
+                   const char *source, dm_error *err);
+const char *dmpb_base_name(const char *path);
+/* The scene's mesh, loaded once (the mesh and stretch steps share it). */
+dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err);
+void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
+
+/* The steps (dm_pack_build.c runs them from its table). */
+dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_mesh(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_albedo(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_normal(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_specular(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_roughness(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_beckmann(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_directional(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_stretch(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_preintegrated(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_curvature(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_environment(dm_pack_build *j, dm_error *err);
+
+#endif

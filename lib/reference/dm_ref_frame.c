@@ -1,0 +1,438 @@
+#include "reference/dm_ref_frame.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "reference/dm_raycast.h"
+#include "reference/dm_ref_shade.h"
+#include "reference/dm_ref_surface.h"
+#include "core/dm_parallel.h"
+
+#define PI 3.14159265358979323846
+
+enum {
+    BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = 1024, ATLAS_MIN = 16, ATLAS_MAX = 8192,
+    ATLAS_SAMPLES_DEFAULT = 4, PIXEL_SAMPLES_DEFAULT = 3, SAMPLES_MAX = 8
+};
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static void cross3(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double norm3(double v[3])
+{
+    double l = sqrt(dot3(v, v));
+    if (l > 0)
+        for (int c = 0; c < 3; ++c) v[c] /= l;
+    return l;
+}
+
+/* The renderer's camera (dm_render.c frame_camera), in mm. */
+typedef struct camera {
+    double eye[3], fwd[3], right[3], up[3]; /* right and up scaled by tan(fov/2)(·aspect) */
+    double t_near, t_far;                   /* view depth = ray t (fwd component of dir is 1) */
+} camera;
+
+static void make_camera(const dm_scene *sc, const dm_raycast *rays, double mm, int width, int height, camera *cam)
+{
+    double target[3], up_hint[3], s[3], u[3], f[3];
+    for (int c = 0; c < 3; ++c) {
+        cam->eye[c] = sc->camera_eye[c] * mm;
+        target[c] = sc->camera_target[c] * mm;
+        up_hint[c] = sc->camera_up[c];
+        f[c] = target[c] - cam->eye[c];
+    }
+    norm3(f);
+    cross3(f, up_hint, s);
+    if (norm3(s) < 1e-6) { /* up parallel to the view: the renderer's fallback */
+        double alt[3] = {fabs(f[0]) < 0.9 ? 1.0 : 0.0, 0.0, fabs(f[0]) < 0.9 ? 0.0 : 1.0};
+        cross3(f, alt, s);
+        norm3(s);
+    }
+    cross3(s, f, u);
+    double t = tan(0.5 * sc->fov_y_deg * PI / 180.0), aspect = (double)width / height;
+    for (int c = 0; c < 3; ++c) {
+        cam->fwd[c] = f[c];
+        cam->right[c] = s[c] * t * aspect;
+        cam->up[c] = u[c] * t;
+    }
+    double centre[3], rad, d3[3];
+    dm_raycast_bounds(rays, centre, &rad);
+    if (!(rad > 1e-6 * mm)) rad = mm; /* the renderer's 1-unit radius for a point-sized mesh */
+    for (int c = 0; c < 3; ++c) d3[c] = centre[c] - cam->eye[c];
+    double d = sqrt(dot3(d3, d3));
+    cam->t_near = fmax(d - 2.0 * rad, 0.01 * rad);
+    cam->t_far = d + 2.0 * rad;
+}
+
+/* The ray through the point (x + fx, y + fy) of the pixel grid (0.5, 0.5: the centre). */
+static void pixel_dir_at(const camera *cam, int x, int y, double fx, double fy, int width, int height, double dir[3])
+{
+    double nx = 2.0 * (x + fx) / width - 1.0, ny = 2.0 * (y + fy) / height - 1.0;
+    for (int c = 0; c < 3; ++c) dir[c] = cam->fwd[c] + nx * cam->right[c] + ny * cam->up[c];
+}
+
+static void pixel_dir(const camera *cam, int x, int y, int width, int height, double dir[3])
+{
+    double nx = 2.0 * (x + 0.5) / width - 1.0, ny = 2.0 * (y + 0.5) / height - 1.0;
+    for (int c = 0; c < 3; ++c) dir[c] = cam->fwd[c] + nx * cam->right[c] + ny * cam->up[c];
+}
+
+typedef struct frame_job {
+    const dm_ref_surface *s;
+    const camera *cam;
+    int width, height, row0;
+    dm_reference_target *hit;  /* per pixel; triangle −1 on a miss */
+    const int64_t *target_of;  /* per pixel: index into D, or −1 */
+    const float *D;            /* per target, rgb */
+    float *rgba;
+    int samples;               /* per axis per pixel, for the surface terms */
+} frame_job;
+
+static void ray_rows(void *ctx, size_t begin, size_t end)
+{
+    frame_job *j = ctx;
+    for (size_t r = begin; r < end; ++r) {
+        int y = j->row0 + (int)r;
+        for (int x = 0; x < j->width; ++x) {
+            double dir[3];
+            pixel_dir(j->cam, x, y, j->width, j->height, dir);
+            dm_ray_hit h;
+            dm_reference_target *t = &j->hit[(size_t)y * (size_t)j->width + (size_t)x];
+            if (dm_raycast_closest(j->s->rays, j->cam->eye, dir, j->cam->t_near, j->cam->t_far, true, &h)) {
+                *t = (dm_reference_target){h.triangle, h.b1, h.b2};
+            } else {
+                *t = (dm_reference_target){-1, 0.0f, 0.0f};
+            }
+        }
+    }
+}
+
+static float finite_out(double v)
+{
+    if (!(v == v)) return 0.0f;
+    return (float)(v > 3.0e38 ? 3.0e38 : v < -3.0e38 ? -3.0e38 : v);
+}
+
+/* Radiance leaving hit t towards the eye, D the convolved irradiance to use there. */
+static void shade_hit(const frame_job *j, const dm_reference_target *t, const float *D, double out[3])
+{
+    const dm_ref_surface *s = j->s;
+    dm_ref_point p;
+    dm_ref_surface_point(s, t->triangle, t->b1, t->b2, &p);
+    double V[3], diffuse[3], spec[3];
+    for (int c = 0; c < 3; ++c) V[c] = j->cam->eye[c] - p.p_mm[c];
+    if (!(norm3(V) > 0)) V[0] = 0, V[1] = 0, V[2] = 1;
+    if (s->terms.subsurface) {
+        for (int c = 0; c < 3; ++c) diffuse[c] = D[c] * pow(p.albedo[c], 1.0 - s->scene.mix);
+    } else {
+        dm_ref_shade_irradiance(s, &p, diffuse);
+        for (int c = 0; c < 3; ++c) diffuse[c] *= p.albedo[c];
+    }
+    if (s->terms.energy) {
+        double ndv = dot3(p.N, V), f = 1.0 - p.rho_s * dm_ref_surface_rho_dt(s, ndv > 0 ? ndv : 0.0, p.m);
+        for (int c = 0; c < 3; ++c) diffuse[c] *= f > 0 ? f : 0.0;
+    }
+    dm_ref_shade_specular(s, &p, V, spec);
+    for (int c = 0; c < 3; ++c) out[c] = diffuse[c] + spec[c];
+}
+
+/* A pixel: background where its centre's ray misses; else the mean over the samples ×
+ * samples sub-pixel rays that hit the head of the surface terms (albedo, normal map,
+ * specular: what the renderer's mipmaps filter), each with the convolution D at the
+ * centre's hit (D varies over millimetres, not over a pixel's texture detail). */
+static void shade_pixel(const frame_job *j, size_t at, float *o)
+{
+    const dm_ref_surface *s = j->s;
+    const dm_reference_target *t = &j->hit[at];
+    int x = (int)(at % (size_t)j->width), y = (int)(at / (size_t)j->width);
+    if (t->triangle < 0) {
+        double rgb[3] = {0, 0, 0}, dir[3];
+        if (s->terms.background) {
+            pixel_dir(j->cam, x, y, j->width, j->height, dir);
+            norm3(dir);
+            dm_ref_shade_env_lookup(s, &s->desc.env_background, dir, rgb);
+            for (int c = 0; c < 3; ++c) rgb[c] *= s->scene.env_intensity;
+        }
+        for (int c = 0; c < 3; ++c) o[c] = finite_out(rgb[c]);
+        o[3] = 0.0f;
+        return;
+    }
+    static const float no_D[3] = {0, 0, 0};
+    const float *D = s->terms.subsurface ? j->D + (size_t)j->target_of[at] * 3 : no_D;
+    double sum[3] = {0, 0, 0};
+    int n = 0, k = j->samples > 1 ? j->samples : 1;
+    for (int b = 0; b < k && k > 1; ++b)
+        for (int a = 0; a < k; ++a) {
+            double dir[3], rgb[3];
+            pixel_dir_at(j->cam, x, y, (a + 0.5) / k, (b + 0.5) / k, j->width, j->height, dir);
+            dm_ray_hit h;
+            if (!dm_raycast_closest(s->rays, j->cam->eye, dir, j->cam->t_near, j->cam->t_far, true, &h)) continue;
+            dm_reference_target sub = {h.triangle, h.b1, h.b2};
+            shade_hit(j, &sub, D, rgb);
+            for (int c = 0; c < 3; ++c) sum[c] += rgb[c];
+            ++n;
+        }
+    if (n == 0) {
+        shade_hit(j, t, D, sum);
+        n = 1;
+    }
+    for (int c = 0; c < 3; ++c) o[c] = finite_out(sum[c] / n);
+    o[3] = 1.0f;
+}
+
+static void shade_rows(void *ctx, size_t begin, size_t end)
+{
+    frame_job *j = ctx;
+    for (size_t r = begin; r < end; ++r) {
+        size_t row = (size_t)j->row0 + r;
+        for (size_t x = 0; x < (size_t)j->width; ++x) {
+            size_t at = row * (size_t)j->width + x;
+            shade_pixel(j, at, j->rgba + at * 4);
+        }
+    }
+}
+
+/* Runs fn over the rows in bands, reporting progress after each. */
+static void by_bands(frame_job *j, dm_range_fn fn, int thread_count, const dm_ref_frame_options *o,
+                     const char *stage)
+{
+    for (int row0 = 0; row0 < j->height; row0 += BAND_ROWS) {
+        int rows = j->height - row0 < BAND_ROWS ? j->height - row0 : BAND_ROWS;
+        j->row0 = row0;
+        dm_parallel_for((size_t)rows, 1, thread_count, fn, j);
+        if (o->progress) o->progress(o->progress_user, stage, (double)(row0 + rows) / j->height);
+    }
+}
+
+typedef struct stage_progress {
+    const dm_ref_frame_options *o;
+    const char *stage;
+} stage_progress;
+
+static void forward_progress(void *user, double fraction)
+{
+    stage_progress *p = user;
+    if (p->o->progress) p->o->progress(p->o->progress_user, p->stage, fraction);
+}
+
+typedef struct frame_state {
+    dm_ref_surface *s;
+    float *atlas;
+    dm_reference *ref;
+    dm_reference_target *hit, *targets;
+    int64_t *target_of;
+    float *D;
+} frame_state;
+
+static void free_state(frame_state *st)
+{
+    dm_reference_destroy(st->ref);
+    dm_ref_surface_destroy(st->s);
+    free(st->atlas);
+    free(st->hit);
+    free(st->targets);
+    free(st->target_of);
+    free(st->D);
+}
+
+/* The atlas texel as the mean irradiance over its area: k × k sub-texels shaded, those a
+ * triangle covers averaged (alpha 1 when any is covered). covered receives the count. */
+static void box_down(const float *hi, int size, int k, float *out, int64_t *covered)
+{
+    size_t W = (size_t)size * (size_t)k;
+    *covered = 0;
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i) {
+            double sum[3] = {0, 0, 0};
+            int n = 0;
+            for (int b = 0; b < k; ++b)
+                for (int a = 0; a < k; ++a) {
+                    const float *t = hi + 4 * (((size_t)j * k + (size_t)b) * W + (size_t)i * k + (size_t)a);
+                    if (!(t[3] > 0.0f)) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
+                    ++n;
+                }
+            float *o = out + 4 * ((size_t)j * (size_t)size + (size_t)i);
+            for (int c = 0; c < 3; ++c) o[c] = n ? (float)(sum[c] / n) : 0.0f;
+            o[3] = n ? 1.0f : 0.0f;
+            *covered += n > 0;
+        }
+}
+
+/* Stages 2 and 4: the atlas, the convolution at every hit. */
+static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, int atlas_size, size_t npx,
+                               size_t *count, dm_ref_frame_stats *stats, dm_error *err)
+{
+    size_t n = (size_t)atlas_size * (size_t)atlas_size;
+    int k = o->atlas_samples ? o->atlas_samples : ATLAS_SAMPLES_DEFAULT;
+    while (k > 1 && atlas_size * k > ATLAS_MAX) --k;
+    size_t fine = n * (size_t)k * (size_t)k;
+    st->atlas = malloc(n * 4 * sizeof *st->atlas);
+    float *hi = k > 1 ? malloc(fine * 4 * sizeof *hi) : st->atlas;
+    if (!st->atlas || !hi) {
+        if (hi != st->atlas) free(hi);
+        return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the atlas");
+    }
+    double t0 = now_ms();
+    stage_progress sp = {o, "irradiance"};
+    dm_ref_atlas_stats as;
+    dm_result r = dm_ref_shade_atlas(st->s, atlas_size * k, o->thread_count, hi, &as, forward_progress, &sp, err);
+    if (r == DM_OK && k > 1) box_down(hi, atlas_size, k, st->atlas, &as.covered_texels);
+    if (hi != st->atlas) free(hi);
+    if (r != DM_OK) return r;
+    stats->covered_texels = as.covered_texels;
+    stats->atlas_ms = now_ms() - t0;
+    dm_reference_kernel kernel;
+    if (o->kernel) kernel = *o->kernel;
+    else if ((r = dm_reference_kernel_from_profile(&st->s->profile, &kernel, err)) != DM_OK) return r;
+    dm_reference_options ro = {0};
+    if (o->reference) ro = *o->reference;
+    ro.thread_count = o->thread_count;
+    stage_progress ep = {o, "convolution"};
+    ro.progress = forward_progress;
+    ro.progress_user = &ep;
+    dm_reference_atlas atlas = {atlas_size, atlas_size, st->atlas};
+    t0 = now_ms();
+    r = dm_reference_create(&st->s->mesh, st->s->mm_per_unit, &atlas, &kernel, &ro, &st->ref, err);
+    if (r != DM_OK) return r;
+    stats->reference_ms = now_ms() - t0;
+    /* the hits in pixel order */
+    st->targets = malloc((npx ? npx : 1) * sizeof *st->targets);
+    if (!st->targets) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the targets");
+    *count = 0;
+    for (size_t at = 0; at < npx; ++at) {
+        st->target_of[at] = st->hit[at].triangle >= 0 ? (int64_t)*count : -1;
+        if (st->hit[at].triangle >= 0) st->targets[(*count)++] = st->hit[at];
+    }
+    st->D = malloc((*count ? *count : 1) * 3 * sizeof *st->D);
+    if (!st->D) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate %zu results", *count);
+    t0 = now_ms();
+    if (*count) r = dm_reference_eval(st->ref, st->targets, *count, st->D, NULL, err);
+    stats->convolution_ms = now_ms() - t0;
+    return r;
+}
+
+dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const dm_ref_frame_options *opt,
+                              float *rgba_out, dm_error *err)
+{
+    assert(pack && scene && rgba_out);
+    dm_profile profile;
+    dm_ref_surface_desc desc;
+    dm_result r = dm_ref_surface_desc_from_pack(pack, scene, &profile, &desc, err);
+    return r == DM_OK ? dm_ref_frame_render_desc(&desc, opt, rgba_out, err) : r;
+}
+
+dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref_frame_options *opt,
+                                   float *rgba_out, dm_error *err)
+{
+    assert(desc && desc->scene && rgba_out);
+    const dm_scene *scene = desc->scene;
+    const dm_ref_frame_options defaults = {0};
+    const dm_ref_frame_options *o = opt ? opt : &defaults;
+    double t_start = now_ms();
+    int width = o->width ? o->width : scene->width, height = o->height ? o->height : scene->height;
+    int atlas_size = o->atlas_size ? o->atlas_size : ATLAS_DEFAULT;
+    if (width < 1 || height < 1 || width > SIZE_MAX_PX || height > SIZE_MAX_PX)
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: size %dx%d, expected 1..%d per side", width, height,
+                       SIZE_MAX_PX);
+    if (o->pixel_samples < 0 || o->pixel_samples > SAMPLES_MAX || o->atlas_samples < 0 || o->atlas_samples > SAMPLES_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: %d pixel and %d atlas samples per axis, expected 1..%d",
+                       o->pixel_samples, o->atlas_samples, SAMPLES_MAX);
+    if (atlas_size < ATLAS_MIN || atlas_size > ATLAS_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: atlas size %d, expected %d..%d", atlas_size, ATLAS_MIN,
+                       ATLAS_MAX);
+    dm_ref_frame_stats stats = {0};
+    frame_state st = {0};
+    if (o->progress) o->progress(o->progress_user, "setup", 0.0);
+    dm_result r = dm_ref_surface_create(desc, o->thread_count, &st.s, err);
+    if (o->progress) o->progress(o->progress_user, "setup", 1.0);
+    stats.setup_ms = now_ms() - t_start;
+    size_t npx = (size_t)width * (size_t)height;
+    if (r == DM_OK) {
+        st.hit = malloc(npx * sizeof *st.hit);
+        st.target_of = malloc(npx * sizeof *st.target_of);
+        if (!st.hit || !st.target_of) r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: out of memory");
+    }
+    camera cam;
+    frame_job j = {0};
+    if (r == DM_OK) {
+        make_camera(&st.s->scene, st.s->rays, st.s->mm_per_unit, width, height, &cam);
+        j = (frame_job){st.s, &cam, width, height, 0, st.hit, st.target_of, NULL, rgba_out,
+                        o->pixel_samples ? o->pixel_samples : PIXEL_SAMPLES_DEFAULT};
+        double t0 = now_ms();
+        by_bands(&j, ray_rows, o->thread_count, o, "rays");
+        stats.rays_ms = now_ms() - t0;
+        for (size_t at = 0; at < npx; ++at) stats.skin_pixels += st.hit[at].triangle >= 0;
+    }
+    size_t count = 0;
+    if (r == DM_OK && st.s->terms.subsurface)
+        r = diffuse_stage(&st, o, atlas_size, npx, &count, &stats, err);
+    if (r == DM_OK) {
+        j.D = st.D;
+        double t0 = now_ms();
+        by_bands(&j, shade_rows, o->thread_count, o, "shading");
+        stats.compose_ms = now_ms() - t0;
+    }
+    if (r == DM_OK && o->atlas) {
+        *o->atlas = st.atlas;
+        st.atlas = NULL;
+    }
+    free_state(&st);
+    stats.total_ms = now_ms() - t_start;
+    if (o->stats) *o->stats = stats;
+    return r;
+}
+
+/* ---- display ------------------------------------------------------------------------ */
+
+static double hable(double x)
+{
+    const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
+    return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F;
+}
+
+static uint8_t srgb8(double c)
+{
+    c = c > 0 ? (c < 1 ? c : 1) : 0; /* NaN → 0 */
+    double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+    return (uint8_t)lrint(e * 255.0);
+}
+
+void dm_ref_frame_display(const dm_scene *scene, const float *rgba, int width, int height, uint8_t *out)
+{
+    assert(scene && rgba && out);
+    const bool tonemap = scene->effects[DM_EFFECT_TONEMAP];
+    const double scale = exp2(scene->exposure), white = hable(11.2);
+    size_t n = (size_t)width * (size_t)height;
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            double v = rgba[i * 4 + c];
+            if (tonemap) {
+                v = v * scale;
+                v = v > 0 ? (v < 1e30 ? v : 1e30) : 0.0; /* hable(x) → 1/0.15·… as x → ∞: finite */
+                v = hable(2.0 * v) / white;
+            }
+            out[i * 4 + c] = srgb8(v);
+        }
+        out[i * 4 + 3] = 255;
+    }
+}

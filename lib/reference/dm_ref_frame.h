@@ -1,0 +1,118 @@
+/* dm_ref_frame.h — the ground-truth frame: what the scene's camera sees, shaded on the CPU
+ * independently of the renderer, diffused by the exact surface convolution.
+ *
+ * STAGES
+ * 1. Surface (dm_ref_surface.h): the pack's mesh and maps, an Embree BVH in mm, the exact
+ *    ρdt table.
+ * 2. Irradiance atlas (dm_ref_shade_atlas): atlas_size² texels, every light of the scene
+ *    (shadows by ray casting), the normal map, the SH environment, × albedo^mix.
+ * 3. Primary rays: one per pixel centre from the scene camera, exactly the renderer's
+ *    projection (lib/render/dm_render.c look_at/perspective: forward f = target − eye,
+ *    right = f × up, up' = right × f; pixel (x, y), rows bottom-up, looks along
+ *    f + (2(x+½)/W − 1)·tan(fov/2)·(W/H)·right + (2(y+½)/H − 1)·tan(fov/2)·up'), clipped to
+ *    the renderer's near and far planes (view depth in [max(d − 2r, 0.01 r), d + 2r] for the
+ *    mesh's bounding sphere at distance d, radius r) and culling back faces as its final
+ *    pass does (a ray goes on through a triangle seen from behind).
+ * 4. Convolution (dm_reference_eval) at every hit: D = Σ_k w_k ∫ I G_k dA over the whole
+ *    mesh, I the atlas, w the profile's weights normalised per channel
+ *    (dm_reference_kernel_from_profile). Without the subsurface effect D is not used:
+ *    the diffuse is then Lambert at the point, as final.glsl does it.
+ * 5. Composition, as final.glsl: diffuse = D · albedo^(1 − mix)
+ *    [× max(1 − ρs·ρdt(N·V, m), 0) with energy conservation] + specular (KS per light,
+ *    exact Beckmann, shadowed by rays) + environment specular (ρs · ρdt(N·V, m) ·
+ *    prefiltered levels from the pack); a ray that hits nothing gets the environment
+ *    background (env_intensity × the pack's env.background along the ray) when the
+ *    renderer draws one, else black (its clear colour).
+ * The subsurface technique a scene names (texture-space, screen-space, ...) does not change
+ * the reference: it is the exact diffusion every technique approximates. No separate
+ * translucency term is added: the convolution over 3-D distances already carries light
+ * to the other side of thin parts (ears, lips, eyelids).
+ *
+ * OUTPUT. rgba (width·height·4 floats, rows bottom-up, caller-owned): linear radiance
+ * before tonemapping, A = 1 on the head ("skin"), 0 on background pixels. It excludes GLOW:
+ * the renderer adds its glow (bright pass, blur, add) to the same linear image before
+ * tonemapping and its linear read-back includes it; the reference has none (compare with
+ * a glow-off render, or only where nothing exceeds the glow threshold). dm_ref_frame_display
+ * makes the 8-bit image through the renderer's tonemap (shaders/tonemap.glsl).
+ *
+ * Determinism: every pixel and texel is computed independently, the BVH is built on one
+ * thread: byte-identical output for any thread_count.
+ */
+#ifndef DM_REF_FRAME_H
+#define DM_REF_FRAME_H
+
+#include <stdint.h>
+
+#include "reference/dm_ref_surface.h"
+#include "reference/dm_reference.h"
+#include "pack/dm_pack.h"
+#include "core/dm_result.h"
+#include "core/dm_scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct dm_ref_frame_stats {
+    int64_t skin_pixels;     /* pixels whose ray hit the head */
+    int64_t covered_texels;  /* atlas texels the mesh covers */
+    double setup_ms;         /* surface, BVH, ρdt table */
+    double atlas_ms;         /* CPU irradiance atlas */
+    double reference_ms;     /* dm_reference_create (texel elements) */
+    double rays_ms;          /* primary rays */
+    double convolution_ms;   /* dm_reference_eval at the hits */
+    double compose_ms;       /* per-pixel shading */
+    double total_ms;
+} dm_ref_frame_stats;
+
+typedef struct dm_ref_frame_options {
+    int width, height; /* 0: the scene's output size; [1, 16384] */
+    int atlas_size;    /* CPU irradiance atlas, texels per side; 0 = 1024; [16, 8192] */
+    int thread_count;  /* 0 = all cores */
+    /* Anti-aliasing, per axis (1..8): the atlas texel is the mean irradiance over its area,
+     * atlas_samples² points (0 = 4, reduced until atlas_size × it ≤ 8192); a skin pixel is
+     * the mean of the surface terms (albedo, normal, specular) over pixel_samples² sub-pixel
+     * rays that hit (0 = 3), D taken at the centre's hit. The renderer's mipmaps filter the
+     * same detail; one point sample per pixel instead leaves ~10 % per-pixel noise against
+     * it at 320×180 (the means agree to 0.5 %). */
+    int atlas_samples, pixel_samples;
+    /* quadrature of the convolution (cut, spacing, wide_texels); NULL = its defaults.
+     * Its thread_count and progress are replaced by these options'. */
+    const dm_reference_options *reference;
+    /* what is convolved; NULL = the profile's Gaussians (dm_reference_kernel_from_profile),
+     * else e.g. a dipole's dense representation (dm_reference_kernel_from_source) */
+    const dm_reference_kernel *kernel;
+    /* Called now and then from the calling thread: stage ("setup", "irradiance", "elements",
+     * "rays", "convolution", "shading") and the fraction of that stage done. May be NULL. */
+    void (*progress)(void *user, const char *stage, double fraction);
+    void *progress_user;
+    /* Optional outputs: stats (may be NULL); atlas (may be NULL) receives the irradiance
+     * atlas, atlas_size²·4 floats, malloc'd (free it). */
+    dm_ref_frame_stats *stats;
+    float **atlas;
+} dm_ref_frame_options;
+
+/* Renders the reference frame of `scene` (usually dm_pack_scene of pack; its camera,
+ * lights, material, effects, environment) from pack's mesh, maps and environment into
+ * rgba_out (width·height·4 floats for the size the options give). opt may be NULL.
+ * Fails on a pack without a mesh, sizes out of range, a profile that cannot be
+ * normalised (DM_ERR_RANGE), or memory. Always finite output. */
+dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const dm_ref_frame_options *opt,
+                              float *rgba_out, dm_error *err);
+
+/* The same from a surface description (dm_ref_surface.h; desc->scene gives the camera,
+ * lights, effects and the default size): synthetic scenes and tests, no pack needed. */
+dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref_frame_options *opt,
+                                   float *rgba_out, dm_error *err);
+
+/* The 8-bit display image of a linear frame, as the renderer makes it: with the tonemap
+ * effect, c = max(rgb · 2^exposure, 0), Hable's filmic curve of 2c over that of the white
+ * point 11.2, sRGB-encoded; without it, the sRGB encoding of rgb clamped to [0, 1].
+ * Rounded to nearest; alpha 255 (the renderer's is opaque). rows bottom-up, out is
+ * width·height·4 bytes. */
+void dm_ref_frame_display(const dm_scene *scene, const float *rgba, int width, int height, uint8_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
