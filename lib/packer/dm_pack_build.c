@@ -1,5 +1,5 @@
 /* dm_pack_build.c — the pack-building pipeline (dm_pack_build.h): the scene, the step table
- * and its runner, the helpers the steps share, --explain's listing. The steps themselves:
+ * and its runner, --explain's listing. What the steps share: dm_pack_build_job.c. The steps:
  * dm_pack_build_steps.c (scene, maps, LUTs, profile, kernels, mesh) and dm_pack_build_bake.c
  * (stretch, pre-integrated table, curvature, environments). */
 #include "packer/dm_pack_build.h"
@@ -13,36 +13,6 @@
 #include "pack/dm_pack_needs.h"
 
 #include "packer/dm_pack_build_impl.h"
-
-/* --- helpers ------------------------------------------------------------------------ */
-
-bool dm_pack_build_wants(const dm_pack_build *j, const char *entry)
-{
-    const dm_pack_need *n = dm_pack_need_find(entry);
-    return n && dm_pack_entry_applies(entry, &j->scene);
-}
-
-dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
-                   const char *source, dm_error *err)
-{
-    dm_result r = dm_pack_writer_add(&j->w, d, data, size, prov, err);
-    if (r != DM_OK) return r;
-    if (j->row_count < (int)(sizeof j->rows / sizeof j->rows[0])) {
-        dm_pack_build_row *row = &j->rows[j->row_count++];
-        snprintf(row->entry, sizeof row->entry, "%s", d->name);
-        snprintf(row->source, sizeof row->source, "%s", source);
-        row->size = size;
-        row->ms = dm_now_ms() - j->step_t0;
-    }
-    return DM_OK;
-}
-
-const char *dmpb_base_name(const char *path)
-{
-    const char *s = strrchr(path, '/');
-    return s ? s + 1 : path;
-}
-
 
 /* The bake steps, in pack order. A step runs when one of its entries applies to the scene
  * (dm_pack_needs.h); it adds only the entries that apply.

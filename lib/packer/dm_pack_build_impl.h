@@ -1,5 +1,5 @@
 /* dm_pack_build_impl.h — what the pack-building files share (not installed): the helpers
- * of dm_pack_build.c and the steps of dm_pack_build_steps.c and dm_pack_build_bake.c. */
+ * of dm_pack_build_job.c and the steps of dm_pack_build_steps.c and dm_pack_build_bake.c. */
 #ifndef DM_PACK_BUILD_IMPL_H
 #define DM_PACK_BUILD_IMPL_H
 

@@ -1,0 +1,38 @@
+/* dm_pack_build_job.c — what every build step shares (packer/dm_pack_build_impl.h): whether
+ * the scene wants an entry, the entry into the writer with its report row, a path's base
+ * name. The runner (dm_pack_build.c) and the steps (dm_pack_build_steps.c,
+ * dm_pack_build_bake.c) call these; these call neither. */
+#include "packer/dm_pack_build_impl.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/dm_cli.h"
+#include "pack/dm_pack_needs.h"
+
+bool dm_pack_build_wants(const dm_pack_build *j, const char *entry)
+{
+    const dm_pack_need *n = dm_pack_need_find(entry);
+    return n && dm_pack_entry_applies(entry, &j->scene);
+}
+
+dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
+                   const char *source, dm_error *err)
+{
+    dm_result r = dm_pack_writer_add(&j->w, d, data, size, prov, err);
+    if (r != DM_OK) return r;
+    if (j->row_count < (int)(sizeof j->rows / sizeof j->rows[0])) {
+        dm_pack_build_row *row = &j->rows[j->row_count++];
+        snprintf(row->entry, sizeof row->entry, "%s", d->name);
+        snprintf(row->source, sizeof row->source, "%s", source);
+        row->size = size;
+        row->ms = dm_now_ms() - j->step_t0;
+    }
+    return DM_OK;
+}
+
+const char *dmpb_base_name(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
