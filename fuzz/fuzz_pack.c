@@ -4,7 +4,7 @@
  *    rewritten to match its mutated bytes and the header+manifest checksum is recomputed,
  *    so the fuzzer reaches the manifest schema, the layout and the content checks of every
  *    blob kind (a valid pack's first byte, 0x89, is odd: blob checksum failures themselves
- *    are covered by test_pack's every-bit-flip test);
+ *    are covered by test_pack_bad's every-bit-flip test);
  *  - low nibble 0xe (VALUES): the input edits the values of a valid small pack built here
  *    (one per subsurface technique), blob values and the manifest's t_range and
  *    layer_values, with plausible and absurd numbers (0, -0, 1e-38, 1e38, -1e38, FLT_MAX,

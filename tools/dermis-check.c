@@ -135,26 +135,20 @@ static void report_lut(result *r, const char *where, const dm_lut_check *c)
 
 /* --- profiles ----------------------------------------------------------------------- */
 
-static void check_profile_json(result *r, const char *file)
+/* A profile JSON, parsed once by the caller (root: NULL when the text is not JSON, which
+ * dm_profile_from_cjson then reports). */
+static void check_profile_json(result *r, const char *file, const cJSON *root)
 {
     dm_error err = {0};
     dm_profile p;
-    if (dm_profile_read(file, &p, &err) != DM_OK) { /* its ranges: dm_profile_validate */
+    if (dm_profile_from_cjson(root, file, &p, &err) != DM_OK) { /* its ranges: dm_profile_validate */
         fail(r, "%s", err.detail);
         return;
     }
-    char *text = NULL;
-    size_t size = 0;
-    if (dm_input_read(file, DM_INPUT_JSON, &text, &size, &err) != DM_OK) return;
-    cJSON *root = cJSON_Parse(text);
     const cJSON *pv = cJSON_GetObjectItemCaseSensitive(root, "provenance");
-    char *pt = pv ? cJSON_PrintUnformatted(pv) : NULL;
     dm_provenance prov;
-    bool ok = pt && dm_prov_from_json(&prov, pt, file, &err) == DM_OK;
+    bool ok = pv && dm_prov_from_cjson(&prov, pv, file, &err) == DM_OK;
     check_prov(r, &prov, ok, file);
-    cJSON_free(pt);
-    cJSON_Delete(root);
-    free(text);
     note(r, "%s: %d Gaussians", p.name, p.count);
 }
 
@@ -443,16 +437,16 @@ static void check_file(result *r, const char *file)
             return;
         }
         cJSON *root = cJSON_Parse(text);
+        free(text);
         const cJSON *fmt = cJSON_GetObjectItemCaseSensitive(root, "format");
         bool scene = cJSON_IsString(fmt) ? strcmp(fmt->valuestring, "dermis-scene") == 0
                                          : cJSON_GetObjectItemCaseSensitive(root, "mesh") != NULL;
-        cJSON_Delete(root);
-        free(text);
         r->type = scene ? "scene" : "profile";
         if (scene)
-            check_scene_json(r, file);
+            check_scene_json(r, file); /* the scene reader resolves its paths from the file */
         else
-            check_profile_json(r, file);
+            check_profile_json(r, file, root);
+        cJSON_Delete(root);
     } else {
         r->type = "unknown";
         fail(r, "%s: unknown file type, expected .dpk, .png, .exr or .json", file);

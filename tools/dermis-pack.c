@@ -55,6 +55,18 @@ typedef struct options {
     dm_pack_build_options build;
 } options;
 
+/* The integer after option argv[*i], in [min, max], into *out; false (said on stderr) when
+ * missing or out of range. */
+static bool int_option(int argc, char **argv, int *i, int64_t min, int64_t max, int *out)
+{
+    const char *a = argv[*i];
+    int64_t v;
+    const char *t = dm_cli_value(argc, argv, i);
+    if (!t || !dm_cli_int(a, t, min, max, &v)) return false;
+    *out = (int)v;
+    return true;
+}
+
 static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.build = {.beckmann_size = DM_LUT_BECKMANN_SIZE_DEFAULT,
@@ -62,7 +74,6 @@ static int parse_args(int argc, char **argv, options *o)
                              .lut_nodes = DM_LUT_NODES_DEFAULT}};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
-        int64_t v;
         if (dm_cli_version(a, "dermis-pack")) exit(0);
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
             usage(stdout);
@@ -86,21 +97,13 @@ static int parse_args(int argc, char **argv, options *o)
             }
             if (!(o->build.env_files[o->build.env_file_count++] = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--beckmann-size")) {
-            const char *t = dm_cli_value(argc, argv, &i);
-            if (!t || !dm_cli_int(a, t, 16, DM_LUT_SIZE_MAX, &v)) return DM_EXIT_USAGE;
-            o->build.beckmann_size = (int)v;
+            if (!int_option(argc, argv, &i, 16, DM_LUT_SIZE_MAX, &o->build.beckmann_size)) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--lut-size")) {
-            const char *t = dm_cli_value(argc, argv, &i);
-            if (!t || !dm_cli_int(a, t, 8, 1024, &v)) return DM_EXIT_USAGE;
-            o->build.lut_size = (int)v;
+            if (!int_option(argc, argv, &i, 8, 1024, &o->build.lut_size)) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--lut-nodes")) {
-            const char *t = dm_cli_value(argc, argv, &i);
-            if (!t || !dm_cli_int(a, t, 8, 128, &v)) return DM_EXIT_USAGE;
-            o->build.lut_nodes = (int)v;
+            if (!int_option(argc, argv, &i, 8, 128, &o->build.lut_nodes)) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--threads")) {
-            const char *t = dm_cli_value(argc, argv, &i);
-            if (!t || !dm_cli_int(a, t, 0, 256, &v)) return DM_EXIT_USAGE;
-            o->build.threads = (int)v;
+            if (!int_option(argc, argv, &i, 0, 256, &o->build.threads)) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--assets")) {
             const char *v = dm_cli_value(argc, argv, &i);
             if (!v) return DM_EXIT_USAGE;

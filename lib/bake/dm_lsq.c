@@ -30,28 +30,27 @@ void dm_lsq_qr(double *a, int rows, int cols, double *beta, double *rdiag)
     }
 }
 
+/* y ← H_k y: the k-th reflector of dm_lsq_qr() (I − beta_k v_k v_kᵀ, v_k below the diagonal
+ * of column k). */
+static void reflect(const double *a, int rows, int k, const double *beta, double *y)
+{
+    const double *v = a + (size_t)k * rows;
+    double d = 0.0;
+    for (int i = k; i < rows; ++i) d += v[i] * y[i];
+    d *= beta[k];
+    for (int i = k; i < rows; ++i) y[i] -= d * v[i];
+}
+
 /* y ← Qᵀ y with the reflectors of dm_lsq_qr(). */
 void dm_lsq_qr_apply(const double *a, int rows, int cols, const double *beta, double *y)
 {
-    for (int k = 0; k < cols; ++k) {
-        const double *v = a + (size_t)k * rows;
-        double d = 0.0;
-        for (int i = k; i < rows; ++i) d += v[i] * y[i];
-        d *= beta[k];
-        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
-    }
+    for (int k = 0; k < cols; ++k) reflect(a, rows, k, beta, y);
 }
 
 /* y ← Q y: the reflectors of dm_lsq_qr() in reverse order. */
 void dm_lsq_qr_apply_q(const double *a, int rows, int cols, const double *beta, double *y)
 {
-    for (int k = cols - 1; k >= 0; --k) {
-        const double *v = a + (size_t)k * rows;
-        double d = 0.0;
-        for (int i = k; i < rows; ++i) d += v[i] * y[i];
-        d *= beta[k];
-        for (int i = k; i < rows; ++i) y[i] -= d * v[i];
-    }
+    for (int k = cols - 1; k >= 0; --k) reflect(a, rows, k, beta, y);
 }
 
 /* min ‖A z − y‖ for a small A (rows × cols ≤ DM_LSQ_MAX × DM_LSQ_MAX, column-major); columns whose R

@@ -2,32 +2,31 @@
 
 #include <string.h>
 
-void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int height)
-{
-    dm_prov_init(p, tool);
-    dm_prov_add_string(p, "table", "beckmann");
-    dm_prov_add_int(p, "width", width);
-    dm_prov_add_int(p, "height", height);
-    dm_prov_add_string(p, "encoding", "u8 0.5*D^0.1");
-}
-
-void dm_lut_prov_beckmann_exact(dm_provenance *p, const char *tool, int width, int height)
-{
-    dm_prov_init(p, tool);
-    dm_prov_add_string(p, "table", "beckmann_exact");
-    dm_prov_add_int(p, "width", width);
-    dm_prov_add_int(p, "height", height);
-    dm_prov_add_string(p, "encoding", "f32 D");
-}
-
-void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
-                             int nodes)
+/* What every table's provenance starts with: the tool, the table, its size, its encoding. */
+static void table_prov(dm_provenance *p, const char *tool, const char *table, int width, int height,
+                       const char *encoding)
 {
     dm_prov_init(p, tool);
     dm_prov_add_string(p, "table", table);
     dm_prov_add_int(p, "width", width);
     dm_prov_add_int(p, "height", height);
-    dm_prov_add_string(p, "encoding", strcmp(table, "rho_dt") == 0 ? "f32 rho_dt" : "f32 scale,bias");
+    dm_prov_add_string(p, "encoding", encoding);
+}
+
+void dm_lut_prov_beckmann(dm_provenance *p, const char *tool, int width, int height)
+{
+    table_prov(p, tool, "beckmann", width, height, "u8 0.5*D^0.1");
+}
+
+void dm_lut_prov_beckmann_exact(dm_provenance *p, const char *tool, int width, int height)
+{
+    table_prov(p, tool, "beckmann_exact", width, height, "f32 D");
+}
+
+void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *table, int width, int height, double f0,
+                             int nodes)
+{
+    table_prov(p, tool, table, width, height, strcmp(table, "rho_dt") == 0 ? "f32 rho_dt" : "f32 scale,bias");
     dm_prov_add_double(p, "f0", f0);
     dm_prov_add_int(p, "nodes", nodes);
 }
@@ -35,11 +34,7 @@ void dm_lut_prov_directional(dm_provenance *p, const char *tool, const char *tab
 void dm_lut_prov_preintegrated(dm_provenance *p, const char *tool, int width, int height, double curvature_max_per_mm,
                                const char *profile_name, const char *profile_hash)
 {
-    dm_prov_init(p, tool);
-    dm_prov_add_string(p, "table", "preintegrated");
-    dm_prov_add_int(p, "width", width);
-    dm_prov_add_int(p, "height", height);
-    dm_prov_add_string(p, "encoding", "f32 R,G,B D(N.L, curvature)");
+    table_prov(p, tool, "preintegrated", width, height, "f32 R,G,B D(N.L, curvature)");
     dm_prov_add_double(p, "curvature_max_per_mm", curvature_max_per_mm);
     dm_prov_add_string(p, "profile", profile_name);
     dm_prov_add_string(p, "profile_hash", profile_hash);

@@ -103,6 +103,16 @@ typedef struct blur_job {
     float *dst_u, *dst_v;       /* level k */
 } blur_job;
 
+/* A linear tap at texel position t along a row or column of n texels (t clamped to
+ * [0, tmax], tmax = n − 1): the texels i0 and i1 it reads, and the weight of i1. */
+static inline float tap(float t, float tmax, int n, int *i0, int *i1)
+{
+    float ts = dm_clampf(t, 0.0f, tmax);
+    *i0 = (int)ts;
+    *i1 = *i0 < n - 1 ? *i0 + 1 : *i0;
+    return ts - (float)*i0;
+}
+
 /* Float arithmetic: the values are float, 7 taps add at most a few ulp. */
 static void blur_u_rows(void *ctx, size_t begin, size_t end)
 {
@@ -116,10 +126,8 @@ static void blur_u_rows(void *ctx, size_t begin, size_t end)
             float step = scale * su[x]; /* texels per σ along u */
             float au = 0.0f, av = 0.0f;
             for (int i = -half; i <= half; ++i) {
-                float xs = dm_clampf((float)x + (float)i * step, 0.0f, xmax);
-                int x0 = (int)xs;
-                int x1 = x0 < w - 1 ? x0 + 1 : x0;
-                float f = xs - (float)x0, wt = job->w[i + half];
+                int x0, x1;
+                float f = tap((float)x + (float)i * step, xmax, w, &x0, &x1), wt = job->w[i + half];
                 au += wt * (su[x0] + f * (su[x1] - su[x0]));
                 av += wt * (sv[x0] + f * (sv[x1] - sv[x0]));
             }
@@ -149,10 +157,8 @@ static void blur_v_strips(void *ctx, size_t begin, size_t end)
                 float step = scale * stretch_v[x]; /* texels per σ along v */
                 float au = 0.0f, av = 0.0f;
                 for (int i = -half; i <= half; ++i) {
-                    float ys = dm_clampf((float)y + (float)i * step, 0.0f, ymax);
-                    int y0 = (int)ys;
-                    int y1 = y0 < h - 1 ? y0 + 1 : y0;
-                    float f = ys - (float)y0, wt = job->w[i + half];
+                    int y0, y1;
+                    float f = tap((float)y + (float)i * step, ymax, h, &y0, &y1), wt = job->w[i + half];
                     const float *a = tmp + ((size_t)y0 * w + x) * 2, *b = tmp + ((size_t)y1 * w + x) * 2;
                     au += wt * (a[0] + f * (b[0] - a[0]));
                     av += wt * (a[1] + f * (b[1] - a[1]));

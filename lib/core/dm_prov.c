@@ -145,12 +145,19 @@ static bool read_param(dm_jread *c, const cJSON *it, dm_provenance *p)
 
 dm_result dm_prov_from_json(dm_provenance *p, const char *json, const char *what, dm_error *err)
 {
+    cJSON *root = cJSON_Parse(json);
+    dm_result r = dm_prov_from_cjson(p, root, what, err);
+    cJSON_Delete(root);
+    return r;
+}
+
+dm_result dm_prov_from_cjson(dm_provenance *p, const cJSON *root, const char *what, dm_error *err)
+{
     static const char *const keys[] = {"tool", "version", "input_hash", "params", NULL};
     memset(p, 0, sizeof *p);
     char where[320];
     snprintf(where, sizeof where, "%s: provenance", what);
     dm_jread c = {where, err, DM_OK};
-    cJSON *root = cJSON_Parse(json);
     bool ok = cJSON_IsObject(root) ? dm_jread_keys(&c, root, "$", keys)
                                    : dm_jread_fail(&c, DM_ERR_FORMAT, "$", NULL, "a JSON object");
     const char *tool = ok ? dm_jread_string(&c, root, "$", "tool") : NULL;
@@ -167,7 +174,6 @@ dm_result dm_prov_from_json(dm_provenance *p, const char *json, const char *what
         if (hash) copy_str(p->input_hash, sizeof p->input_hash, hash->valuestring);
     }
     for (const cJSON *it = ok ? params->child : NULL; it && ok; it = it->next) ok = read_param(&c, it, p);
-    cJSON_Delete(root);
     if (!ok) {
         memset(p, 0, sizeof *p);
         return c.r;

@@ -53,6 +53,10 @@ const dm_param *dm_prov_find(const dm_provenance *p, const char *name);
 dm_result dm_prov_to_json(const dm_provenance *p, char *out, size_t out_size, dm_error *err);
 /* Parses what dm_prov_to_json wrote. `what` names the source in error messages. */
 dm_result dm_prov_from_json(dm_provenance *p, const char *json, const char *what, dm_error *err);
+/* The same from a parsed JSON node (a profile's or scene's "provenance" object): the values
+ * as parsed, no printing and parsing again. */
+struct cJSON;
+dm_result dm_prov_from_cjson(dm_provenance *p, const struct cJSON *node, const char *what, dm_error *err);
 
 #ifdef __cplusplus
 }

@@ -114,19 +114,32 @@ static bool parse_light(ctx *c, const cJSON *l, const char *jpath, dm_light *out
            dm_jread_bool_opt(&c->j, l, jpath, "casts_shadow", &out->casts_shadow);
 }
 
-static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
+/* The optional array `key` of obj (at jpath) of at most max items: *out NULL when absent;
+ * false, reported, when it is not such an array. noun names the items in the expectation
+ * ("lights"), unit in the count ("lights", "maps"). */
+static bool bounded_array(ctx *c, const cJSON *obj, const char *key, const char *jpath, int max, const char *noun,
+                          const char *unit, const cJSON **out, int *n)
 {
-    const cJSON *ls = dm_jread_get(root, "lights");
-    if (!ls) return true;
-    char want[64];
-    snprintf(want, sizeof want, "an array of at most %d lights", DM_SCENE_MAX_LIGHTS);
-    if (!cJSON_IsArray(ls)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.lights", ls, want);
-    int n = cJSON_GetArraySize(ls);
-    if (n > DM_SCENE_MAX_LIGHTS) {
-        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: $.lights: %d lights, expected at most %d", c->j.where, n,
-                       DM_SCENE_MAX_LIGHTS);
+    *out = dm_jread_get(obj, key);
+    *n = 0;
+    if (!*out) return true;
+    char want[96];
+    snprintf(want, sizeof want, "an array of at most %d %s", max, noun);
+    if (!cJSON_IsArray(*out)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, jpath, *out, want);
+    *n = cJSON_GetArraySize(*out);
+    if (*n > max) {
+        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: %s: %d %s, expected at most %d", c->j.where, jpath, *n, unit, max);
         return false;
     }
+    return true;
+}
+
+static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
+{
+    const cJSON *ls;
+    int n;
+    if (!bounded_array(c, root, "lights", "$.lights", DM_SCENE_MAX_LIGHTS, "lights", "lights", &ls, &n)) return false;
+    if (!ls) return true;
     s->light_count = 0;
     int k = 0;
     for (const cJSON *l = ls->child; l; l = l->next, ++k) {
@@ -141,17 +154,12 @@ static bool parse_lights(ctx *c, const cJSON *root, dm_scene *s)
 /* "alternatives": an array of at most DM_SCENE_MAX_ENV_ALTERNATIVES non-empty paths. */
 static bool parse_env_alternatives(ctx *c, const cJSON *e, dm_scene *s)
 {
-    const cJSON *v = dm_jread_get(e, "alternatives");
-    if (!v) return true;
-    char want[96];
-    snprintf(want, sizeof want, "an array of at most %d environment map paths", DM_SCENE_MAX_ENV_ALTERNATIVES);
-    if (!cJSON_IsArray(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.environment.alternatives", v, want);
-    int n = cJSON_GetArraySize(v);
-    if (n > DM_SCENE_MAX_ENV_ALTERNATIVES) {
-        c->j.r = dm_fail(c->j.err, DM_ERR_RANGE, "%s: $.environment.alternatives: %d maps, expected at most %d", c->j.where,
-                       n, DM_SCENE_MAX_ENV_ALTERNATIVES);
+    const cJSON *v;
+    int n;
+    if (!bounded_array(c, e, "alternatives", "$.environment.alternatives", DM_SCENE_MAX_ENV_ALTERNATIVES,
+                       "environment map paths", "maps", &v, &n))
         return false;
-    }
+    if (!v) return true;
     if (n > 0 && !*s->environment) {
         c->j.r = dm_fail(c->j.err, DM_ERR_MISMATCH,
                        "%s: $.environment.alternatives: %d maps, but $.environment.path is missing, expected the "

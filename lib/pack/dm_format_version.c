@@ -13,7 +13,7 @@
 #include <cJSON.h>
 
 #include "core/dm_input.h"
-#include "pack/dm_pack.h"
+#include "pack/dm_pack_format.h"
 #include "core/dm_scene.h"
 
 /* `size` bytes of f from `offset` into a malloc'd NUL-terminated buffer; *got the bytes read

@@ -1,26 +1,12 @@
 /* dm_pack_format.c — the pack's kinds, texture formats, header encoding and the sizes
- * descriptors imply (dm_pack.h). */
-#include "pack/dm_pack.h"
+ * descriptors imply (dm_pack_format.h). Uses nothing else in lib/pack. */
+#include "pack/dm_pack_format.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cJSON.h>
 
 #include "core/dm_hash.h"
-#include "pack/dm_pack_needs.h"
-#include "core/dm_profile.h"
-#include "core/dm_prov.h"
-
-#include "pack/dm_pack_impl.h"
 
 /* --- names and formats ------------------------------------------------------------- */
 
@@ -66,6 +52,18 @@ void dm_pack_hex64(uint64_t v, char out[17])
 
 /* --- header ------------------------------------------------------------------------- */
 
+static uint32_t get32(const uint8_t *p)
+{
+    uint32_t v = 0;
+    for (int k = 3; k >= 0; --k) v = (v << 8) | p[k];
+    return v;
+}
+static uint64_t get64(const uint8_t *p)
+{
+    uint64_t v = 0;
+    for (int k = 7; k >= 0; --k) v = (v << 8) | p[k];
+    return v;
+}
 static void put32(uint8_t *p, uint32_t v)
 {
     for (int k = 0; k < 4; ++k) p[k] = (uint8_t)(v >> (8 * k));
@@ -105,7 +103,7 @@ uint64_t dm_pack_texture_level_size(const dm_pack_entry *e, int level)
 {
     const dm_tex_format_info *f = dm_tex_format_get(e->format);
     if (!f) return 0;
-    return level_dim(e->width, level) * level_dim(e->height, level) * (uint64_t)e->layers *
+    return dm_pack_level_dim(e->width, level) * dm_pack_level_dim(e->height, level) * (uint64_t)e->layers *
            (uint64_t)(f->components * f->component_size);
 }
 

@@ -1,32 +1,13 @@
-/* dm_pack_impl.h — internals shared by the pack reader's files (dm_pack.c: open, close,
- * find; dm_pack_format.c: kinds, formats, header, sizes; dm_pack_manifest.c: the strict
- * manifest reader; dm_pack_verify.c: VERIFIED ON OPEN). Not a public API. */
+/* dm_pack_impl.h — internals of the pack reader, one way down: dm_pack.c (open, close)
+ * calls dm_pack_verify.c (VERIFIED ON OPEN), which calls dm_pack_manifest.c (the strict
+ * manifest reader), dm_pack_semantic.c and the queries (dm_pack_query.c), all of them over
+ * the format (dm_pack_format.c). Not a public API. */
 #ifndef DM_PACK_IMPL_H
 #define DM_PACK_IMPL_H
 
 #include <stdint.h>
 
-#include "pack/dm_pack.h"
-
-static inline uint32_t get32(const uint8_t *p)
-{
-    uint32_t v = 0;
-    for (int k = 3; k >= 0; --k) v = (v << 8) | p[k];
-    return v;
-}
-static inline uint64_t get64(const uint8_t *p)
-{
-    uint64_t v = 0;
-    for (int k = 7; k >= 0; --k) v = (v << 8) | p[k];
-    return v;
-}
-
-/* Texels along one side at mip level `level` (at least 1). */
-static inline uint64_t level_dim(int size, int level)
-{
-    uint64_t d = (uint64_t)size >> level;
-    return d ? d : 1;
-}
+#include "pack/dm_pack_query.h"
 
 /* Copies the manifest (size bytes) into pack->manifest and parses it strictly into
  * pack->provenance_json and pack->entries (descriptors only: data pointers, bounds and

@@ -1,6 +1,6 @@
 /* dm_pack_manifest.c — the strict manifest reader (dm_pack_impl.h): unknown keys refused,
  * every error naming the JSON path, the value and what was expected. */
-#include "pack/dm_pack.h"
+#include "pack/dm_pack_impl.h"
 
 #include <errno.h>
 #include <float.h>
@@ -21,8 +21,6 @@
 #include "pack/dm_pack_needs.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
-
-#include "pack/dm_pack_impl.h"
 
 /* --- manifest reading ---------------------------------------------------------------- */
 

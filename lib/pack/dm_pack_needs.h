@@ -17,7 +17,7 @@
 
 #include <stdbool.h>
 
-#include "pack/dm_pack.h"
+#include "pack/dm_pack_format.h"
 #include "core/dm_scene.h"
 
 #ifdef __cplusplus

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "pack/dm_pack.h"
+#include "pack/dm_pack_query.h"
 #include "pack/dm_pack_needs.h"
 #include "core/dm_ssss_kernel.h"
 

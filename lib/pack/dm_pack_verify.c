@@ -1,7 +1,7 @@
-/* dm_pack_verify.c — VERIFIED ON OPEN (dm_pack.h): header, bounds, overlaps, padding,
+/* dm_pack_verify.c — VERIFIED ON OPEN (pack/dm_pack.h): header, bounds, overlaps, padding,
  * checksums, contents, the entries the scene needs, and last the physical ranges of every
  * entry's values (dm_pack_semantic.c). */
-#include "pack/dm_pack.h"
+#include "pack/dm_pack_impl.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -22,8 +22,6 @@
 #include "pack/dm_pack_semantic.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
-
-#include "pack/dm_pack_impl.h"
 
 static bool all_finite32(const uint8_t *p, uint64_t count, uint64_t *bad)
 {
@@ -71,7 +69,7 @@ static dm_result check_texture_values(const dm_pack *pack, const dm_pack_entry *
         uint64_t count = dm_pack_texture_level_size(e, l) / (uint64_t)f->component_size, bad = 0;
         bool ok = f->component_size == 4 ? all_finite32(base, count, &bad) : all_finite16(base, count, &bad);
         if (!ok) {
-            uint64_t w = level_dim(e->width, l), h = level_dim(e->height, l);
+            uint64_t w = dm_pack_level_dim(e->width, l), h = dm_pack_level_dim(e->height, l);
             uint64_t texel = bad / (uint64_t)f->components, comp = bad % (uint64_t)f->components;
             uint64_t layer = texel / (w * h), in = texel % (w * h);
             return dm_fail(err, DM_ERR_NON_FINITE,

@@ -1,9 +1,9 @@
 /* dm_reference.c — the ground truth's set-up: kernel, positions in mm, the triangle grid,
- * the split of the Gaussians into narrow groups and one wide group, the irradiance lookup.
- * Evaluation is in dm_reference_eval.c, texel elements in dm_reference_elements.c. */
+ * the split of the Gaussians into narrow groups and one wide group. The grids are
+ * dm_ref_grid.c, the irradiance lookup dm_ref_lookup.c, texel elements
+ * dm_reference_elements.c, evaluation dm_reference_eval.c. */
 #include "reference/dm_reference.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -52,52 +52,6 @@ dm_result dm_reference_kernel_from_source(const dm_profile_source *s, int gaussi
     return DM_OK;
 }
 
-/* ---- grids ------------------------------------------------------------------------ */
-
-enum { GRID_CELLS_MAX = 1 << 21 };
-
-void dm_ref_grid_init(dm_ref_grid *g, const double lo[3], const double hi[3], double cell_mm)
-{
-    double ext = 0.0;
-    for (int a = 0; a < 3; ++a) ext = fmax(ext, hi[a] - lo[a]);
-    if (!(cell_mm > ext * 1e-6)) cell_mm = fmax(ext * 1e-6, DBL_MIN * 1e6);
-    for (;;) {
-        int64_t n = 1;
-        for (int a = 0; a < 3; ++a) {
-            double d = floor((hi[a] - lo[a]) / cell_mm) + 1.0;
-            g->dim[a] = d > 4096.0 ? 4097 : (int)d;
-            n *= g->dim[a];
-        }
-        if (n <= GRID_CELLS_MAX) break;
-        cell_mm *= 1.26;
-    }
-    for (int a = 0; a < 3; ++a) g->origin[a] = lo[a];
-    g->cell_mm = cell_mm;
-}
-
-static int cell_coord(const dm_ref_grid *g, int axis, double x)
-{
-    double c = floor((x - g->origin[axis]) / g->cell_mm);
-    if (!(c >= 0.0)) return 0; /* also NaN */
-    if (c >= g->dim[axis]) return g->dim[axis] - 1;
-    return (int)c;
-}
-
-void dm_ref_grid_range(const dm_ref_grid *g, const double p[3], double r, int lo[3], int hi[3])
-{
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = cell_coord(g, a, p[a] - r);
-        hi[a] = cell_coord(g, a, p[a] + r);
-    }
-}
-
-void dm_ref_grid_free(dm_ref_grid *g)
-{
-    free(g->start);
-    free(g->item);
-    memset(g, 0, sizeof *g);
-}
-
 /* Every triangle goes into each cell its bounding box overlaps (two passes: count, fill),
  * in triangle order, so the lists are deterministic. */
 static dm_result build_triangle_grid(dm_reference *ref, const double lo[3], const double hi[3], double cell_mm,
@@ -120,10 +74,7 @@ static dm_result build_triangle_grid(dm_reference *ref, const double lo[3], cons
                 }
             }
             int l[3], h[3];
-            for (int a = 0; a < 3; ++a) {
-                l[a] = cell_coord(g, a, blo[a]);
-                h[a] = cell_coord(g, a, bhi[a]);
-            }
+            dm_ref_grid_box(g, blo, bhi, l, h);
             for (int z = l[2]; z <= h[2]; ++z)
                 for (int y = l[1]; y <= h[1]; ++y)
                     for (int x = l[0]; x <= h[0]; ++x) {
@@ -142,52 +93,6 @@ static dm_result build_triangle_grid(dm_reference *ref, const double lo[3], cons
         }
     }
     return DM_OK;
-}
-
-/* ---- the irradiance lookup -------------------------------------------------------- */
-
-dm_result dm_ref_premultiply(const dm_reference_atlas *a, dm_ref_lookup *out, dm_error *err)
-{
-    size_t n = (size_t)a->width * a->height;
-    out->width = a->width;
-    out->height = a->height;
-    out->texel = malloc(sizeof *out->texel * 4 * n);
-    if (!out->texel) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference: %dx%d lookup", a->width, a->height);
-    for (size_t i = 0; i < n; ++i) {
-        float al = a->rgba[4 * i + 3];
-        al = al > 0.0f && isfinite(al) ? (al < 1.0f ? al : 1.0f) : 0.0f;
-        for (int c = 0; c < 3; ++c) {
-            float v = a->rgba[4 * i + (size_t)c];
-            out->texel[4 * i + (size_t)c] = isfinite(v) ? v * al : 0.0f;
-        }
-        out->texel[4 * i + 3] = al;
-    }
-    return DM_OK;
-}
-
-/* The nearest covered texel within 2 texels of texel position (x, y). */
-static int nearest_covered(const dm_ref_lookup *a, double x, double y, double rgb[3])
-{
-    int ic = (int)floor(x + 0.5), jc = (int)floor(y + 0.5);
-    double best = INFINITY;
-    for (int j = jc - 2; j <= jc + 2; ++j)
-        for (int i = ic - 2; i <= ic + 2; ++i) {
-            if (i < 0 || j < 0 || i >= a->width || j >= a->height) continue;
-            const float *t = a->texel + 4 * ((size_t)j * a->width + i);
-            if (!(t[3] > 0.0f)) continue;
-            double d = (i - x) * (i - x) + (j - y) * (j - y);
-            if (d < best) {
-                best = d;
-                for (int c = 0; c < 3; ++c) rgb[c] = t[c] / t[3];
-            }
-        }
-    return best < INFINITY;
-}
-
-int dm_ref_sample_nearest(const dm_ref_lookup *a, double x, double y, double rgb[3])
-{
-    rgb[0] = rgb[1] = rgb[2] = 0.0;
-    return nearest_covered(a, x, y, rgb);
 }
 
 /* ---- create ------------------------------------------------------------------------ */
@@ -315,7 +220,11 @@ dm_result dm_reference_create(const dm_mesh *mesh, double mm_per_unit, const dm_
         dm_reference_destroy(ref);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference: %zu vertices", nv);
     }
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double *lo = ref->lo_mm, *hi = ref->hi_mm;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = INFINITY;
+        hi[a] = -INFINITY;
+    }
     for (size_t i = 0; i < nv * 3; ++i) {
         ref->pos_mm[i] = (double)mesh->positions[i] * mm_per_unit;
         lo[i % 3] = fmin(lo[i % 3], ref->pos_mm[i]);

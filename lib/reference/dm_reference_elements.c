@@ -1,6 +1,7 @@
 /* dm_reference_elements.c — the wide Gaussians' sources: every triangle cut into its pieces
  * of the cells between texel centres (exact polygon clipping in UV; I is bilinear inside), each piece a point at its centroid with
- * its exact area in mm² and I read there; sorted into a uniform grid.
+ * its exact area in mm² and I read there (dm_ref_lookup.h); sorted into a uniform grid
+ * (dm_ref_grid.h).
  *
  * Triangles of (near) zero UV area, or UV extents beyond 4× the atlas, have no texel
  * cells to be cut by: they are subdivided into n² congruent sub-triangles of edge about
@@ -162,12 +163,8 @@ static void fill_range(void *vctx, size_t begin, size_t end)
 
 static int64_t element_cell(const dm_ref_grid *g, const float p[3])
 {
-    int c[3];
-    for (int a = 0; a < 3; ++a) {
-        double x = floor(((double)p[a] - g->origin[a]) / g->cell_mm);
-        c[a] = !(x >= 0.0) ? 0 : x >= g->dim[a] ? g->dim[a] - 1 : (int)x;
-    }
-    return ((int64_t)c[2] * g->dim[1] + c[1]) * g->dim[0] + c[0];
+    const double q[3] = {p[0], p[1], p[2]};
+    return dm_ref_grid_cell(g, q);
 }
 
 dm_result dm_ref_build_elements(dm_reference *ref, dm_error *err)
@@ -200,13 +197,8 @@ dm_result dm_ref_build_elements(dm_reference *ref, dm_error *err)
 
     /* the grid: a point per element, cells of half the wide radius; elements reordered
      * by cell (stable), so each cell's elements are contiguous */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < (size_t)m->vertex_count * 3; ++i) {
-        lo[i % 3] = fmin(lo[i % 3], ref->pos_mm[i]);
-        hi[i % 3] = fmax(hi[i % 3], ref->pos_mm[i]);
-    }
     dm_ref_grid *g = &ref->element_grid;
-    dm_ref_grid_init(g, lo, hi, 0.5 * ref->group[ref->wide_group].radius_mm);
+    dm_ref_grid_init(g, ref->lo_mm, ref->hi_mm, 0.5 * ref->group[ref->wide_group].radius_mm);
     int64_t cells = (int64_t)g->dim[0] * g->dim[1] * g->dim[2];
     g->start = calloc((size_t)cells + 1, sizeof *g->start);
     ref->element = malloc(sizeof *ref->element * (size_t)(count ? count : 1));

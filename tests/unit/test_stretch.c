@@ -1,24 +1,18 @@
-/* Stretch maps: the per-triangle Jacobian, the UV rasterizer's fill rule, the gutter
- * fill, the blurred chain, analytic meshes with known answers, degenerate triangles,
- * the Lee Perry-Smith head, and the tool as a user runs it. */
+/* Stretch maps: the per-triangle Jacobian, the blurred chain, analytic meshes with known
+ * answers, degenerate triangles and the Lee Perry-Smith head. The rasterizer and gutters
+ * they stand on: test_uv_raster; the tool: test_stretch_tool. */
 #define _DEFAULT_SOURCE /* mkstemps */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "../common/grid_mesh.h"
-#include "../common/tmpdir.h"
-#include "image/dm_exr.h"
-#include "mesh/dm_gutter.h"
 #include "mesh/dm_mesh.h"
 #include "bake/dm_stretch.h"
-#include "mesh/dm_uv_raster.h"
 #include "core/dm_math.h"
-#include "pack/dm_pack.h"
 
 #define HEAD DERMIS_ASSETS "/lps/LeePerrySmith.obj"
 
@@ -132,114 +126,6 @@ Test(stretch, degenerate_triangles_are_classified)
     dm_triangle_stretch_of(&m, 0, 50.0, &ts);
     cr_assert_eq(ts.kind, DM_TRIANGLE_ZERO_AREA);
     dm_mesh_free(&m);
-}
-
-/* ---- the rasterizer --------------------------------------------------------------- */
-
-Test(stretch, raster_shared_edges_through_texel_centres_cover_once)
-{
-    /* A 6×6-cell grid whose vertices sit exactly on texel centres of a 13×13 texture
-     * (every other centre), some cells mirrored: diagonals, cell edges and vertices all
-     * pass through centres. Every centre strictly inside the union is covered once;
-     * on the outer border, left and bottom edges are in, right and top out. */
-    enum { W = 13, CELLS = 6 };
-    dm_mesh m;
-    dm_error err = {0};
-    cr_assert_eq(dm_mesh_alloc(1, 2 * CELLS * CELLS, &m, &err), DM_OK);
-    int t = 0;
-    for (int j = 0; j < CELLS; ++j)
-        for (int i = 0; i < CELLS; ++i) {
-            int x0 = 2 * i, y0 = 2 * j; /* texel indices of the cell's corner centres */
-            int flip = (i + j) % 3 == 0; /* other diagonal: also a mirrored-order triangle */
-            int c[2][3][2] = {{{0, 0}, {2, 0}, {2, 2}}, {{0, 0}, {2, 2}, {0, 2}}};
-            int cf[2][3][2] = {{{0, 0}, {0, 2}, {2, 0}}, {{2, 0}, {0, 2}, {2, 2}}}; /* clockwise */
-            for (int h = 0; h < 2; ++h, ++t)
-                for (int k = 0; k < 3; ++k) {
-                    const int *q = flip ? cf[h][k] : c[h][k];
-                    m.uvs[(t * 3 + k) * 2] = (float)((x0 + q[0] + 0.5) / W);
-                    m.uvs[(t * 3 + k) * 2 + 1] = (float)((y0 + q[1] + 0.5) / W);
-                }
-        }
-    int32_t ids[W * W];
-    dm_uv_raster_stats st;
-    cr_assert_eq(dm_uv_raster(&m, NULL, W, W, 2, ids, &st, &err), DM_OK);
-    cr_assert_eq(st.overlap_texels, 0, "an edge covered twice");
-    for (int y = 0; y < W; ++y)
-        for (int x = 0; x < W; ++x) {
-            int inside = x <= 11 && y <= 11 && x >= 0 && y >= 0; /* [0, 12) × [0, 12) */
-            cr_assert_eq(ids[y * W + x] >= 0, inside, "texel (%d, %d)", x, y);
-        }
-    cr_assert_eq(st.covered_texels, 12 * 12);
-    dm_mesh_free(&m);
-}
-
-Test(stretch, raster_is_the_same_on_any_thread_count)
-{
-    dm_mesh m;
-    dm_error err = {0};
-    cr_assert_eq(dm_mesh_load(HEAD, NULL, &m, &err), DM_OK, "%s", err.detail);
-    enum { W = 256 };
-    int32_t *a = malloc(W * W * sizeof *a), *b = malloc(W * W * sizeof *b);
-    dm_uv_raster_stats sa, sb;
-    cr_assert_eq(dm_uv_raster(&m, NULL, W, W, 1, a, &sa, &err), DM_OK);
-    cr_assert_eq(dm_uv_raster(&m, NULL, W, W, 3, b, &sb, &err), DM_OK);
-    cr_assert_eq(memcmp(a, b, W * W * sizeof *a), 0);
-    cr_assert_eq(sa.overlap_texels, sb.overlap_texels);
-    free(a);
-    free(b);
-    dm_mesh_free(&m);
-}
-
-/* ---- gutters ---------------------------------------------------------------------- */
-
-Test(stretch, gutter_fill_takes_the_nearest_covered_texel)
-{
-    /* Brute force: for every uncovered texel, the squared distance to the nearest
-     * covered one; the filled value names its source texel, which must be at exactly
-     * that distance (integer arithmetic: exact). */
-    enum { W = 41, H = 29 };
-    uint8_t cov[W * H] = {0};
-    float val[W * H];
-    uint32_t x = 5;
-    for (int i = 0; i < W * H; ++i) {
-        x = x * 1664525u + 1013904223u;
-        cov[i] = (x >> 24) < 6; /* ~2 % covered */
-        val[i] = cov[i] ? (float)i : -1.0f;
-    }
-    cov[0] = 1, val[0] = 0.0f;
-    float *planes[1] = {val};
-    dm_gutter_stats st;
-    dm_error err = {0};
-    cr_assert_eq(dm_gutter_fill(cov, W, H, planes, 1, 2, &st, &err), DM_OK);
-    long long max_d2 = 0;
-    for (int i = 0; i < W * H; ++i) {
-        if (cov[i]) {
-            cr_assert_eq(val[i], (float)i);
-            continue;
-        }
-        long long best = -1;
-        for (int k = 0; k < W * H; ++k)
-            if (cov[k]) {
-                long long dx = i % W - k % W, dy = i / W - k / W, d2 = dx * dx + dy * dy;
-                if (best < 0 || d2 < best) best = d2;
-            }
-        int src = (int)val[i];
-        cr_assert(src >= 0 && cov[src], "texel %d filled with %g, not a covered texel", i, val[i]);
-        long long dx = i % W - src % W, dy = i / W - src / W;
-        cr_assert_eq(dx * dx + dy * dy, best, "texel %d: source at d2 %lld, nearest at %lld", i, dx * dx + dy * dy,
-                     best);
-        if (best > max_d2) max_d2 = best;
-    }
-    cr_assert_float_eq(st.max_distance_texels, sqrt((double)max_d2), 1e-12);
-}
-
-Test(stretch, gutter_fill_refuses_an_empty_mask)
-{
-    uint8_t cov[16] = {0};
-    float v[16];
-    float *planes[1] = {v};
-    dm_error err = {0};
-    cr_assert_eq(dm_gutter_fill(cov, 4, 4, planes, 1, 1, NULL, &err), DM_ERR_EMPTY);
 }
 
 /* ---- analytic meshes -------------------------------------------------------------- */
@@ -581,125 +467,4 @@ Test(stretch, bakes_are_identical_on_any_thread_count)
     dm_stretch_map_free(&a);
     dm_stretch_map_free(&b);
     dm_mesh_free(&m);
-}
-
-/* ---- the tool --------------------------------------------------------------------- */
-
-/* build/<config>/bin/dermis-bake-stretch, found beside this test binary. */
-static void tool_path(char *out, size_t size)
-{
-    char self[900];
-    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
-    cr_assert_gt(n, 0);
-    self[n] = '\0';
-    char *unit = strstr(self, "/tests/unit/");
-    cr_assert_not_null(unit);
-    *unit = '\0';
-    snprintf(out, size, "%s/bin/dermis-bake-stretch", self);
-    cr_assert_eq(access(out, X_OK), 0, "%s is not built", out);
-}
-
-static int run(const char *cmd)
-{
-    int status = system(cmd);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-Test(stretch, tool_writes_named_channels_provenance_and_identical_reruns)
-{
-    char tool[1024], cmd[8192];
-    tool_path(tool, sizeof tool);
-    char dir[] = "/tmp/dm_test_tool_XXXXXX";
-    cr_assert_not_null(mkdtemp(dir));
-    snprintf(cmd, sizeof cmd, "%s %s -o %s/a.exr --size 64 --quiet && %s %s -o %s/b.exr --size 64 --threads 1 --quiet",
-             tool, HEAD, dir, tool, HEAD, dir);
-    cr_assert_eq(run(cmd), 0);
-    snprintf(cmd, sizeof cmd, "cmp -s %s/a.exr %s/b.exr", dir, dir);
-    cr_assert_eq(run(cmd), 0, "reruns differ");
-    char path[256];
-    snprintf(path, sizeof path, "%s/a.exr", dir);
-    dm_exr_image img;
-    dm_error err = {0};
-    cr_assert_eq(dm_exr_read(path, &img, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(img.channel_count, 13);
-    cr_assert_not_null(dm_exr_find(&img, "stretch0.u"));
-    cr_assert_not_null(dm_exr_find(&img, "stretch5.v"));
-    cr_assert_not_null(dm_exr_find(&img, "mask"));
-    cr_assert(img.has_provenance);
-    cr_assert_str_eq(img.prov.tool, "dermis-bake-stretch");
-    cr_assert(strncmp(img.prov.input_hash, "xxh3-128:", 9) == 0);
-    const dm_param *mm = dm_prov_find(&img.prov, "mm_per_unit"), *pr = dm_prov_find(&img.prov, "profile");
-    cr_assert(mm && mm->d == 50.0);
-    cr_assert(pr && strcmp(pr->s, "gems3-skin") == 0);
-    cr_assert(dm_prov_find(&img.prov, "variance_mm2_5"));
-    dm_exr_free(&img);
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    run(cmd);
-}
-
-Test(stretch, tool_exit_codes)
-{
-    char tool[1024], cmd[8192];
-    tool_path(tool, sizeof tool);
-    snprintf(cmd, sizeof cmd, "%s %s 2>/dev/null", tool, HEAD); /* no -o */
-    cr_assert_eq(run(cmd), 1);
-    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --size 8 2>/dev/null", tool, HEAD); /* out of range */
-    cr_assert_eq(run(cmd), 1);
-    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr -v --quiet 2>/dev/null", tool, HEAD); /* conflict */
-    cr_assert_eq(run(cmd), 1);
-    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --levels 7 2>/dev/null", tool, HEAD); /* 6 Gaussians */
-    cr_assert_eq(run(cmd), 1);
-    snprintf(cmd, sizeof cmd, "%s /nonexistent.obj -o /tmp/x.exr 2>/dev/null", tool);
-    cr_assert_eq(run(cmd), 2);
-    snprintf(cmd, sizeof cmd, "%s %s -o /tmp/x.exr --profile /nonexistent.json 2>/dev/null", tool, HEAD);
-    cr_assert_eq(run(cmd), 2);
-    snprintf(cmd, sizeof cmd, "%s %s -o /dev/null/dir/x.exr --size 16 --quiet 2>/dev/null", tool, HEAD);
-    cr_assert_eq(run(cmd), 4);
-    snprintf(cmd, sizeof cmd, "%s --help >/dev/null", tool);
-    cr_assert_eq(run(cmd), 0);
-}
-
-/* dermis-pack --stretch takes dermis-bake-stretch's file when it matches the scene, and the
- * packed chain is then the one the packer would bake itself, byte for byte. */
-Test(stretch_tool, pack_takes_a_matching_baked_file, .timeout = 180)
-{
-    char dir[64], cmd[1024], exr[160], small[160], a[160], b[160], log[160];
-    cr_assert(test_tmpdir(dir, sizeof dir));
-    snprintf(exr, sizeof exr, "%s/st.exr", dir);
-    snprintf(small, sizeof small, "%s/st512.exr", dir);
-    snprintf(a, sizeof a, "%s/baked.dpk", dir);
-    snprintf(b, sizeof b, "%s/file.dpk", dir);
-    snprintf(log, sizeof log, "%s/log", dir);
-    /* lps-sss.json: irradiance 1024, mm_per_unit 50, gems3-skin */
-    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-bake-stretch %s/lps/LeePerrySmith.obj -o %s --size 1024 --quiet && "
-             DERMIS_BIN "/dermis-bake-stretch %s/lps/LeePerrySmith.obj -o %s --size 512 --quiet",
-             DERMIS_ASSETS, exr, DERMIS_ASSETS, small);
-    cr_assert_eq(test_run(cmd, NULL), 0);
-    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --quiet", a);
-    cr_assert_eq(test_run(cmd, NULL), 0);
-    snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --stretch %s", b, exr);
-    cr_assert_eq(test_run(cmd, log), 0);
-    char *text = test_slurp(log);
-    cr_expect(text && strstr(text, "from st.exr"), "the file was not used:\n%s", text ? text : "");
-    free(text);
-    dm_pack pa, pb;
-    dm_error err = {0};
-    cr_assert_eq(dm_pack_open(a, &pa, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_pack_open(b, &pb, &err), DM_OK, "%s", err.detail);
-    const char *names[2] = {"stretch", "stretch.mask"};
-    for (int k = 0; k < 2; ++k) {
-        const dm_pack_entry *ea = dm_pack_find(&pa, names[k]), *eb = dm_pack_find(&pb, names[k]);
-        cr_assert(ea && eb && ea->size == eb->size, "%s missing or sized differently", names[k]);
-        cr_expect_eq(memcmp(ea->data, eb->data, ea->size), 0, "%s differs from the packer's own bake", names[k]);
-    }
-    dm_pack_close(&pa);
-    dm_pack_close(&pb);
-    /* the wrong size is refused, naming it; nothing is written */
-    snprintf(cmd, sizeof cmd, "rm -f %s; " DERMIS_BIN "/dermis-pack assets/scenes/lps-sss.json -o %s --stretch %s", b,
-             b, small);
-    cr_expect_eq(test_run(cmd, log), 2);
-    text = test_slurp(log);
-    cr_expect(text && strstr(text, "512x512") && strstr(text, "1024"), "%s", text ? text : "");
-    free(text);
-    cr_expect_eq(test_count_files(dir, "file.dpk"), 0);
 }

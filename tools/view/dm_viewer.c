@@ -1,7 +1,6 @@
 #include "dm_viewer.h"
 
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,20 +39,6 @@ const char dm_viewer_help[] =
     "Tab            hide/show the panel\n"
     "F1 or H        this help\n"
     "Esc or Q       quit";
-
-void dm_viewer_set_status(dm_viewer *v, bool error, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(v->status, sizeof v->status, fmt, ap);
-    va_end(ap);
-    if (error) {
-        v->failures++;
-        fprintf(stderr, "error: %s\n", v->status);
-    } else if (v->opt.verbose) {
-        fprintf(stderr, "%s\n", v->status);
-    }
-}
 
 /* ---- loading ---------------------------------------------------------------------------- */
 
@@ -114,41 +99,6 @@ dm_result dm_viewer_load(dm_viewer *v, const dm_viewer_options *opt, dm_error *e
 
 /* ---- renderer ------------------------------------------------------------------------- */
 
-static void list_views(dm_viewer *v)
-{
-    static const char *const names[] = {"final",    "specular", "diffuse",  "irradiance", "blur1",   "blur2",
-                                        "blur3",    "blur4",    "blur5",    "blur6",      "blur7",   "stretch0",
-                                        "stretch1", "stretch2", "stretch3", "stretch4",   "stretch5", "stretch6",
-                                        "stretch7", "shadow0",  "shadow1",  "shadow2",    "shadow3", "uv",
-                                        "wireframe", "curvature"};
-    v->view_count = 0;
-    for (size_t i = 0; i < sizeof names / sizeof names[0] && v->view_count < DM_VIEWER_MAX_VIEWS; ++i) {
-        dm_view view;
-        int k;
-        dm_render_plan plan;
-        dm_error e = {0};
-        if (!dm_view_parse(names[i], &view, &k) || dm_render_plan_build(&v->scene, view, k, &plan, &e) != DM_OK)
-            continue;
-        if (view == DM_VIEW_STRETCH && k >= v->assets.stretch_level_count) continue;
-        snprintf(v->view_names[v->view_count++], sizeof v->view_names[0], "%s", names[i]);
-    }
-}
-
-static dm_result create_renderer(dm_viewer *v, dm_error *err)
-{
-    dm_renderer_destroy(v->r);
-    v->r = NULL;
-    /* Texture space is reused while the lights, scene and scales stay put (exact, tested in
-     * test_render): orbiting and zooming then cost only the screen passes. */
-    dm_render_desc d = {.shader_dir = v->opt.shader_dir, .width = v->opt.width, .height = v->opt.height,
-                        .irradiance_size = v->irradiance_size, .timings = true, .reuse_texture_space = true};
-    v->assets.scene = &v->scene;
-    dm_result rc = dm_renderer_create(&v->assets, &d, &v->r, err);
-    if (rc == DM_OK) list_views(v);
-    v->dirty = true;
-    return rc;
-}
-
 dm_result dm_viewer_start(dm_viewer *v, dm_error *err)
 {
     if (v->opt.width <= 0 || v->opt.height <= 0) v->opt.width = v->scene.width, v->opt.height = v->scene.height;
@@ -162,7 +112,7 @@ dm_result dm_viewer_start(dm_viewer *v, dm_error *err)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     v->tex = t;
-    return create_renderer(v, err);
+    return dm_viewer_create_renderer(v, err);
 }
 
 void dm_viewer_free(dm_viewer *v)
@@ -178,30 +128,6 @@ void dm_viewer_free(dm_viewer *v)
     if (v->pack_open) dm_pack_close(&v->pack);
     dm_synth_free(v->synth);
     memset(v, 0, sizeof *v);
-}
-
-/* Recreates the renderer for the edited scene; on failure restores `previous` and says
- * why (e.g. the pack holds no data for an effect its scene had off). */
-static bool rebuild(dm_viewer *v, const dm_scene *previous, int previous_irr, const char *what)
-{
-    dm_error err = {0};
-    if (create_renderer(v, &err) == DM_OK) {
-        dm_viewer_set_status(v, false, "%s", what);
-        return true;
-    }
-    char why[sizeof err.detail];
-    snprintf(why, sizeof why, "%s", err.detail);
-    v->scene = *previous;
-    v->irradiance_size = previous_irr;
-    dm_error err2 = {0};
-    if (create_renderer(v, &err2) != DM_OK) fprintf(stderr, "error: cannot restore the renderer: %s\n", err2.detail);
-    dm_viewer_set_status(v, true, "%s refused: %s", what, why);
-    return false;
-}
-
-bool dm_viewer_rebuild(dm_viewer *v, const dm_scene *previous, int previous_irr, const char *what)
-{
-    return rebuild(v, previous, previous_irr, what);
 }
 
 void dm_viewer_view_text(const dm_viewer *v, char *out, int size)
@@ -225,7 +151,7 @@ void dm_viewer_update(dm_viewer *v, double dt_s)
     dm_viewer_apply_camera(v);
     if (dm_renderer_set_scene(v->r, &v->scene, &err) != DM_OK) {
         dm_scene prev = v->scene;
-        if (!rebuild(v, &prev, v->irradiance_size, "scene change")) return;
+        if (!dm_viewer_rebuild(v, &prev, v->irradiance_size, "scene change")) return;
     }
     dm_frame_options fo = {.view = v->view, .view_index = v->view_index, .view_scale = v->view_scale,
                            .light_rotation_deg = v->light_rotation_deg, .blur_scale = v->blur_scale,
@@ -274,7 +200,7 @@ bool dm_viewer_set_effect(dm_viewer *v, dm_effect e, bool on)
     v->scene.effects[e] = on;
     char what[96];
     snprintf(what, sizeof what, "%s %s", dm_effect_name(e), on ? "on" : "off");
-    bool ok = rebuild(v, &prev, v->irradiance_size, what);
+    bool ok = dm_viewer_rebuild(v, &prev, v->irradiance_size, what);
     /* a view the new pass list cannot show falls back to the final picture */
     dm_render_plan plan;
     dm_error err = {0};
@@ -288,7 +214,7 @@ bool dm_viewer_set_background(dm_viewer *v, bool on)
     if (v->scene.env_background == on) return true;
     dm_scene prev = v->scene;
     v->scene.env_background = on;
-    return rebuild(v, &prev, v->irradiance_size, on ? "background on" : "background off");
+    return dm_viewer_rebuild(v, &prev, v->irradiance_size, on ? "background on" : "background off");
 }
 
 bool dm_viewer_set_irradiance(dm_viewer *v, int size)
@@ -303,7 +229,7 @@ bool dm_viewer_set_irradiance(dm_viewer *v, int size)
     v->irradiance_size = size;
     char what[64];
     snprintf(what, sizeof what, "irradiance %d", size);
-    return rebuild(v, &prev_scene, prev, what);
+    return dm_viewer_rebuild(v, &prev_scene, prev, what);
 }
 
 /* Points v->assets at packed environment k and names its map in the edited scene. */
@@ -337,14 +263,14 @@ bool dm_viewer_set_env(dm_viewer *v, int k)
     char name[256], what[300];
     dm_viewer_env_name(v, k, name, (int)sizeof name);
     snprintf(what, sizeof what, "environment %d (%s)", k, name);
-    if (assets_for_env(v, k, &err) == DM_OK && create_renderer(v, &err) == DM_OK) {
+    if (assets_for_env(v, k, &err) == DM_OK && dm_viewer_create_renderer(v, &err) == DM_OK) {
         dm_viewer_set_status(v, false, "%s", what);
         return true;
     }
     char why[sizeof err.detail];
     snprintf(why, sizeof why, "%s", err.detail);
     dm_error err2 = {0};
-    if (assets_for_env(v, prev, &err2) != DM_OK || create_renderer(v, &err2) != DM_OK)
+    if (assets_for_env(v, prev, &err2) != DM_OK || dm_viewer_create_renderer(v, &err2) != DM_OK)
         fprintf(stderr, "error: cannot restore the renderer: %s\n", err2.detail);
     dm_viewer_set_status(v, true, "%s refused: %s", what, why);
     return false;
@@ -573,7 +499,7 @@ void dm_viewer_watch(dm_viewer *v, double now_ms)
     v->env = 0;
     if (env > 0 && env < v->env_count && assets_for_env(v, env, &err) != DM_OK)
         fprintf(stderr, "warning: reload shows the main environment: %s\n", err.detail);
-    if (create_renderer(v, &err) != DM_OK) {
+    if (dm_viewer_create_renderer(v, &err) != DM_OK) {
         dm_viewer_set_status(v, true, "reload: %s", err.detail);
         return;
     }

@@ -1,6 +1,6 @@
 /* dm_viewer_camera.c — dermis-view's orbit camera (yaw, pitch, distance about a target, from
  * and into the scene's camera) and the mouse actions on it and on the chosen light. */
-#include "dm_viewer.h"
+#include "dm_viewer_camera.h"
 
 #include <math.h>
 #include <string.h>

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dm_viewer.h"
+#include "dm_viewer_compare.h"
 
 dm_result dm_viewer_compare_load(dm_viewer *v, const char *path, dm_error *err)
 {

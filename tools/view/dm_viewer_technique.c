@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "dm_viewer.h"
+#include "dm_viewer_technique.h"
 
 /* What technique t needs from the pack, NULL when the pack holds it: texture-space the stretch
  * chain, pre-integrated its table and curvature map (packed only for a scene of that
