@@ -156,7 +156,10 @@ static void check_profile_json(result *r, const char *file, const cJSON *root)
 static const char *g_assets[8];
 static int g_asset_count;
 
-static void check_scene_json(result *r, const char *file)
+/* A scene: read from its parsed root when the file is one whole JSON value (`text`, `size`
+ * bytes), else (NUL bytes, trailing text, invalid JSON) by the scene reader, whose refusal
+ * names the line and column; then every file it names must exist. */
+static void check_scene_json(result *r, const char *file, const cJSON *root, const char *text, size_t size, bool whole)
 {
     dm_error err = {0};
     dm_scene *s = malloc(sizeof *s);
@@ -164,7 +167,9 @@ static void check_scene_json(result *r, const char *file)
         fail(r, "%s: out of memory", file);
         return;
     }
-    if (dm_scene_read_assets(file, g_assets, g_asset_count, s, &err) != DM_OK) {
+    dm_result got = whole ? dm_scene_from_cjson(root, text, size, file, g_assets, g_asset_count, s, &err)
+                          : dm_scene_read_assets(file, g_assets, g_asset_count, s, &err);
+    if (got != DM_OK) {
         fail(r, "%s", err.detail);
     } else {
         const struct { const char *key, *path; } files[] = {
@@ -436,17 +441,21 @@ static void check_file(result *r, const char *file)
             fail(r, "%s", err.detail);
             return;
         }
-        cJSON *root = cJSON_Parse(text);
-        free(text);
+        /* Parsed once: the root tells a scene from a profile and is what either is read from. */
+        const char *end = NULL;
+        cJSON *root = cJSON_ParseWithOpts(text, &end, 0);
+        if (end) end += strspn(end, " \t\r\n");
+        bool whole = root && strlen(text) == size && end && !*end;
         const cJSON *fmt = cJSON_GetObjectItemCaseSensitive(root, "format");
         bool scene = cJSON_IsString(fmt) ? strcmp(fmt->valuestring, "dermis-scene") == 0
                                          : cJSON_GetObjectItemCaseSensitive(root, "mesh") != NULL;
         r->type = scene ? "scene" : "profile";
         if (scene)
-            check_scene_json(r, file); /* the scene reader resolves its paths from the file */
+            check_scene_json(r, file, root, text, size, whole);
         else
             check_profile_json(r, file, root);
         cJSON_Delete(root);
+        free(text);
     } else {
         r->type = "unknown";
         fail(r, "%s: unknown file type, expected .dpk, .png, .exr or .json", file);

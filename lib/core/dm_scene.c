@@ -415,8 +415,9 @@ static void line_col(const char *text, const char *at, int *line, int *col)
     }
 }
 
-static dm_result parse_scene(const char *json, const char *path, bool search, const char *const *asset_dirs,
-                             int asset_dir_count, dm_scene *s, dm_error *err)
+/* The scene from a parsed root: every key read, ranges and cross-checks. */
+static dm_result scene_from_root(const cJSON *root, const char *path, bool search, const char *const *asset_dirs,
+                                 int asset_dir_count, dm_scene *s, dm_error *err)
 {
     static const char *const keys[] = {"format", "version", "mesh",    "material", "lights",
                                        "environment", "effects", "camera", "output", NULL};
@@ -425,16 +426,6 @@ static dm_result parse_scene(const char *json, const char *path, bool search, co
              .paths = {.search = search, .asset_dirs = asset_dirs, .asset_dir_count = asset_dir_count}};
     snprintf(s->path, sizeof s->path, "%s", c.j.where);
     dm_dirname(c.j.where, c.paths.dir, sizeof c.paths.dir);
-    const char *end = NULL;
-    cJSON *root = cJSON_ParseWithOpts(json, &end, 1);
-    if (!root) {
-        int line, col;
-        const char *at = end ? end : cJSON_GetErrorPtr();
-        if (!at) at = json;
-        line_col(json, at, &line, &col);
-        return dm_fail(err, DM_ERR_FORMAT, "%s:%d:%d: invalid JSON near \"%.20s\", expected a JSON object", c.j.where,
-                       line, col, at);
-    }
     bool ok = true;
     if (!cJSON_IsObject(root)) ok = dm_jread_fail(&c.j, DM_ERR_FORMAT, "$", root, "a JSON object");
     ok = ok && dm_jread_keys(&c.j, root, "$", keys) && parse_header(&c, root) && parse_mesh(&c, root, s) &&
@@ -447,8 +438,28 @@ static dm_result parse_scene(const char *json, const char *path, bool search, co
                       c.j.where);
         ok = false;
     }
-    cJSON_Delete(root);
     return ok ? DM_OK : c.j.r;
+}
+
+static dm_result parse_scene(const char *json, const char *path, bool search, const char *const *asset_dirs,
+                             int asset_dir_count, dm_scene *s, dm_error *err)
+{
+    const char *where = path ? path : "(scene)";
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(json, &end, 1);
+    if (!root) {
+        dm_scene_defaults(s);
+        snprintf(s->path, sizeof s->path, "%s", where);
+        int line, col;
+        const char *at = end ? end : cJSON_GetErrorPtr();
+        if (!at) at = json;
+        line_col(json, at, &line, &col);
+        return dm_fail(err, DM_ERR_FORMAT, "%s:%d:%d: invalid JSON near \"%.20s\", expected a JSON object", where,
+                       line, col, at);
+    }
+    dm_result r = scene_from_root(root, path, search, asset_dirs, asset_dir_count, s, err);
+    cJSON_Delete(root);
+    return r;
 }
 
 dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err)
@@ -476,5 +487,13 @@ dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, 
     r = parse_scene(text, path, true, asset_dirs, asset_dir_count, s, err);
     if (r == DM_OK) dm_hash_hex(text, size, s->file_hash);
     free(text);
+    return r;
+}
+
+dm_result dm_scene_from_cjson(const cJSON *root, const char *text, size_t size, const char *path,
+                              const char *const *asset_dirs, int asset_dir_count, dm_scene *s, dm_error *err)
+{
+    dm_result r = scene_from_root(root, path, true, asset_dirs, asset_dir_count, s, err);
+    if (r == DM_OK) dm_hash_hex(text, size, s->file_hash);
     return r;
 }

@@ -166,6 +166,11 @@ dm_result dm_scene_read(const char *path, dm_scene *s, dm_error *err);
  * first, before DERMIS_ASSETS and the default. */
 dm_result dm_scene_read_assets(const char *path, const char *const *asset_dirs, int asset_dir_count, dm_scene *s,
                                dm_error *err);
+/* dm_scene_read_assets of a file already read (`text`, `size` bytes, for the scene's hash) and
+ * parsed (`root`): dermis-check parses a JSON file once to tell a scene from a profile. */
+struct cJSON;
+dm_result dm_scene_from_cjson(const struct cJSON *root, const char *text, size_t size, const char *path,
+                              const char *const *asset_dirs, int asset_dir_count, dm_scene *s, dm_error *err);
 /* From a string, without touching the disk: relative paths resolve against `path`'s folder
  * (also used in messages), whether or not the file exists (packs re-read their scene so). */
 dm_result dm_scene_parse(const char *json, const char *path, dm_scene *s, dm_error *err);
