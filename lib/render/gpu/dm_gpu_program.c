@@ -1,6 +1,19 @@
 /* dm_gpu_program.c — programs from source (dm_gpu_program.h). */
 #include "render/gpu/dm_gpu_program.h"
 
+/* Whether a compile (shader) or a link (program) failed; then its log, NUL-terminated. */
+static bool failed(GLuint obj, bool program, char *log, GLsizei log_size)
+{
+    GLint ok = 0;
+    if (program) glGetProgramiv(obj, GL_LINK_STATUS, &ok);
+    else glGetShaderiv(obj, GL_COMPILE_STATUS, &ok);
+    if (ok) return false;
+    log[0] = '\0';
+    if (program) glGetProgramInfoLog(obj, log_size, NULL, log);
+    else glGetShaderInfoLog(obj, log_size, NULL, log);
+    return true;
+}
+
 static dm_result compile_stage(dmg *g, GLenum stage, const char *defines, const char *common, const char *src,
                                const char *name, GLuint *out, dm_error *err)
 {
@@ -12,11 +25,8 @@ static dm_result compile_stage(dmg *g, GLenum stage, const char *defines, const 
                                 "\n#line 1 2\n", src};
     glShaderSource(sh, 7, with_line, NULL);
     glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[768] = "";
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
+    char log[768];
+    if (failed(sh, false, log, sizeof log)) {
         dmg_free(g, kind, sh);
         return dm_fail(err, DM_ERR_GL, "%s (%s stage; source 1 = common.glsl, 2 = the pass): %s", name,
                        stage == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
@@ -42,11 +52,8 @@ dm_result dmg_program(dmg *g, const char *name, const char *defines, const char 
     glLinkProgram(prog);
     dmg_free(g, DMG_VERTEX_SHADER, vs);
     dmg_free(g, DMG_FRAGMENT_SHADER, fs);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[768] = "";
-        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+    char log[768];
+    if (failed(prog, true, log, sizeof log)) {
         dmg_free(g, DMG_PROGRAM, prog);
         return dm_fail(err, DM_ERR_GL, "%s: link failed: %s", name, log);
     }
