@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Writes, on stdout, a C file that embeds each GLSL file given as a NUL-terminated byte
-# array, plus a table { "name.glsl", bytes } that lib/render/dm_render_shaders.c looks
+# array, plus a table { "name.glsl", bytes } that lib/render/input/dm_render_shaders.c looks
 # names up in. Bytes (not string literals) so that no shader runs into C's 4095-character
 # literal limit under -Wpedantic. Uses od only (coreutils).
 set -eu

@@ -1,6 +1,6 @@
 /* dm_exr_read.h — a small, strict OpenEXR reader for the runtime side, which never links
  * OpenEXR (DESIGN.md). It reads what dermis writes: lib/image/dm_exr.c (ZIP) and
- * lib/render/dm_render_image.c (NO_COMPRESSION), and the usual files of other tools
+ * lib/render/picture/dm_render_image.c (NO_COMPRESSION), and the usual files of other tools
  * that keep to the same subset.
  *
  * Supported: single-part scanline files (version 2; the long-names flag is accepted),

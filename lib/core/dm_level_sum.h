@@ -1,5 +1,5 @@
 /* dm_level_sum.h — the diffusion pass's sum (shaders/diffusion.glsl) on the CPU, built level by
- * level as the blur on the CPU makes the levels (lib/render/dm_render_blur_cpu.c): per texel
+ * level as the blur on the CPU makes the levels (lib/render/passes/dm_pass_blur_cpu.c): per texel
  * of the irradiance grid
  *     sum = Σ_k w_k · (a_k > 1e-4 ? rgb_k / a_k : 0)     (per channel, in level order)
  * then rgb · c, alpha c, with c level 0's alpha (its chart coverage, 0 or 1). The same float

@@ -7,7 +7,7 @@
  * 2. Irradiance atlas (dm_ref_shade_atlas): atlas_size² texels, every light of the scene
  *    (shadows by ray casting), the normal map, the SH environment, × albedo^mix.
  * 3. Primary rays: one per pixel centre from the scene camera, exactly the renderer's
- *    projection (lib/render/dm_render.c look_at/perspective: forward f = target − eye,
+ *    projection (lib/core/dm_mat4.h, as the renderer's camera uses them: forward f = target − eye,
  *    right = f × up, up' = right × f; pixel (x, y), rows bottom-up, looks along
  *    f + (2(x+½)/W − 1)·tan(fov/2)·(W/H)·right + (2(y+½)/H − 1)·tan(fov/2)·up'), clipped to
  *    the renderer's near and far planes (view depth in [max(d − 2r, 0.01 r), d + 2r] for the

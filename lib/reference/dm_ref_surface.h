@@ -65,7 +65,7 @@ typedef struct dm_ref_surface_desc {
     dm_ref_texture env_background;                    /* equirect, float (NULL: none) */
 } dm_ref_surface_desc;
 
-/* Fills desc from an open pack, as lib/render/dm_render_pack.c reads it: mesh.vertices
+/* Fills desc from an open pack, as lib/render/input/dm_render_pack.c reads it: mesh.vertices
  * (the dermis layout is checked), mesh.indices, albedo, normal, specular, roughness,
  * env.sh (order 2), env.specular (its layers' m from the entry's provenance m0..m5),
  * env.background. The profile is the pack's "profile" entry when there is one, else
@@ -74,7 +74,7 @@ typedef struct dm_ref_surface_desc {
 dm_result dm_ref_surface_desc_from_pack(const dm_pack *pack, const dm_scene *scene, dm_profile *profile,
                                         dm_ref_surface_desc *desc, dm_error *err);
 
-/* Which terms are on: the renderer's plan for these effects (dm_render_plan.c). */
+/* Which terms are on: the renderer's plan for these effects (lib/render/input/dm_render_plan.c). */
 typedef struct dm_ref_terms {
     bool subsurface;   /* diffuse from the convolution of the irradiance atlas */
     bool specular;     /* KS specular per light */

@@ -8,28 +8,29 @@
 #include <string.h>
 
 #include "render/dm_render_internal.h"
+#include "render/gpu/dm_gpu_target.h"
 
 const dm_render_plan *dm_renderer_plan(const dm_renderer *r)
 {
-    return &r->plan;
+    return &r->f.plan;
 }
 
 void dm_renderer_size(const dm_renderer *r, int *width, int *height, int *irradiance_size)
 {
-    if (width) *width = r->width;
-    if (height) *height = r->height;
-    if (irradiance_size) *irradiance_size = r->irr_edge;
+    if (width) *width = r->f.width;
+    if (height) *height = r->f.height;
+    if (irradiance_size) *irradiance_size = r->f.irr_edge;
 }
 
 int dm_renderer_target_count(const dm_renderer *r)
 {
-    return r->target_count;
+    return r->f.gpu.target_count;
 }
 
 void dm_renderer_target_info(const dm_renderer *r, int index, dm_target_info *info)
 {
-    assert(index >= 0 && index < r->target_count);
-    const target *t = &r->targets[index];
+    assert(index >= 0 && index < r->f.gpu.target_count);
+    const dmg_target *t = &r->f.gpu.targets[index];
     info->name = t->name;
     info->width = t->width;
     info->height = t->height;
@@ -38,18 +39,16 @@ void dm_renderer_target_info(const dm_renderer *r, int index, dm_target_info *in
 
 int dm_renderer_find_target(const dm_renderer *r, const char *name)
 {
-    for (int i = 0; i < r->target_count; ++i)
-        if (strcmp(r->targets[i].name, name) == 0) return i;
-    return -1;
+    return dmg_find_target(&r->f.gpu, name);
 }
 
 dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_error *err)
 {
-    assert(index >= 0 && index < r->target_count);
-    const target *t = &r->targets[index];
-    if (t->fbo == r->screen_fbo) dmr_glow_settle(r); /* the linear picture holds the glow */
+    assert(index >= 0 && index < r->f.gpu.target_count);
+    const dmg_target *t = &r->f.gpu.targets[index];
+    if (t->fbo == r->f.screen_fbo) dmr_glow_settle(r); /* the linear picture holds the glow */
     for (int k = 1; k < DM_PROFILE_MAX_GAUSSIANS; ++k) /* a level whose upload waits */
-        if (t->fbo && t->fbo == r->irr_fbo[k] && (r->levels_stale >> k & 1u)) dmr_blur_cpu_sync(r);
+        if (t->fbo && t->fbo == r->f.level_fbo[k]) dmr_levels_need(&r->f, 1u << k);
     glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     if (t->channels == 1) {
@@ -59,7 +58,7 @@ dm_result dm_renderer_read_target(dm_renderer *r, int index, float *out, dm_erro
         glReadPixels(0, 0, t->width, t->height, GL_RGBA, GL_FLOAT, out);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return dmr_gl_check(t->name, err);
+    return dmg_check(t->name, err);
 }
 
 dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err)
@@ -69,14 +68,14 @@ dm_result dm_renderer_read_linear(dm_renderer *r, float *rgba, dm_error *err)
 
 void dm_renderer_view_size(const dm_renderer *r, int *width, int *height)
 {
-    const target *t = &r->targets[r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen")];
+    const dmg_target *t = &r->f.gpu.targets[r->f.view_in_target ? r->f.view_target : dm_renderer_find_target(r, "screen")];
     *width = t->width;
     *height = t->height;
 }
 
 dm_result dm_renderer_read_view(dm_renderer *r, float *rgba, dm_error *err)
 {
-    return dm_renderer_read_target(r, r->view_in_target ? r->view_target : dm_renderer_find_target(r, "screen"), rgba,
+    return dm_renderer_read_target(r, r->f.view_in_target ? r->f.view_target : dm_renderer_find_target(r, "screen"), rgba,
                                    err);
 }
 
@@ -90,14 +89,14 @@ static uint8_t dmr_srgb8(float c)
 dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err)
 {
     if (r->tonemapped) {
-        glBindFramebuffer(GL_FRAMEBUFFER, r->display_fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, r->tonemap.display_fbo);
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
         glReadBuffer(GL_COLOR_ATTACHMENT0);
-        glReadPixels(0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        glReadPixels(0, 0, r->f.width, r->f.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        return dmr_gl_check("display", err);
+        return dmg_check("display", err);
     }
-    size_t n = (size_t)r->width * r->height;
+    size_t n = (size_t)r->f.width * r->f.height;
     float *lin = malloc(n * 4 * sizeof *lin);
     if (!lin) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "display: cannot allocate %zu floats", n * 4);
     dm_result rc = dm_renderer_read_linear(r, lin, err);
@@ -113,27 +112,27 @@ dm_result dm_renderer_read_display(dm_renderer *r, uint8_t *rgba, dm_error *err)
  * texture and its framebuffer, made on first use at the output size (fixed at create). */
 static dm_result display_upload(dm_renderer *r, dm_error *err)
 {
-    size_t size = (size_t)r->width * r->height * 4;
+    size_t size = (size_t)r->f.width * r->f.height * 4;
     uint8_t *rgba = malloc(size);
     if (!rgba) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "blit_display: cannot allocate %zu bytes", size);
     dm_result rc = dm_renderer_read_display(r, rgba, err);
     if (rc == DM_OK && !r->blit_fbo) {
-        glGenTextures(1, &r->blit_tex);
+        r->blit_tex = dmg_make(&r->f.gpu, DMG_TEXTURE);
         glBindTexture(GL_TEXTURE_2D, r->blit_tex);
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, r->width, r->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, r->f.width, r->f.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST); /* no mip levels */
-        glGenFramebuffers(1, &r->blit_fbo);
+        r->blit_fbo = dmg_make(&r->f.gpu, DMG_FRAMEBUFFER);
         glBindFramebuffer(GL_FRAMEBUFFER, r->blit_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->blit_tex, 0);
         if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-            rc = dm_fail(err, DM_ERR_GL, "blit_display: its %dx%d RGBA8 framebuffer is incomplete", r->width,
-                         r->height);
+            rc = dm_fail(err, DM_ERR_GL, "blit_display: its %dx%d RGBA8 framebuffer is incomplete", r->f.width,
+                         r->f.height);
     }
     if (rc == DM_OK) {
         glBindTexture(GL_TEXTURE_2D, r->blit_tex);
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, r->width, r->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-        rc = dmr_gl_check("blit_display upload", err);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, r->f.width, r->f.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+        rc = dmg_check("blit_display upload", err);
     }
     free(rgba);
     return rc;
@@ -162,7 +161,7 @@ dm_result dm_renderer_blit_display(dm_renderer *r, unsigned int framebuffer, int
 
     dm_result rc = r->tonemapped ? DM_OK : display_upload(r, err);
     if (rc == DM_OK) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, r->tonemapped ? r->display_fbo : r->blit_fbo);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, r->tonemapped ? r->tonemap.display_fbo : r->blit_fbo);
         glReadBuffer(GL_COLOR_ATTACHMENT0);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, framebuffer);
         GLenum status = glCheckFramebufferStatus(GL_DRAW_FRAMEBUFFER);
@@ -174,10 +173,10 @@ dm_result dm_renderer_blit_display(dm_renderer *r, unsigned int framebuffer, int
         /* a blit obeys these two: the bytes land as they are, in the whole rectangle */
         glDisable(GL_SCISSOR_TEST);
         glDisable(GL_FRAMEBUFFER_SRGB);
-        bool same = width == r->width && height == r->height;
-        glBlitFramebuffer(0, 0, r->width, r->height, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
+        bool same = width == r->f.width && height == r->f.height;
+        glBlitFramebuffer(0, 0, r->f.width, r->f.height, x, y, x + width, y + height, GL_COLOR_BUFFER_BIT,
                           same ? GL_NEAREST : GL_LINEAR);
-        rc = dmr_gl_check("blit_display", err);
+        rc = dmg_check("blit_display", err);
     }
     if (scissor) glEnable(GL_SCISSOR_TEST);
     if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);

@@ -15,13 +15,13 @@
 /* wall clock, or the process CPU clock with dm_render_desc.timings_cpu */
 static double now_ms(const dm_renderer *r)
 {
-    return r->desc.timings_cpu ? dm_cpu_ms() : dm_now_ms();
+    return r->f.desc.timings_cpu ? dm_cpu_ms() : dm_now_ms();
 }
 
 void dmr_timing_frame_begin(dm_renderer *r, double *t_frame)
 {
     *t_frame = 0;
-    if (!r->desc.timings) return;
+    if (!r->f.desc.timings) return;
     glFinish();
     *t_frame = now_ms(r);
 }
@@ -29,8 +29,8 @@ void dmr_timing_frame_begin(dm_renderer *r, double *t_frame)
 void dmr_timing_pass_begin(dm_renderer *r, int i, double *t0)
 {
     *t0 = 0;
-    if (!r->desc.timings) return;
-    if (r->timing_cpu) {
+    if (!r->f.desc.timings) return;
+    if (r->f.software_gl) {
         glFinish();
         *t0 = now_ms(r);
     } else {
@@ -40,8 +40,8 @@ void dmr_timing_pass_begin(dm_renderer *r, int i, double *t0)
 
 void dmr_timing_pass_end(dm_renderer *r, int i, double t0)
 {
-    if (!r->desc.timings) return;
-    if (r->timing_cpu) {
+    if (!r->f.desc.timings) return;
+    if (r->f.software_gl) {
         glFinish();
         r->pass_ms[i] = now_ms(r) - t0;
     } else {
@@ -51,12 +51,12 @@ void dmr_timing_pass_end(dm_renderer *r, int i, double t0)
 
 void dmr_timing_frame_end(dm_renderer *r, double t_frame, const bool *skipped)
 {
-    if (!r->desc.timings) return;
+    if (!r->f.desc.timings) return;
     glFinish();
     r->frame_ms = now_ms(r) - t_frame;
-    if (r->timing_cpu) return;
+    if (r->f.software_gl) return;
     double sum = 0;
-    for (int i = 0; i < r->plan.pass_count; ++i) {
+    for (int i = 0; i < r->f.plan.pass_count; ++i) {
         if (skipped[i]) continue; /* no query ran, pass_ms already 0 */
         GLuint ns = 0;
         glGetQueryObjectuiv(r->queries[i], GL_QUERY_RESULT, &ns);
@@ -69,8 +69,8 @@ void dmr_timing_frame_end(dm_renderer *r, double t_frame, const bool *skipped)
 void dm_renderer_last_timings(const dm_renderer *r, double *pass_ms, double *frame_ms)
 {
     if (pass_ms)
-        for (int i = 0; i < r->plan.pass_count; ++i) pass_ms[i] = r->desc.timings ? r->pass_ms[i] : 0.0;
-    if (frame_ms) *frame_ms = r->desc.timings ? r->frame_ms : 0.0;
+        for (int i = 0; i < r->f.plan.pass_count; ++i) pass_ms[i] = r->f.desc.timings ? r->pass_ms[i] : 0.0;
+    if (frame_ms) *frame_ms = r->f.desc.timings ? r->frame_ms : 0.0;
 }
 
 const char *dm_renderer_gl_name(const dm_renderer *r)
@@ -80,7 +80,7 @@ const char *dm_renderer_gl_name(const dm_renderer *r)
 
 bool dm_renderer_timing_on_cpu(const dm_renderer *r)
 {
-    return r->timing_cpu;
+    return r->f.software_gl;
 }
 
 /* ---- the timings of a run (dm_render_timing.h) ---- */

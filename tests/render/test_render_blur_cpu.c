@@ -1,4 +1,4 @@
-/* The texture-space blur on the CPU (lib/render/dm_render_blur_cpu.c, core/dm_level_blur.h)
+/* The texture-space blur on the CPU (lib/render/passes/dm_pass_blur_cpu.c, core/dm_level_blur.h)
  * against the same passes in GL (shaders/blur.glsl), on the synthetic sphere: every blur level
  * and the final picture agree to float rounding, with full-resolution and with reduced levels;
  * which path runs follows dm_render_desc.blur_path; a view that stops the chain early leaves

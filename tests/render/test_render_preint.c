@@ -1,4 +1,4 @@
-/* The pre-integrated technique (lib/render/dm_render_preint.c, shaders/final.glsl with
+/* The pre-integrated technique (lib/render/passes/dm_pass_preint.c, shaders/final.glsl with
  * DM_PRE_INTEGRATED) on the synthetic shapes under llvmpipe, with a table baked here by
  * bake/dm_preintegrated.h and a constant curvature: flat (curvature 0) it is Lambert, on a
  * curved surface light reaches past the terminator, red most; the plan is one pass; missing

@@ -1,13 +1,14 @@
-/* dm_render_memory.c — the renderer's memory estimate (its formula: dm_render_memory.h) and
- * the checks dm_renderer_create makes before its first texture: the sizes this OpenGL makes,
- * then the memory available. */
+/* dm_render_estimate.c — the renderer's memory estimate (its formula: dm_render_memory.h), the
+ * sizes create resolves from the assets and options, and the predicates create and the
+ * estimate share. No GL: the checks against this OpenGL's limits are dm_render_limits.c. */
 #include <stdio.h>
 #include <string.h>
 
 #include "core/dm_level_blur.h"
 #include "core/dm_memory.h"
-#include "render/dm_render_internal.h"
 #include "render/dm_render_pack.h"
+#include "render/input/dm_render_estimate.h"
+#include "render/input/dm_render_kernel.h"
 
 void dmr_resolve_sizes(const dm_render_assets *a, const dm_render_desc *d, dmr_sizes *s)
 {
@@ -60,7 +61,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
     memset(m, 0, sizeof *m);
     m->gl_host_memory = in->software_gl;
 
-    /* inputs and their GL copies (upload_assets, dmr_env_upload, dmr_tsd_upload, dmr_preint_upload) */
+    /* inputs and their GL copies (the frame's uploads and the passes' upload hooks) */
     uint64_t mesh = (uint64_t)(a->vertex_count > 0 ? a->vertex_count : 0) * DM_VERTEX_STRIDE +
                     (uint64_t)(a->index_count > 0 ? a->index_count : 0) * 4;
     m->inputs_size += mesh;
@@ -89,10 +90,10 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         count_upload(m, &a->curvature, false);
     }
 
-    /* shadow maps (dmr_shadow_targets): DEPTH_COMPONENT32F */
+    /* shadow maps (passes/dm_pass_shadow.c): DEPTH_COMPONENT32F */
     m->shadow_size = (uint64_t)p->shadow_count * texels(s->shadow_edge, s->shadow_edge) * 4;
 
-    /* texture space (dmr_tsd_targets) and its blur on the CPU (dm_render_blur_cpu.c) */
+    /* texture space (passes/dm_pass_tsd.c) and its blur on the CPU (passes/dm_pass_blur_cpu.c) */
     const uint64_t N2 = texels(s->irr_edge, s->irr_edge);
     if (p->texture_space) {
         const uint64_t level = in->half_levels ? 8 : 16;
@@ -107,7 +108,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         m->texture_space_size += N2 * (4 * 16 + 4); /* the surface G-buffer and its depth */
     }
 
-    /* the screen (dmr_make_targets) */
+    /* the screen (frame/dm_frame_targets.c) */
     const uint64_t px = texels(s->width, s->height);
     uint64_t per_px = 16 + 4; /* screen RGBA32F, depth */
     if (p->deferred) per_px += 4 * 16;
@@ -189,115 +190,4 @@ void dm_render_memory_text(const dm_render_memory *m, char *out, size_t out_size
         dm_memory_size_text(part[i].size, t, sizeof t);
         n += (size_t)snprintf(out + n, out_size - n, "%s%s %s", i ? ", " : "", part[i].name, t);
     }
-}
-
-/* ---- what this OpenGL makes ----------------------------------------------------------- */
-
-void dm_render_gl_limits_get(dm_render_gl_limits *out)
-{
-    GLint v = 0, vp[2] = {0, 0};
-    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &v);
-    out->max_texture_size = v;
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &v);
-    out->max_renderbuffer_size = v;
-    glGetIntegerv(GL_MAX_VIEWPORT_DIMS, vp);
-    out->max_viewport[0] = vp[0], out->max_viewport[1] = vp[1];
-}
-
-bool dm_render_gl_can_make(unsigned int internal, int width, int height)
-{
-    bool depth = internal == GL_DEPTH_COMPONENT32F || internal == GL_DEPTH_COMPONENT24;
-    GLint w = 0;
-    glTexImage2D(GL_PROXY_TEXTURE_2D, 0, (GLint)internal, width, height, 0, depth ? GL_DEPTH_COMPONENT : GL_RGBA,
-                 GL_FLOAT, NULL);
-    glGetTexLevelParameteriv(GL_PROXY_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, &w);
-    glGetError(); /* a proxy beyond GL_MAX_TEXTURE_SIZE raises GL_INVALID_VALUE: that is the answer, not an error */
-    return w == width;
-}
-
-int dm_render_gl_largest_square(unsigned int internal, int max_edge)
-{
-    int lo = 0, hi = max_edge; /* lo makes one (0: none yet), hi + 1 does not */
-    while (lo < hi) {
-        int mid = lo + (hi - lo + 1) / 2;
-        if (dm_render_gl_can_make(internal, mid, mid)) lo = mid;
-        else hi = mid - 1;
-    }
-    return lo;
-}
-
-static const char *format_name(GLenum f)
-{
-    return f == GL_RGBA32F ? "RGBA32F" : f == GL_RGBA16F ? "RGBA16F" : f == GL_DEPTH_COMPONENT32F ? "32-bit depth" : "RGBA8";
-}
-
-/* One target the plan makes: within the context's limits, or a refusal that names them. */
-static dm_result check_target(const dm_renderer *r, const dm_render_gl_limits *L, const char *what, const char *target,
-                              GLenum format, int w, int h, bool renderbuffer, dm_error *err)
-{
-    int max_w = L->max_texture_size, max_h = L->max_texture_size;
-    if (renderbuffer) {
-        if (L->max_renderbuffer_size < max_w) max_w = max_h = L->max_renderbuffer_size;
-        if (L->max_viewport[0] < max_w) max_w = L->max_viewport[0];
-        if (L->max_viewport[1] < max_h) max_h = L->max_viewport[1];
-    }
-    if (w > max_w || h > max_h)
-        return dm_fail(err, DM_ERR_RANGE,
-                       "renderer: %s %dx%d: beyond this OpenGL's limits (%s: GL_MAX_TEXTURE_SIZE %d, "
-                       "GL_MAX_RENDERBUFFER_SIZE %d, GL_MAX_VIEWPORT_DIMS %dx%d): at most %dx%d",
-                       what, w, h, r->gl_name, L->max_texture_size, L->max_renderbuffer_size, L->max_viewport[0],
-                       L->max_viewport[1], max_w, max_h);
-    if (dm_render_gl_can_make(format, w, h)) return DM_OK;
-    const int bpt = format == GL_RGBA32F ? 16 : format == GL_RGBA16F ? 8 : 4;
-    char size[32];
-    dm_memory_size_text(texels(w, h) * (uint64_t)bpt, size, sizeof size);
-    int sq = dm_render_gl_largest_square(format, w > h ? w : h);
-    return dm_fail(err, DM_ERR_RANGE,
-                   "renderer: %s %dx%d: this OpenGL (%s) does not make its %s target, %dx%d %s (%s in one texture: "
-                   "more than it holds in one, although within GL_MAX_TEXTURE_SIZE %d); the largest square it makes "
-                   "in that format is %dx%d",
-                   what, w, h, r->gl_name, target, w, h, format_name(format), size, L->max_texture_size, sq, sq);
-}
-
-dm_result dmr_check_limits(const dm_renderer *r, const dm_render_assets *a, dm_error *err)
-{
-    const dm_render_plan *p = &r->plan;
-    dm_render_gl_limits L;
-    dm_render_gl_limits_get(&L);
-    glGetError();
-    dm_result rc = check_target(r, &L, "output size", "screen", GL_RGBA32F, r->width, r->height, true, err);
-    if (rc == DM_OK && p->texture_space) {
-        rc = check_target(r, &L, "irradiance size", "surface G-buffer", GL_RGBA32F, r->irr_edge, r->irr_edge, true, err);
-        if (rc == DM_OK && r->level_format != GL_RGBA32F)
-            rc = check_target(r, &L, "irradiance size", "irradiance", r->level_format, r->irr_edge, r->irr_edge, true,
-                              err);
-    }
-    if (rc == DM_OK && p->shadow_count)
-        rc = check_target(r, &L, "shadow map size", "shadow", GL_DEPTH_COMPONENT32F, r->shadow_edge, r->shadow_edge,
-                          true, err);
-    if (rc != DM_OK || r->desc.memory_available_size == UINT64_MAX) return rc;
-
-    /* memory: the estimate as create resolved it, against what is available */
-    dmr_sizes s = {r->width, r->height, r->irr_edge, r->shadow_edge, {0}};
-    memcpy(s.level_edge, r->level_edge, sizeof s.level_edge);
-    bool wanted = dmr_blur_cpu_wanted(&r->desc, r->timing_cpu);
-    dmr_memory_in in = {.a = a, .plan = p, .sizes = &s, .half_levels = r->level_format != GL_RGBA32F,
-                        .diffusion_sum = r->diffusion_sum, .software_gl = r->timing_cpu,
-                        .cpu_blur = wanted && r->level_format == GL_RGBA32F, .cpu_glow = wanted};
-    dm_render_memory m;
-    dmr_memory_count(&in, &m);
-    dm_memory_available avail;
-    if (r->desc.memory_available_size) {
-        avail.size = r->desc.memory_available_size;
-        snprintf(avail.source, sizeof avail.source, "dm_render_desc.memory_available_size");
-    } else {
-        dm_memory_available_get(&avail);
-    }
-    char what[128], parts[512];
-    if (p->texture_space) snprintf(what, sizeof what, "the renderer at %dx%d, irradiance %d", r->width, r->height, r->irr_edge);
-    else snprintf(what, sizeof what, "the renderer at %dx%d", r->width, r->height);
-    dm_render_memory_text(&m, parts, sizeof parts);
-    const char *advice = p->texture_space ? "lower the irradiance size (--irradiance) or the output size (--size)"
-                                          : "lower the output size (--size)";
-    return dm_memory_check_against(m.total_size, &avail, what, parts, advice, err);
 }

@@ -1,4 +1,4 @@
-#include "render/dm_render_shaders.h"
+#include "render/input/dm_render_shaders.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,0 +1,11 @@
+/* dm_pass_diffusion.h — the diffusion pass in GL: the levels' weighted sum at each texel of
+ * the irradiance grid, for the final pass and the diffusion view. No state of its own. */
+#ifndef DM_PASS_DIFFUSION_H
+#define DM_PASS_DIFFUSION_H
+
+#include "render/frame/dm_frame_pass.h"
+
+bool dmr_diffusion_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out);
+void dmr_diffusion_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt);
+
+#endif

@@ -1,0 +1,147 @@
+/* dm_pass_tsd.c — texture-space diffusion (d'Eon & Luebke, GPU Gems 3 ch. 14) on the GPU: the
+ * ts_gbuffer pass unwraps the surface into the UV atlas once per scene, the irradiance pass
+ * lights each covered texel of it every frame, then each Gaussian level k is made from level
+ * k−1 by a U and a V blur of variance v_k − v_{k−1}, tap offsets in mm (the frame's kernel)
+ * turned into UV by the stretch chain. The diffusion pass (dm_pass_diffusion.c) sums the
+ * levels; the blurs may run on the CPU instead (dm_pass_blur_cpu.c). Owns the stretch
+ * uploads and the level targets. */
+#include <stdio.h>
+
+#include "render/frame/dm_frame_bind.h"
+#include "render/gpu/dm_gpu_target.h"
+#include "render/passes/dm_pass_tsd.h"
+
+dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error *err)
+{
+    if (!f->plan.texture_space) return DM_OK;
+    dm_result rc = dm_profile_validate(&f->profile, "assets: profile", err);
+    if (rc == DM_OK && (a->stretch_level_count < 1 || a->stretch_level_count > DM_PROFILE_MAX_GAUSSIANS))
+        return dm_fail(err, DM_ERR_MISMATCH, "assets: %d stretch levels, subsurface needs 1..%d",
+                       a->stretch_level_count, DM_PROFILE_MAX_GAUSSIANS);
+    for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k) {
+        rc = dmr_need_texture(&a->stretch[k], "a stretch level", "subsurface", err);
+        if (rc == DM_OK && a->stretch[k].format != DM_TEX_RG32F && a->stretch[k].format != DM_TEX_RG16F)
+            rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: stretch level %d is %s, expected rg32f or rg16f", k,
+                         dmr_format_name(a->stretch[k].format));
+    }
+    int taps = a->scene->blur_taps;
+    if (rc == DM_OK && (taps < 3 || taps > DM_BLUR_TAPS_MAX || taps % 2 == 0))
+        rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, %d]", taps,
+                     DM_BLUR_TAPS_MAX);
+    return rc;
+}
+
+dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
+{
+    (void)st;
+    if (!f->plan.texture_space) return DM_OK;
+    dm_result rc = DM_OK;
+    f->stretch_count = a->stretch_level_count;
+    for (int k = 0; k < a->stretch_level_count && rc == DM_OK; ++k)
+        rc = dmr_upload(f, &a->stretch[k], "stretch", false, GL_LINEAR, &f->tex_stretch[k], err);
+    if (rc == DM_OK && a->stretch_mask.texels)
+        rc = dmr_upload(f, &a->stretch_mask, "stretch_mask", false, GL_LINEAR, &f->tex_mask, err);
+    return rc;
+}
+
+dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err)
+{
+    dmr_tsd *t = st;
+    const dm_render_plan *p = &f->plan;
+    if (!p->texture_space) return DM_OK;
+    dm_result rc = DM_OK;
+    char name[32];
+    for (int k = 0; k < p->blur_levels && rc == DM_OK; ++k) {
+        snprintf(name, sizeof name, k == 0 ? "irradiance" : "blur%d", k);
+        rc = dmg_color_target(&f->gpu, name, f->level_edge[k], f->level_edge[k], f->level_format, GL_CLAMP_TO_BORDER,
+                              &f->level_tex[k], &f->level_fbo[k], err);
+    }
+    /* the U pass of level k writes at level k's width and level k−1's height: its input still
+     * holds detail along V that only the V pass may filter away. One target per size. */
+    for (int k = 1; k < p->blur_levels && rc == DM_OK; ++k) {
+        int w = f->level_edge[k], h = f->level_edge[k - 1], j = 1;
+        while (j < k && !(f->level_edge[j] == w && f->level_edge[j - 1] == h)) ++j;
+        if (j < k) {
+            t->tmp_tex[k] = t->tmp_tex[j], t->tmp_fbo[k] = t->tmp_fbo[j];
+            continue;
+        }
+        snprintf(name, sizeof name, "blur_tmp%d", k);
+        rc = dmg_color_target(&f->gpu, name, w, h, f->level_format, GL_CLAMP_TO_BORDER, &t->tmp_tex[k], &t->tmp_fbo[k],
+                              err);
+    }
+    /* the sum in float32 even over half-float levels: the sum per pixel was float too */
+    if (rc == DM_OK && f->diffusion_sum)
+        rc = dmg_color_target(&f->gpu, "diffusion", f->irr_edge, f->irr_edge, GL_RGBA32F, GL_CLAMP_TO_BORDER,
+                              &f->diff_tex, &f->diff_fbo, err);
+    if (rc != DM_OK) return rc;
+    /* the G-buffer's depth marks covered texels (0.5; 1 in gutters); the irradiance target
+     * shares it, and keeps its once-cleared gutters (frames write covered texels only) */
+    t->depth = dmg_depth_buffer(&f->gpu, f->irr_edge, f->irr_edge);
+    rc = dmg_gbuffer_targets(&f->gpu, "ts_gbuffer", f->irr_edge, f->irr_edge, t->depth, t->gbuf_tex, &t->gbuf_fbo, err);
+    if (rc == DM_OK) rc = dmg_attach_depth(f->level_fbo[0], t->depth, "irradiance", err);
+    if (rc != DM_OK) return rc;
+    glClearColor(0, 0, 0, 0);
+    glClear(GL_COLOR_BUFFER_BIT);
+    return DM_OK;
+}
+
+/* The mesh unwrapped into the atlas (irradiance.glsl with DM_GBUFFER): what each texel's
+ * lighting needs that no light, camera or frame setting changes. Depth test ALWAYS with writes
+ * (the row's state), so that where triangles overlap in UV the last one drawn holds the texel,
+ * as the colour does. Made once; dm_renderer_set_scene (material values) makes it stale. */
+bool dmr_ts_gbuffer_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out)
+{
+    (void)ps;
+    const dmr_tsd *t = st;
+    *out = (dmr_output){t->gbuf_fbo, f->irr_edge, f->irr_edge, 4};
+    return !t->gbuf_valid;
+}
+
+void dmr_ts_gbuffer_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    dmr_draw_mesh(f);
+    ((dmr_tsd *)st)->gbuf_valid = true;
+}
+
+/* Each covered texel lit from the G-buffer (irradiance.glsl with DM_DEFERRED): the full-screen
+ * triangle at the far plane, depth test GREATER against the coverage depth. */
+bool dmr_irradiance_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out)
+{
+    (void)st, (void)ps;
+    *out = (dmr_output){f->level_fbo[0], f->irr_edge, f->irr_edge, 0};
+    return true;
+}
+
+void dmr_irradiance_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)ps, (void)opt;
+    dmr_bind_gbuffer(f->prog[DM_PASS_IRRADIANCE], ((const dmr_tsd *)st)->gbuf_tex);
+    dmr_draw_fullscreen(f);
+}
+
+/* The U pass writes at level k's width and level k−1's height (the taps read by UV). */
+bool dmr_blur_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out)
+{
+    const dmr_tsd *t = st;
+    int k = ps->index, n = f->level_edge[k];
+    if (ps->kind == DM_PASS_BLUR_V) *out = (dmr_output){f->level_fbo[k], n, n, 0};
+    else *out = (dmr_output){t->tmp_fbo[k], n, f->level_edge[k - 1], 0};
+    return !f->blur_cpu;
+}
+
+void dmr_blur_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt)
+{
+    (void)opt;
+    const dmr_tsd *t = st;
+    int k = ps->index;
+    bool along_v = ps->kind == DM_PASS_BLUR_V;
+    GLuint p = f->prog[ps->kind];
+    int s = k - 1 < f->stretch_count - 1 ? k - 1 : f->stretch_count - 1;
+    dmg_bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? t->tmp_tex[k] : f->level_tex[k - 1]);
+    dmg_bind(UNIT_STRETCH, GL_TEXTURE_2D, f->tex_stretch[s]);
+    dmg_u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
+    glUniform1fv(dmg_loc(p, "u_offset_mm"), f->taps, f->kernel.offset_mm[k]);
+    glUniform1fv(dmg_loc(p, "u_weight"), f->taps, f->kernel.weight);
+    dmr_draw_fullscreen(f);
+}
