@@ -35,8 +35,8 @@ set object 12 rect from 4,40 to 50,46 fc rgb rd
 set label 12 "frame/  frame context, units, defines, one binder" at 27,43 center
 set object 13 rect from 4,49 to 50,54 fc rgb rd
 set label 13 "passes/  one file a pass; passes never call passes" at 27,51.5 center
-set object 14 rect from 14,55.5 to 40,59 fc rgb rd
-set label 14 "dm\\_render.c  the pass table" at 27,57.2 center
+set object 14 rect from 17,55.5 to 50,59 fc rgb rd
+set label 14 "dm\\_render*.c  pass table, frame loop" at 33.5,57.2 center font "DejaVu Sans,11"
 set object 15 rect from 2,65 to 52,71 fc rgb rt
 set label 15 "lib/host  OSMesa context" at 27,68 center
 set object 16 rect from 2,74 to 108,80 fc rgb tl
@@ -52,7 +52,7 @@ set arrow from 27,40 to 27,37 as 1
 set arrow from 10.5,40 to 10.5,37 as 1
 set arrow from 43.5,40 to 43.5,37 as 1
 set arrow from 27,49 to 27,46 as 1
-set arrow from 27,55.5 to 27,54 as 1
+set arrow from 33.5,55.5 to 33.5,54 as 1
 set arrow from 27,65 to 27,62 as 1
 set arrow from 83,12 to 83,9 as 1
 set arrow from 83,22 to 83,19 as 1

@@ -1,6 +1,6 @@
 // common.glsl - prepended to every pass (after #version and the DM_* defines).
 // Shared functions and the light uniforms; GLSL has no #include, the loader
-// (lib/render/dm_render_shaders.c) concatenates: version, stage + effect defines, this, the pass.
+// (lib/render/frame/dm_frame_program.c) concatenates: version, stage + effect defines, this, the pass.
 const float DM_PI = 3.14159265358979;
 const float DM_SKIN_F0 = 0.028;
 const int DM_MAX_LIGHTS = 8;
@@ -316,7 +316,7 @@ float dm_shadow(int i, vec3 P, vec3 Ng)
 }
 
 #if defined(DM_TRANSLUCENCY) && defined(DM_FRAGMENT)
-// Translucency (lib/render/dm_render_translucency.c, Jimenez et al. 2010): light C I T(d)
+// Translucency (lib/render/passes/dm_pass_translucency.c, Jimenez et al. 2010): light C I T(d)
 // max(-Ng.L, 0) through thickness d (mm) between the point, shrunk inward along Ng, and the
 // first surface the light's depth map holds; T(d) = sum_k w_k exp(-d^2 / 2 v_k).
 uniform sampler2D u_tdepth0; // the shadow maps' raw depths (sampler object, no compare)

@@ -3,7 +3,7 @@
 // irradiance alpha, 0 or 1), alpha = coverage: the texture the final pass and the diffusion
 // view read once per pixel (dm_diffusion with DM_DIFFUSION_SUM), coverage-normalised. Only
 // with full-resolution levels (reduced ones are summed per pixel). The blur on the CPU makes
-// the same sums itself (lib/render/dm_render_blur_cpu.c).
+// the same sums itself (lib/render/passes/dm_pass_blur_cpu.c).
 uniform vec2 u_size; // the irradiance grid's texels
 #ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;

@@ -4,11 +4,11 @@
 // specular per light. DM_ENERGY: diffuse x (1 - rho_s rho_dt(N.V)). DM_ENV: SH diffuse (when no
 // subsurface) and, with DM_SPECULAR, split-sum environment specular.
 // u_mode: 0 final, 1 specular only, 2 diffuse only, 3 UV checker, 4 wireframe.
-// DM_SCREEN_SPACE (the ss_shade pass, lib/render/dm_render_ssss.c): three outputs instead of the
+// DM_SCREEN_SPACE (the ss_shade pass, lib/render/passes/dm_pass_ssss.c): three outputs instead of the
 // sum: o_color = diffuse irradiance x albedo^mix with alpha = eye depth (mesh units), o_aux =
 // post-scatter factor albedo^(1-mix) (x energy out), o_spec = specular. DM_TRANSLUCENCY: light
 // through thin parts joins the diffuse irradiance (without texture-space subsurface; with it,
-// the irradiance pass adds it). DM_PRE_INTEGRATED (lib/render/dm_render_preint.c): each light's
+// the irradiance pass adds it). DM_PRE_INTEGRATED (lib/render/passes/dm_pass_preint.c): each light's
 // diffuse from the table D(N.L, curvature) per channel instead of N.L.
 // DM_GBUFFER (the gbuffer pass): the head's surface (position and uv, geometric and shading
 // normal, albedo, rho_s, roughness; the maps read here, at the mip level rasterising gives)

@@ -1,5 +1,5 @@
 // ss_blur.glsl - one pass of the screen-space separable subsurface blur (Jimenez et al. 2015;
-// lib/render/dm_render_ssss.c). u_src: rgb = diffuse irradiance x albedo^mix, a = eye depth in
+// lib/render/passes/dm_pass_ssss.c). u_src: rgb = diffuse irradiance x albedo^mix, a = eye depth in
 // mesh units (0: no skin). The kernel's offsets are mm on the surface: pixels = mm x
 // u_px_per_mm / depth. Follow-surface: a tap whose depth differs from the centre's by more than
 // its lateral distance fades to the centre's value (fully at twice it), so nothing bleeds

@@ -16,7 +16,7 @@ void main()
     vec3 lin = texelFetch(u_src, ivec2(gl_FragCoord.xy), 0).rgb;
 #ifdef DM_GLOW
     // the glow_add pass's sum, made here: screen + intensity x glow, the same float addition
-    // its blending did (dm_render_glow.c adds it to the screen itself when that is read)
+    // its blending did (passes/dm_pass_glow.c adds it to the screen itself when that is read)
     lin += u_glow_intensity * texture(u_glow, v_uv).rgb;
 #endif
     vec3 c = max(lin * u_exposure_scale, vec3(0.0));
