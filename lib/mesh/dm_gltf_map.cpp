@@ -95,7 +95,7 @@ bool recv_bytes(dm_isolate_pipe *pp, std::vector<unsigned char> *out)
     return n == 0 || dm_isolate_read(pp, out->data(), (size_t)n);
 }
 
-void child(void *ctx, int fd)
+void map_in_child(void *ctx, int fd)
 {
     map_query &q = *static_cast<map_query *>(ctx);
     dm_error e = {};
@@ -112,7 +112,7 @@ void child(void *ctx, int fd)
         send_string(fd, bytes);
 }
 
-dm_result parent(void *ctx, dm_isolate_pipe *pp, dm_error *err)
+dm_result map_in_parent(void *ctx, dm_isolate_pipe *pp, dm_error *err)
 {
     map_query &q = *static_cast<map_query *>(ctx);
     dm_result r = DM_OK;
@@ -132,7 +132,7 @@ dm_result query(map_query &q, dm_error *err)
 {
     dm_result r = dm_input_check(q.path, DM_INPUT_MESH, nullptr, err); // here: a FIFO must not reach the child
     if (r != DM_OK) return r;
-    return dm_isolate_run(q.path, dm_isolate_limit_ms(q.path), child, parent, &q, err);
+    return dm_isolate_run(q.path, dm_isolate_limit_ms(q.path), map_in_child, map_in_parent, &q, err);
 }
 
 void describe(const map_query &q, char *source, size_t size)
