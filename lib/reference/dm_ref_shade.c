@@ -36,8 +36,13 @@ void dm_ref_shade_light_dir(const dm_ref_surface *s, const dm_ref_point *p, int 
 double dm_ref_shade_visibility(const dm_ref_surface *s, const dm_ref_point *p, int light)
 {
     if (!s->light_shadow[light]) return 1.0;
+    /* from the smooth surface, not the facet: where the facet turns from a light its
+     * interpolated normals still face, a ray from the facet hits the mesh beside it (the
+     * terminator band); offset along the front normal, never through to the back, so a
+     * concave wall still shadows itself where its normals turn from the light */
     double org[3], L[3], t_far = INFINITY;
-    for (int c = 0; c < 3; ++c) org[c] = p->p_mm[c] + p->ng[c] * s->eps_mm;
+    dm_ref_surface_smooth_point(s, p, org);
+    for (int c = 0; c < 3; ++c) org[c] += p->ng[c] * s->eps_mm;
     const double *l = s->light_pos[light];
     if (l[3] == 0.0) {
         memcpy(L, l, sizeof L);

@@ -5,11 +5,13 @@
  * The same quantities as shaders/irradiance.glsl and shaders/final.glsl (+ common.glsl),
  * term by term, with three differences, all towards the truth:
  * - Shadows are hard shadows of the true geometry: a ray (dm_raycast_occluded) from the
- *   point, offset by s->eps_mm along the triangle's geometric front normal, towards the
- *   light (to the point light's position, or to infinity). The renderer filters a shadow
- *   map (3×3 PCF, normal offset): its edges are soft and shifted by up to a few shadow
- *   texels. Only lights with casts_shadow, with the shadows effect on, are tested, as
- *   in the renderer.
+ *   point lifted onto the smooth surface the vertex normals describe
+ *   (dm_ref_surface_smooth_point: no terminator band where a facet turns from a light its
+ *   normals still face), offset by s->eps_mm along the triangle's geometric front normal,
+ *   towards the light (to the point light's position, or to infinity). The renderer
+ *   filters a shadow map (3×3 PCF, normal offset): its edges are soft and shifted by up to
+ *   a few shadow texels. Only lights with casts_shadow, with the shadows effect on, are
+ *   tested, as in the renderer.
  * - ρdt and the split-sum factor come from the exact BRDF integral (dm_ref_surface.h), the
  *   Beckmann D from dm_beckmann in double, not from the 8-bit LUT.
  * - Maps are sampled bilinearly at level 0 (dm_ref_texture.h), no mipmaps.

@@ -339,3 +339,21 @@ void dm_ref_surface_point(const dm_ref_surface *s, int32_t tri, double b1, doubl
         p->albedo[0] = p->albedo[1] = p->albedo[2] = 1.0;
     }
 }
+
+void dm_ref_surface_smooth_point(const dm_ref_surface *s, const dm_ref_point *p, double out_mm[3])
+{
+    assert(p->triangle >= 0 && p->triangle < s->mesh.triangle_count);
+    const dm_ref_surface_desc *d = &s->desc;
+    const double w[3] = {1.0 - p->b1 - p->b2, p->b1, p->b2};
+    memcpy(out_mm, p->p_mm, 3 * sizeof *out_mm);
+    for (int k = 0; k < 3; ++k) {
+        const float *v = d->vertices + (size_t)d->indices[(size_t)p->triangle * 3 + k] * DM_REF_VERTEX_FLOATS;
+        double n[3], h = 0;
+        for (int c = 0; c < 3; ++c) n[c] = v[DM_PACK_VERTEX_NORMAL / 4 + c];
+        if (!(normalize3(n) > 1e-12)) continue;
+        for (int c = 0; c < 3; ++c) h += (p->p_mm[c] - v[DM_PACK_VERTEX_POSITION / 4 + c] * s->mm_per_unit) * n[c];
+        /* below corner k's tangent plane by −h: lift by half of w_k of that, along n_k */
+        if (h < 0)
+            for (int c = 0; c < 3; ++c) out_mm[c] -= 0.5 * w[k] * h * n[c];
+    }
+}

@@ -135,6 +135,21 @@ typedef struct dm_ref_point {
  * the renderer's rasterizer does in either pass). */
 void dm_ref_surface_point(const dm_ref_surface *s, int32_t tri, double b1, double b2, dm_ref_point *p);
 
+/* Where p lies on the smooth surface its interpolated normals describe, in mm: the point
+ * shadow rays start from. After Hanika, "Hacking the shadow terminator" (Ray Tracing Gems
+ * II, 2021): P = p->p_mm is projected onto the tangent plane of each corner i (position
+ * v_i, unit vertex normal n_i), keeping only lifts (h_i = dot(P − v_i, n_i) < 0), and
+ *   out = P − ½ Σ w_i min(h_i, 0) n_i      (w the barycentrics of p).
+ * The ½ is ours: on a quadric patch the facet lies below the surface by ½ Σ w_i (P − v_i)ᵀ
+ * H (P − v_i) and Hanika's blend of the projections (without the ½) lies above it by
+ * exactly as much, so their midpoint is the surface to second order (measured on a 24 × 12
+ * sphere: facets up to 1.7 % of R inside, this point 0.04 % of R). Hanika's full lift
+ * would start rays above the mesh where the surface turns from the light, so they pass
+ * over the facets beside it. A concave or flat corner leaves P where it is; a corner whose
+ * normal is zero lifts nothing: out is finite for finite vertices, zero-area triangles
+ * included. */
+void dm_ref_surface_smooth_point(const dm_ref_surface *s, const dm_ref_point *p, double out_mm[3]);
+
 #ifdef __cplusplus
 }
 #endif
