@@ -5,9 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dm_math.h"
 #include "core/dm_parallel.h"
 
-#define PI 3.14159265358979323846
 #define COS_ZERO (1.0 - 1e-12) /* |cos| above this: treat the direction as vertical */
 #define COS_90 1e-6            /* cos below this: grazing, reflect whole */
 
@@ -196,7 +196,7 @@ static void run_photon(const stack *s, rng *r, double *t)
         double dw = p.w * s->mu_a[l] / mu_t;
         t[T_ABS + l] += dw;
         p.w -= dw;
-        if (s->mu_a[l] < mu_t) spin(&p, hg_cos(s->g[l], rng_uniform(r)), 2.0 * PI * rng_uniform(r));
+        if (s->mu_a[l] < mu_t) spin(&p, hg_cos(s->g[l], rng_uniform(r)), DM_2PI * rng_uniform(r));
         if (p.w < DM_SKIN_MC_ROULETTE_WEIGHT) {
             if (p.w > 0.0 && rng_uniform(r) <= DM_SKIN_MC_ROULETTE_CHANCE) p.w /= DM_SKIN_MC_ROULETTE_CHANCE;
             else return;
@@ -337,7 +337,7 @@ dm_result dm_skin_mc_run(const dm_skin_mc_desc *d, dm_skin_mc_result *out, dm_er
     for (int i = 0; i < s.layers; ++i)
         mean_se(tallies, stride, T_ABS + (size_t)i, batches, batch, N, 1.0, &out->absorbed[i], &out->absorbed_se[i]);
     for (int i = 0; i < s.bins; ++i) {
-        double area = PI * s.dr * s.dr * (2.0 * i + 1.0); /* π((i+1)² − i²) dr² */
+        double area = DM_PI * s.dr * s.dr * (2.0 * i + 1.0); /* π((i+1)² − i²) dr² */
         double m, se;
         mean_se(tallies, stride, T_ABS + (size_t)s.layers + (size_t)i, batches, batch, N, 1.0 / area, &m, &se);
         if (rd_r) rd_r[i] = m;
