@@ -9,7 +9,7 @@
 
 int dm_skin_layer_diffusive(const dm_skin_layer *l)
 {
-    return l->sigma_a <= l->sigma_s_prime;
+    return l->sigma_a <= l->sigma_s_prime && l->thickness_mm * (l->sigma_a + l->sigma_s_prime) >= 1.0;
 }
 
 /* Extrapolation distance z_b = 2AD of a face with index ratio eta. */

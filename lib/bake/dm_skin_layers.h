@@ -23,8 +23,11 @@
  * where the light travels up):
  *   R12 = R1 + T1 R2 T1↑ / (1 − R1↑ R2),   T12 = T1 T2 / (1 − R1↑ R2).
  *
- * Where diffusion is invalid (σa > σs′: α′ < 1/2, e.g. a dark epidermis at short
- * wavelengths, or blood-rich dermis in the Soret band), the layer is treated as a pure
+ * Where diffusion is invalid — σa > σs′ (α′ < 1/2: a dark epidermis at short wavelengths,
+ * a blood-rich dermis in the Soret band), or a slab thinner than one transport mean free
+ * path l = 1/σt′ (its real source would lie below it: the multipole's R and T then turn
+ * negative; from d ≥ l on they are positive and tend smoothly to the thick limit) — the
+ * layer is treated as a pure
  * absorber instead (Beer–Lambert): no diffuse reflectance, transmittance e^(−σa d) going
  * down (collimated light at normal incidence) and e^(−2σa d) going up (diffuse light; the
  * mean 1/μ of a Lambertian flux is 2), no lateral spread (∂/∂s² = 0); a semi-infinite one
@@ -59,7 +62,8 @@ typedef struct dm_skin_slab {
     dm_skin_dual t, t_up; /* transmittance going down, going up (0 for a semi-infinite slab) */
 } dm_skin_slab;
 
-/* 1 when diffusion holds for the layer (σa ≤ σs′), 0 when the Beer–Lambert fallback applies. */
+/* 1 when diffusion holds for the layer (σa ≤ σs′ and d σt′ ≥ 1), 0 when the Beer–Lambert
+ * fallback applies. The switch is a step: results jump where a parameter crosses it. */
 int dm_skin_layer_diffusive(const dm_skin_layer *l);
 
 /* The slab's responses at frequency s_per_mm ≥ 0 with pairs image pairs (0: the default of
