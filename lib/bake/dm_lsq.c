@@ -144,6 +144,22 @@ void dm_lsq_nnls(const double *rm, int n, const double *c, double *w)
     }
 }
 
+void dm_lsq_nnls_shared(const double *a, int rows, int cols, const double *y, int rhs_count, double *scratch,
+                        double *w)
+{
+    double beta[DM_LSQ_MAX], rd[DM_LSQ_MAX], rm[DM_LSQ_MAX * DM_LSQ_MAX];
+    double *qr = scratch, *yj = scratch + (size_t)rows * cols;
+    memcpy(qr, a, sizeof(double) * (size_t)rows * cols);
+    dm_lsq_qr(qr, rows, cols, beta, rd);
+    for (int k = 0; k < cols; ++k)
+        for (int i = 0; i < cols; ++i) rm[(size_t)k * cols + i] = i < k ? qr[(size_t)k * rows + i] : i == k ? rd[k] : 0.0;
+    for (int j = 0; j < rhs_count; ++j) {
+        memcpy(yj, y + (size_t)j * rows, sizeof(double) * (size_t)rows);
+        dm_lsq_qr_apply(qr, rows, cols, beta, yj);
+        dm_lsq_nnls(rm, cols, yj, w + (size_t)j * cols);
+    }
+}
+
 /* Cholesky solve of the SPD n × n system m x = y (row-major); 0 when not positive definite. */
 int dm_lsq_cholesky_solve(const double *m_in, int n, const double *y, double *x)
 {

@@ -20,6 +20,12 @@ void dm_lsq_small_lsq(const double *a_in, int rows, int cols, const double *y_in
 /* Lawson–Hanson NNLS: min ‖R w − c‖, w ≥ 0, for the n × n upper-triangular R (full storage,
  * zeros below) left by the QR of the full problem; n ≤ DM_LSQ_MAX. */
 void dm_lsq_nnls(const double *rm, int n, const double *c, double *w);
+/* min ‖A w_j − y_j‖, w_j ≥ 0, for rhs_count right-hand sides that share A (rows × cols,
+ * column-major, rows ≥ cols, cols ≤ DM_LSQ_MAX): one QR of A, then dm_lsq_nnls per
+ * right-hand side. y_j is column j of y (rows × rhs_count, column-major, unchanged); w_j is
+ * written to w + j·cols. scratch holds rows·(cols + 1) doubles (the caller's). */
+void dm_lsq_nnls_shared(const double *a, int rows, int cols, const double *y, int rhs_count, double *scratch,
+                        double *w);
 /* Solves the symmetric positive definite n × n system m x = y; 0 when it is not SPD. */
 int dm_lsq_cholesky_solve(const double *m_in, int n, const double *y, double *x);
 

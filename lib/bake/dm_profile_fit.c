@@ -10,7 +10,7 @@
 #include "bake/dm_lsq.h"
 #include "core/dm_math.h"
 
-enum { NMAX = DM_PROFILE_MAX_GAUSSIANS, LSQ_MAX = DM_LSQ_MAX };
+enum { NMAX = DM_PROFILE_MAX_GAUSSIANS };
 
 /* ---- sources ------------------------------------------------------------------------ */
 
@@ -523,31 +523,26 @@ dm_result dm_profile_represent(const dm_profile_source *s, int gaussian_count, d
         double sk = s_lo * pow(s_hi / s_lo, (double)k / (n - 1));
         variance_mm2[k] = sk * sk;
     }
-    double *a = malloc(sizeof(double) * (size_t)m * n * 2 + sizeof(double) * (size_t)m);
+    /* a (m × n), the scratch of dm_lsq_nnls_shared (m × (n + 1)), the three channels as
+     * right-hand sides (m × 3) and their weights (n × 3) */
+    double *a = malloc(sizeof(double) * ((size_t)m * (2 * n + 4) + 3 * (size_t)n));
     if (!a) {
         grid_free(&g);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile representation");
     }
-    double *qrb = a + (size_t)m * n, *y = qrb + (size_t)m * n;
+    double *scratch = a + (size_t)m * n, *y = scratch + (size_t)m * (n + 1), *w = y + 3 * (size_t)m;
     for (int k = 0; k < n; ++k)
         for (int i = 0; i < m; ++i) a[(size_t)k * m + i] = g.sq[i] * dm_gaussian(variance_mm2[k], g.r[i]);
-    double beta[LSQ_MAX], rd[LSQ_MAX], rm[LSQ_MAX * LSQ_MAX];
-    memcpy(qrb, a, sizeof(double) * (size_t)m * n);
-    dm_lsq_qr(qrb, m, n, beta, rd);
-    for (int k = 0; k < n; ++k)
-        for (int i = 0; i < n; ++i) rm[(size_t)k * n + i] = i < k ? qrb[(size_t)k * m + i] : i == k ? rd[k] : 0.0;
+    for (int c = 0; c < 3; ++c) memcpy(y + (size_t)c * m, g.b[c], sizeof(double) * (size_t)m);
+    dm_lsq_nnls_shared(a, m, n, y, 3, scratch, w);
     for (int c = 0; c < 3; ++c) {
-        double w[LSQ_MAX];
-        memcpy(y, g.b[c], sizeof(double) * (size_t)m);
-        dm_lsq_qr_apply(qrb, m, n, beta, y);
-        dm_lsq_nnls(rm, n, y, w);
         double e = 0.0;
         for (int i = 0; i < m; ++i) {
             double d = -g.b[c][i];
-            for (int k = 0; k < n; ++k) d += a[(size_t)k * m + i] * w[k];
+            for (int k = 0; k < n; ++k) d += a[(size_t)k * m + i] * w[(size_t)c * n + k];
             e += d * d;
         }
-        for (int k = 0; k < n; ++k) weight[k][c] = w[k];
+        for (int k = 0; k < n; ++k) weight[k][c] = w[(size_t)c * n + k];
         rel_error[c] = g.energy[c] > 0.0 ? sqrt(e / g.energy[c]) : 0.0;
     }
     free(a);

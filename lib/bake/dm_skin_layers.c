@@ -1,0 +1,130 @@
+/* dm_skin_layers.c — multipole slabs in the frequency domain and their stacking
+ * (dm_skin_layers.h). */
+#include "bake/dm_skin_layers.h"
+
+#include <assert.h>
+#include <math.h>
+
+#include "core/dm_diffusion.h"
+
+int dm_skin_layer_diffusive(const dm_skin_layer *l)
+{
+    return l->sigma_a <= l->sigma_s_prime && l->thickness_mm * (l->sigma_a + l->sigma_s_prime) >= 1.0;
+}
+
+/* Extrapolation distance z_b = 2AD of a face with index ratio eta. */
+static double extrapolation(double eta, double sigma_t)
+{
+    double fdr = dm_fresnel_diffuse_reflectance(eta);
+    return 2.0 * (1.0 + fdr) / (1.0 - fdr) / (3.0 * sigma_t);
+}
+
+/* sgn(z) e^(−|z| q) and its derivative in s² (∂q/∂s² = 1/2q), added to acc with sign. */
+static void pole(double z, double q, double sign, dm_skin_dual *acc)
+{
+    double e = copysign(exp(-fabs(z) * q), z) * sign;
+    acc->v += e;
+    acc->d += e * (q > 0.0 ? -fabs(z) / (2.0 * q) : -INFINITY);
+}
+
+/* The responses of a diffusive slab, lit from the face whose extrapolation is zb_lit (the
+ * other zb_far): reflectance and transmittance. */
+static void multipole(double alpha_p, double l, double d, double zb_lit, double zb_far, int n, double q,
+                      dm_skin_dual *r, dm_skin_dual *t)
+{
+    *r = (dm_skin_dual){0, 0};
+    if (t) *t = (dm_skin_dual){0, 0};
+    if (isinf(d)) { /* the dipole: real source at l, its image at −l − 2 z_b */
+        pole(l, q, 1.0, r);
+        pole(-l - 2.0 * zb_lit, q, -1.0, r);
+    } else {
+        double period = 2.0 * (d + zb_lit + zb_far);
+        for (int a = n; a >= 0; --a) /* the far, small images first */
+            for (int sgn = (a ? -1 : 1); sgn <= 1; sgn += 2) {
+                double zr = sgn * a * period + l, zv = sgn * a * period - l - 2.0 * zb_lit;
+                pole(zr, q, 1.0, r);
+                pole(zv, q, -1.0, r);
+                if (t) {
+                    pole(d - zr, q, 1.0, t);
+                    pole(d - zv, q, -1.0, t);
+                }
+            }
+    }
+    double k = 0.5 * alpha_p;
+    r->v *= k, r->d *= k;
+    if (t) t->v *= k, t->d *= k;
+}
+
+void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out)
+{
+    double d = l->thickness_mm;
+    if (!dm_skin_layer_diffusive(l)) { /* Beer–Lambert: absorbs, does not spread */
+        *out = (dm_skin_slab){{0, 0}, {0, 0}, {0, 0}, {0, 0}};
+        if (!isinf(d)) {
+            out->t.v = exp(-l->sigma_a * d);
+            out->t_up.v = exp(-2.0 * l->sigma_a * d);
+        }
+        return;
+    }
+    int n = pairs > 0 ? pairs : DM_MULTIPOLE_PAIRS_DEFAULT;
+    double sigma_t = l->sigma_a + l->sigma_s_prime, alpha_p = l->sigma_s_prime / sigma_t;
+    double sigma_tr2 = 3.0 * l->sigma_a * sigma_t, q = sqrt(sigma_tr2 + s_per_mm * s_per_mm);
+    double zb_top = extrapolation(l->eta_top, sigma_t), zb_bottom = extrapolation(l->eta_bottom, sigma_t);
+    multipole(alpha_p, 1.0 / sigma_t, d, zb_top, zb_bottom, n, q, &out->r, isinf(d) ? NULL : &out->t);
+    if (isinf(d)) {
+        out->t = out->r_up = out->t_up = (dm_skin_dual){0, 0};
+        return;
+    }
+    multipole(alpha_p, 1.0 / sigma_t, d, zb_bottom, zb_top, n, q, &out->r_up, &out->t_up);
+}
+
+/* a·b and a/b on duals. */
+static dm_skin_dual mul(dm_skin_dual a, dm_skin_dual b)
+{
+    return (dm_skin_dual){a.v * b.v, a.d * b.v + a.v * b.d};
+}
+
+static dm_skin_dual quot(dm_skin_dual a, dm_skin_dual b)
+{
+    return (dm_skin_dual){a.v / b.v, (a.d * b.v - a.v * b.d) / (b.v * b.v)};
+}
+
+void dm_skin_stack_transform(const dm_skin_layer *layers, int layer_count, int pairs, double s_per_mm, dm_skin_dual *r,
+                             dm_skin_dual *t)
+{
+    assert(layer_count >= 1 && layer_count <= DM_SKIN_LAYERS_MAX);
+    dm_skin_slab below;
+    dm_skin_layer_transform(&layers[layer_count - 1], pairs, s_per_mm, &below);
+    dm_skin_dual rs = below.r, ts = below.t;
+    for (int i = layer_count - 2; i >= 0; --i) { /* fold from the bottom up */
+        dm_skin_slab top;
+        dm_skin_layer_transform(&layers[i], pairs, s_per_mm, &top);
+        dm_skin_dual one_minus = mul(top.r_up, rs);
+        one_minus = (dm_skin_dual){1.0 - one_minus.v, -one_minus.d};
+        dm_skin_dual bounce = quot(mul(mul(top.t, rs), top.t_up), one_minus);
+        ts = quot(mul(top.t, ts), one_minus);
+        rs = (dm_skin_dual){top.r.v + bounce.v, top.r.d + bounce.d};
+    }
+    *r = rs;
+    if (t) *t = ts;
+}
+
+void dm_skin_layers_at(const dm_skin_params *p, int lambda_index, dm_skin_layer layers[2])
+{
+    dm_skin_optics o;
+    dm_skin_optics_at(p, lambda_index, &o);
+    layers[0] = (dm_skin_layer){o.epidermis_sigma_a, o.epidermis_sigma_s_prime, p->epidermis_mm, p->eta, 1.0};
+    layers[1] = (dm_skin_layer){o.dermis_sigma_a, o.dermis_sigma_s_prime, p->dermis_mm > 0.0 ? p->dermis_mm : INFINITY,
+                                1.0, p->eta};
+}
+
+void dm_skin_reflectance_at(const dm_skin_params *p, int lambda_index, int pairs, double s_per_mm, dm_skin_dual *r,
+                            unsigned *invalid)
+{
+    dm_skin_layer layers[2];
+    dm_skin_layers_at(p, lambda_index, layers);
+    if (invalid)
+        *invalid = (dm_skin_layer_diffusive(&layers[0]) ? 0u : DM_SKIN_INVALID_EPIDERMIS) |
+                   (dm_skin_layer_diffusive(&layers[1]) ? 0u : DM_SKIN_INVALID_DERMIS);
+    dm_skin_stack_transform(layers, 2, pairs, s_per_mm, r, NULL);
+}

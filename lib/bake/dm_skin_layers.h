@@ -1,0 +1,94 @@
+/* dm_skin_layers.h — layered slabs by the multipole, in the radial frequency domain
+ * (Donner & Jensen 2005), and the two-layer skin built from them.
+ *
+ * Transform: F(s) = ∫₀^∞ 2πr J0(s r) f(r) dr (s in rad/mm), so F(0) is the total
+ * ∫ 2πr f dr and a Gaussian G(v, r) of dm_profile.h has F = exp(−v s²/2). The inverse is
+ * f(r) = (1/2π) ∫ s J0(s r) F(s) ds. Every function here also returns ∂F/∂(s²), exact, so
+ * ⟨r²⟩ = −4 F′/F at s = 0 (the second moment, hence the RMS radius) needs no quadrature.
+ *
+ * One slab (σa, σs′ mm⁻¹, thickness d mm): σt′ = σa + σs′, α′ = σs′/σt′, l = 1/σt′,
+ * σtr = √(3σa σt′), D = 1/(3σt′); each face has its own z_b = 2AD, A = (1 + Fdr)/(1 − Fdr)
+ * with Fdr = dm_fresnel_diffuse_reflectance(η) of the index ratio η ≥ 1 across that face
+ * (η = 1 between two layers of one index: z_b ≈ 2D). Poles i = −n..n:
+ *   z_r,i = 2i(d + z_b,top + z_b,bottom) + l,   z_v,i = 2i(d + z_b,top + z_b,bottom) − l − 2 z_b,top,
+ *   R̃(s) = α′/2 Σ_i [sgn(z_r,i) e^(−|z_r,i| q) − sgn(z_v,i) e^(−|z_v,i| q)],
+ *   T̃(s) = α′/2 Σ_i [sgn(d − z_r,i) e^(−|d − z_r,i| q) − sgn(d − z_v,i) e^(−|d − z_v,i| q)],
+ * q = √(σtr² + s²): each pole's closed-form transform (the 2-D transform of the radial flux
+ * of a point source). At s = 0, R̃ is dm_multipole_total; a semi-infinite slab keeps only
+ * the dipole i = 0 (dm_dipole_total). Seen from below, a slab is the same with its faces
+ * swapped (the up-going reflectance and transmittance).
+ *
+ * Stacking, top layer 1 over the rest 2 (pointwise in s; Kubelka–Munk-like series of
+ * inter-reflections; Donner & Jensen 2005 eq. 12–13, with the up-going R and T of layer 1
+ * where the light travels up):
+ *   R12 = R1 + T1 R2 T1↑ / (1 − R1↑ R2),   T12 = T1 T2 / (1 − R1↑ R2).
+ *
+ * Where diffusion is invalid — σa > σs′ (α′ < 1/2: a dark epidermis at short wavelengths,
+ * a blood-rich dermis in the Soret band), or a slab thinner than one transport mean free
+ * path l = 1/σt′ (its real source would lie below it: the multipole's R and T then turn
+ * negative; from d ≥ l on they are positive and tend smoothly to the thick limit) — the
+ * layer is treated as a pure
+ * absorber instead (Beer–Lambert): no diffuse reflectance, transmittance e^(−σa d) going
+ * down (collimated light at normal incidence) and e^(−2σa d) going up (diffuse light; the
+ * mean 1/μ of a Lambertian flux is 2), no lateral spread (∂/∂s² = 0); a semi-infinite one
+ * reflects nothing. The layer reports it (dm_skin_layer_diffusive), callers count it.
+ */
+#ifndef DM_SKIN_LAYERS_H
+#define DM_SKIN_LAYERS_H
+
+#include "bake/dm_skin_optics.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum { DM_SKIN_LAYERS_MAX = 4 };
+
+/* A transform value and its derivative with respect to s² (mm²). */
+typedef struct dm_skin_dual {
+    double v, d;
+} dm_skin_dual;
+
+/* One slab of a stack. */
+typedef struct dm_skin_layer {
+    double sigma_a, sigma_s_prime; /* mm⁻¹: σa ≥ 0, σs′ > 0 */
+    double thickness_mm;           /* > 0; INFINITY for a semi-infinite last layer */
+    double eta_top, eta_bottom;    /* index ratio (this layer over its neighbour) at each face, ≥ 1 */
+} dm_skin_layer;
+
+/* Its four responses at one frequency. */
+typedef struct dm_skin_slab {
+    dm_skin_dual r, r_up; /* reflectance lit from above, from below */
+    dm_skin_dual t, t_up; /* transmittance going down, going up (0 for a semi-infinite slab) */
+} dm_skin_slab;
+
+/* 1 when diffusion holds for the layer (σa ≤ σs′ and d σt′ ≥ 1), 0 when the Beer–Lambert
+ * fallback applies. The switch is a step: results jump where a parameter crosses it. */
+int dm_skin_layer_diffusive(const dm_skin_layer *l);
+
+/* The slab's responses at frequency s_per_mm ≥ 0 with pairs image pairs (0: the default of
+ * dm_diffusion.h, DM_MULTIPOLE_PAIRS_DEFAULT); the fallback above where not diffusive. */
+void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out);
+
+/* Reflectance (and transmittance, t may be NULL) of layer_count (1..DM_SKIN_LAYERS_MAX)
+ * layers, top first, at s_per_mm. */
+void dm_skin_stack_transform(const dm_skin_layer *layers, int layer_count, int pairs, double s_per_mm, dm_skin_dual *r,
+                             dm_skin_dual *t);
+
+/* Flags of dm_skin_reflectance_at: which layers fell back to Beer–Lambert. */
+enum { DM_SKIN_INVALID_EPIDERMIS = 1, DM_SKIN_INVALID_DERMIS = 2 };
+
+/* The skin's two layers at wavelength row lambda_index (dm_skin_data.h): epidermis (faces:
+ * η over air, 1 over the dermis) over the dermis (1 over the epidermis; η over air below a
+ * finite dermis, semi-infinite when p->dermis_mm is 0). p must be validated. */
+void dm_skin_layers_at(const dm_skin_params *p, int lambda_index, dm_skin_layer layers[2]);
+
+/* The skin's reflectance transform R̃(s) at lambda_index; *invalid (may be NULL) receives
+ * the DM_SKIN_INVALID_* flags. R̃(0).v is the total diffuse reflectance at that λ. */
+void dm_skin_reflectance_at(const dm_skin_params *p, int lambda_index, int pairs, double s_per_mm, dm_skin_dual *r,
+                            unsigned *invalid);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

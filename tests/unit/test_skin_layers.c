@@ -1,0 +1,158 @@
+/* Layered slabs in the frequency domain (bake/dm_skin_layers.h): one layer against the
+ * single-medium dipole / multipole of core/dm_diffusion.h (closed forms at s = 0, a
+ * brute-force Hankel transform of R(r) at s > 0), the stacking's limits, the fallback. */
+#define _XOPEN_SOURCE 700 /* j0 */
+#include <criterion/criterion.h>
+#include <math.h>
+
+#include "bake/dm_skin_layers.h"
+#include "core/dm_diffusion.h"
+#include "core/dm_math.h"
+
+/* ∫ 2πr J0(s r) f(r) dr by Simpson in u = ln r over [1e-8, 300] mm, 400000 intervals
+ * (h ≈ 8e-5: at r = 300 a step is 0.026 mm, 1/120 of J0's period at s = 10; the integrand
+ * r²f is smooth on that scale), plus the disc below 1e-8 (negligible). Independent of the
+ * closed-form pole transforms under test. */
+static double hankel(double s, double sa, double ss, double eta, double d)
+{
+    const int n = 400000;
+    double u0 = log(1e-8), h = (log(300.0) - u0) / n, acc = 0.0;
+    for (int i = 0; i <= n; ++i) {
+        double r = exp(u0 + i * h);
+        double f = isinf(d) ? dm_dipole(sa, ss, eta, r) : dm_multipole(sa, ss, eta, d, 0, r);
+        acc += (i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0) * DM_2PI * r * r * j0(s * r) * f;
+    }
+    return acc * h / 3.0;
+}
+
+Test(skin_layers, one_layer_is_the_dipole_and_multipole_at_s0)
+{
+    const double sa[3] = {0.01, 0.3, 2.0}, ss[3] = {1.0, 4.8, 9.2};
+    for (int k = 0; k < 3; ++k) {
+        dm_skin_layer semi = {sa[k], ss[k], INFINITY, 1.4, 1.0}, slab = {sa[k], ss[k], 2.0, 1.4, 1.4}; /* ≥ l */
+        dm_skin_dual r;
+        dm_skin_stack_transform(&semi, 1, 0, 0.0, &r, NULL);
+        double ref = dm_dipole_total(sa[k], ss[k], 1.4);
+        cr_assert(fabs(r.v - ref) < 1e-13, "dipole %d: %.15g vs %.15g", k, r.v, ref);
+        dm_skin_stack_transform(&slab, 1, 0, 0.0, &r, NULL);
+        ref = dm_multipole_total(sa[k], ss[k], 1.4, 2.0, 0);
+        cr_assert(fabs(r.v - ref) < 1e-13, "multipole %d: %.15g vs %.15g", k, r.v, ref);
+    }
+}
+
+/* The closed-form transform at s > 0 against brute force: 1e-6 relative (the quadrature's
+ * own error is ~1e-9; the multipole's own truncation is the same on both sides). */
+Test(skin_layers, one_layer_matches_hankel_transform_of_r)
+{
+    const double s[3] = {0.5, 2.0, 10.0};
+    const double depth[2] = {INFINITY, 0.7};
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 3; ++k) {
+            dm_skin_layer l = {0.05, 2.5, depth[j], 1.4, 1.4};
+            dm_skin_dual r;
+            dm_skin_stack_transform(&l, 1, 0, s[k], &r, NULL);
+            double ref = hankel(s[k], 0.05, 2.5, 1.4, depth[j]);
+            cr_assert(fabs(r.v - ref) < 1e-6 * fabs(ref), "d %g s %g: %.12g vs %.12g", depth[j], s[k], r.v, ref);
+        }
+}
+
+/* ∂R̃/∂s² at 0 is −⟨r²⟩/4 · total: against ∫ 2πr r² R dr by brute force (Simpson in ln r to
+ * 2000 mm; σtr = 0.6 mm⁻¹ leaves e^−1200 beyond), 1e-7 relative. */
+Test(skin_layers, derivative_is_the_second_moment)
+{
+    double sa = 0.05, ss = 2.5, eta = 1.4;
+    const int n = 400000;
+    double u0 = log(1e-8), h = (log(2000.0) - u0) / n, m2 = 0.0;
+    for (int i = 0; i <= n; ++i) {
+        double r = exp(u0 + i * h);
+        m2 += (i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0) * DM_2PI * r * r * r * r * dm_dipole(sa, ss, eta, r);
+    }
+    m2 *= h / 3.0;
+    dm_skin_layer l = {sa, ss, INFINITY, eta, 1.0};
+    dm_skin_dual r;
+    dm_skin_stack_transform(&l, 1, 0, 0.0, &r, NULL);
+    cr_assert(fabs(-4.0 * r.d - m2) < 1e-7 * m2, "%.12g vs %.12g", -4.0 * r.d, m2);
+    /* the same through a stack: a finite difference in s² (step 1e-6 mm⁻²: error ~1e-6) */
+    dm_skin_layer two[2] = {{2.0, 9.0, 0.25, 1.4, 1.0}, {0.1, 3.0, INFINITY, 1.0, 1.4}};
+    dm_skin_dual a, b;
+    dm_skin_stack_transform(two, 2, 0, 1e-3, &a, NULL);
+    dm_skin_stack_transform(two, 2, 0, sqrt(1e-6 + 1e-6), &b, NULL);
+    double fd = (b.v - a.v) / 1e-6;
+    cr_assert(fabs(fd - 0.5 * (a.d + b.d)) < 1e-5 * fabs(fd), "fd %.9g vs %.9g", fd, a.d);
+}
+
+/* A top layer 40 transport lengths deep (σtr d = 40 at the least absorbing): nothing of the
+ * bottom shows; the stack is the top layer alone, semi-infinite, to e^−40·2. */
+Test(skin_layers, thick_top_layer_hides_the_bottom)
+{
+    double sa = 0.1, ss = 3.0, d = 40.0 / sqrt(3.0 * sa * (sa + ss));
+    dm_skin_layer two[2] = {{sa, ss, d, 1.4, 1.0}, {0.01, 1.0, INFINITY, 1.0, 1.4}}, one = {sa, ss, INFINITY, 1.4, 1.0};
+    for (double s = 0.0; s < 20.0; s = s * 3 + 0.1) {
+        dm_skin_dual a, b;
+        dm_skin_stack_transform(two, 2, 0, s, &a, NULL);
+        dm_skin_stack_transform(&one, 1, 0, s, &b, NULL);
+        cr_assert(fabs(a.v - b.v) < 1e-12 && fabs(a.d - b.d) < 1e-10 * fabs(b.d) + 1e-14, "s %g: %.15g vs %.15g", s,
+                  a.v, b.v);
+    }
+}
+
+/* One medium cut in two (index-matched, the top at least 2 transport lengths thick) stays
+ * itself within 2 %: DJ2005's combination is approximate (each layer re-launches its light
+ * at depth l, and Fdr(1) = 0.0016, not 0), so this is the approximation's size, measured. */
+Test(skin_layers, one_medium_cut_in_two)
+{
+    double sa = 0.05, ss = 2.5, l = 1.0 / (sa + ss);
+    double whole = dm_dipole_total(sa, ss, 1.4);
+    for (double f = 2.0; f < 40.0; f *= 1.5) {
+        dm_skin_layer two[2] = {{sa, ss, f * l, 1.4, 1.0}, {sa, ss, INFINITY, 1.0, 1.4}};
+        dm_skin_dual r;
+        dm_skin_stack_transform(two, 2, 0, 0.0, &r, NULL);
+        cr_assert(fabs(r.v - whole) < 0.02 * whole, "d = %g l: %.5f vs %.5f", f, r.v, whole);
+    }
+}
+
+/* Every response of a diffusive slab is in [0, 1] at every frequency, the transmittances
+ * fall with s (they spread), and R + T ≤ 1 at s = 0. */
+Test(skin_layers, responses_bounded)
+{
+    const double sa[3] = {0.02, 0.5, 4.0};
+    for (int k = 0; k < 3; ++k)
+        for (double f = 1.0; f < 50.0; f *= 1.3) {
+            dm_skin_layer l = {sa[k], 5.0, f / (sa[k] + 5.0), 1.4, 1.0};
+            cr_assert(dm_skin_layer_diffusive(&l));
+            double prev_t = 2.0;
+            for (double s = 0.0; s < 100.0; s = s * 2 + 0.05) {
+                dm_skin_slab o;
+                dm_skin_layer_transform(&l, 0, s, &o);
+                double v[4] = {o.r.v, o.r_up.v, o.t.v, o.t_up.v};
+                for (int j = 0; j < 4; ++j)
+                    cr_assert(v[j] >= 0.0 && v[j] <= 1.0, "sa %g d %g l s %g: response %d = %g", sa[k], f, s, j, v[j]);
+                if (s == 0.0) cr_assert(o.r.v + o.t.v <= 1.0);
+                cr_assert(o.t.v <= prev_t + 1e-15);
+                prev_t = o.t.v;
+            }
+        }
+}
+
+/* The documented fallback: thinner than one transport length, or σa > σs′. */
+Test(skin_layers, beer_lambert_fallback)
+{
+    dm_skin_layer thin = {0.5, 9.0, 0.05, 1.4, 1.0}, dark = {20.0, 6.0, 0.25, 1.4, 1.0};
+    dm_skin_layer at = {0.5, 9.0, 1.0 / 9.5, 1.4, 1.0};
+    cr_assert(!dm_skin_layer_diffusive(&thin));
+    cr_assert(!dm_skin_layer_diffusive(&dark));
+    cr_assert(dm_skin_layer_diffusive(&at));
+    dm_skin_slab o;
+    dm_skin_layer_transform(&dark, 0, 3.0, &o);
+    cr_assert(o.r.v == 0.0 && o.r_up.v == 0.0 && o.r.d == 0.0);
+    cr_assert(fabs(o.t.v - exp(-5.0)) < 1e-15 && fabs(o.t_up.v - exp(-10.0)) < 1e-15 && o.t.d == 0.0);
+    dm_skin_layer semi_dark = {20.0, 6.0, INFINITY, 1.4, 1.0};
+    dm_skin_layer_transform(&semi_dark, 0, 0.0, &o);
+    cr_assert(o.r.v == 0.0 && o.t.v == 0.0);
+    /* over a diffusive bottom: R = T↓ R2 T↑ exactly (no reflection of its own) */
+    dm_skin_layer two[2] = {thin, {0.05, 2.5, INFINITY, 1.0, 1.4}};
+    dm_skin_dual r;
+    dm_skin_stack_transform(two, 2, 0, 0.0, &r, NULL);
+    double r2 = dm_dipole_total(0.05, 2.5, 1.0);
+    cr_assert(fabs(r.v - exp(-0.025) * exp(-0.05) * r2) < 1e-15, "%.15g", r.v);
+}

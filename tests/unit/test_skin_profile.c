@@ -1,0 +1,273 @@
+/* The physical skin as a profile (bake/dm_skin_profile.h, bake/dm_skin_optics.h): the
+ * parameter check, the exemplars against the NIST forearm cohort, the RMS radii against
+ * GPU Gems 3, the fit, the hard cases and a sweep, and a pin on every parameter. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bake/dm_skin_layers.h"
+#include "bake/dm_skin_profile.h"
+#include "core/dm_math.h"
+
+static dm_skin_params preset(const char *name)
+{
+    dm_skin_params p;
+    cr_assert_eq(dm_skin_preset(name, &p, NULL), DM_OK);
+    return p;
+}
+
+static double total_at(const dm_skin_params *p, double nm)
+{
+    dm_skin_dual r;
+    dm_skin_reflectance_at(p, dm_skin_data_index(nm), 0, 0.0, &r, NULL);
+    return r.v;
+}
+
+/* ---- the parameter check ---- */
+
+static void refused(dm_skin_params p, const char *field, dm_result code)
+{
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_params_validate(&p, "skin", &err), code, "%s: %s", field, err.detail);
+    cr_assert(strstr(err.detail, field) && strstr(err.detail, "expected"), "message '%s' should name %s", err.detail,
+              field);
+    dm_profile prof;
+    cr_assert_eq(dm_skin_profile_fit(&p, NULL, "x", &prof, NULL, &err), code);
+}
+
+Test(skin_profile, out_of_range_refused_by_name)
+{
+    dm_skin_params d = dm_skin_params_default(), p;
+    cr_assert_eq(dm_skin_params_validate(&d, "skin", NULL), DM_OK);
+    p = d, p.melanin_fraction = 0.51, refused(p, "melanin_fraction", DM_ERR_RANGE);
+    p = d, p.melanin_fraction = -0.01, refused(p, "melanin_fraction", DM_ERR_RANGE);
+    p = d, p.eumelanin_blend = 1.1, refused(p, "eumelanin_blend", DM_ERR_RANGE);
+    p = d, p.blood_fraction = 0.11, refused(p, "blood_fraction", DM_ERR_RANGE);
+    p = d, p.blood_fraction = NAN, refused(p, "blood_fraction", DM_ERR_NON_FINITE);
+    p = d, p.oxygenation = -0.1, refused(p, "oxygenation", DM_ERR_RANGE);
+    p = d, p.epidermis_mm = 0.0, refused(p, "epidermis_mm", DM_ERR_RANGE);
+    p = d, p.epidermis_mm = INFINITY, refused(p, "epidermis_mm", DM_ERR_NON_FINITE);
+    p = d, p.dermis_mm = 0.05, refused(p, "dermis_mm", DM_ERR_RANGE);
+    p = d, p.eta = 0.9, refused(p, "eta", DM_ERR_RANGE);
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_preset("martian", &p, &err), DM_ERR_INVALID_ARGUMENT);
+    cr_assert(strstr(err.detail, "martian") && strstr(err.detail, "caucasian"));
+    dm_skin_profile_options opt = {.gaussian_count = 2, .variance_mm2 = {1.0, 0.5}};
+    dm_profile prof;
+    cr_assert_eq(dm_skin_profile_fit(&d, &opt, "x", &prof, NULL, &err), DM_ERR_RANGE);
+    cr_assert(strstr(err.detail, "variance_mm2[1]"), "%s", err.detail);
+}
+
+/* ---- the NIST forearm cohort (100 subjects, SKIN-MODEL.md): 5 %, median, 95 % ---- */
+
+static const double nist_nm[3] = {450, 550, 650}; /* the cohort's rows are 451, 550, 652 nm */
+static const double nist_lo[3] = {0.116, 0.190, 0.386}, nist_med[3] = {0.269, 0.327, 0.577},
+                    nist_hi[3] = {0.325, 0.391, 0.658};
+
+/* The light exemplar (DJ2006's Caucasian, Cm 0.005) is inside the bands at 550 and 650 nm,
+ * above the median at 550 (light near the top); at 450 nm it is brighter than the 95th
+ * percentile, by 0.03 (measured 0.355): the model's known excess, held here so a change
+ * shows, and reported in docs/skin-model.md. */
+Test(skin_profile, caucasian_against_nist)
+{
+    dm_skin_params p = preset("caucasian");
+    for (int k = 0; k < 3; ++k) printf("caucasian %g nm: %.3f (NIST %.3f..%.3f)\n", nist_nm[k], total_at(&p, nist_nm[k]), nist_lo[k], nist_hi[k]);
+    for (int k = 1; k < 3; ++k) {
+        double r = total_at(&p, nist_nm[k]);
+        cr_assert(r >= nist_lo[k] && r <= nist_hi[k], "%g nm: %.3f", nist_nm[k], r);
+    }
+    cr_assert(total_at(&p, 550) > nist_med[1]);
+    double r450 = total_at(&p, 450);
+    cr_assert(r450 > nist_hi[0] && r450 < nist_hi[0] + 0.05, "450 nm: %.3f", r450);
+}
+
+/* Jacques' light adults (melanosome fraction 1.3–6.3 %): at Cm 0.013 (and blood 0.2–2 %)
+ * all three wavelengths land inside the bands. */
+Test(skin_profile, light_skin_inside_nist_bands)
+{
+    const double ch[3] = {0.002, 0.005, 0.02};
+    for (int j = 0; j < 3; ++j) {
+        dm_skin_params p = dm_skin_params_default();
+        p.melanin_fraction = 0.013, p.blood_fraction = ch[j];
+        for (int k = 0; k < 3; ++k) {
+            double r = total_at(&p, nist_nm[k]);
+            cr_assert(r >= nist_lo[k] && r <= nist_hi[k], "Ch %g, %g nm: %.3f", ch[j], nist_nm[k], r);
+        }
+    }
+}
+
+/* The darker exemplars fall below the cohort's 5th percentile at every wavelength: DJ2006's
+ * melanin spread evenly through a 0.25 mm epidermis absorbs more than the cohort's darkest
+ * skins (docs/skin-model.md). Held: dark < Asian < Caucasian, each below the 5 % row, the
+ * Asian's red pinned to its measured 0.169 within 0.02 and the African's under 0.01. */
+Test(skin_profile, darker_exemplars_below_nist)
+{
+    dm_skin_params c = preset("caucasian"), a = preset("asian"), f = preset("african");
+    for (int k = 0; k < 3; ++k) {
+        double rc = total_at(&c, nist_nm[k]), ra = total_at(&a, nist_nm[k]), rf = total_at(&f, nist_nm[k]);
+        printf("%g nm: asian %.3f african %.4f (NIST 5 %% %.3f)\n", nist_nm[k], ra, rf, nist_lo[k]);
+        cr_assert(rc > ra && ra >= rf && ra < nist_lo[k] && rf < 0.01, "%g nm: %.3f %.3f %.4f", nist_nm[k], rc, ra, rf);
+    }
+    cr_assert(fabs(total_at(&a, 650) - 0.169) < 0.02);
+}
+
+/* ---- the profile ---- */
+
+/* GPU Gems 3's RMS radii 1.66 / 0.37 / 0.22 mm were fitted to another skin (DJ2005's
+ * three-layer model with other parameters): within a factor of 2 of each, red > green >
+ * blue. Measured: 1.47 / 0.63 / 0.26 mm. */
+Test(skin_profile, caucasian_rms_radius_vs_gems3)
+{
+    dm_skin_params p = preset("caucasian");
+    dm_profile prof;
+    dm_skin_report rep;
+    cr_assert_eq(dm_skin_profile_fit(&p, NULL, "caucasian", &prof, &rep, NULL), DM_OK);
+    const double gems[3] = {1.66, 0.37, 0.22};
+    for (int c = 0; c < 3; ++c) {
+        printf("RMS radius %c: %.3f mm (GPU Gems 3 %.2f, ratio %.2f)\n", "RGB"[c], rep.rms_radius_mm[c], gems[c],
+               rep.rms_radius_mm[c] / gems[c]);
+        cr_assert(rep.rms_radius_mm[c] > gems[c] / 2 && rep.rms_radius_mm[c] < gems[c] * 2);
+    }
+    cr_assert(rep.rms_radius_mm[0] > rep.rms_radius_mm[1] && rep.rms_radius_mm[1] > rep.rms_radius_mm[2]);
+}
+
+/* The six GPU Gems variances fit the Caucasian profile to 8 / 7 / 12 % (relative L2, as
+ * dm_profile_fit measures): held under 15 %; the fit's weight sums keep each channel's total
+ * within 0.01; the profile passes dm_profile_validate; the dense representation is exact
+ * to 1e-5 and integrates (by brute force in r) to the colorimetric totals. */
+Test(skin_profile, caucasian_fit)
+{
+    dm_skin_params p = preset("caucasian");
+    dm_profile prof;
+    dm_skin_report rep;
+    cr_assert_eq(dm_skin_profile_fit(&p, NULL, "caucasian", &prof, &rep, NULL), DM_OK);
+    cr_assert_eq(dm_profile_validate(&prof, "caucasian", NULL), DM_OK);
+    cr_assert_eq(rep.epidermis_invalid_count + rep.dermis_invalid_count, 0);
+    for (int c = 0; c < 3; ++c) {
+        printf("channel %c: total %.4f, fit total %.4f, fit error %.4f\n", "RGB"[c], rep.total_rgb[c],
+               rep.fit_total_rgb[c], rep.fit_error_relative[c]);
+        cr_assert(rep.fit_error_relative[c] < 0.15);
+        cr_assert(fabs(rep.fit_total_rgb[c] - rep.total_rgb[c]) < 0.01);
+    }
+    dm_skin_dense d;
+    cr_assert_eq(dm_skin_dense_profile(&p, 0, &d, NULL), DM_OK);
+    cr_assert(d.error_relative_max < 1e-5, "%g", d.error_relative_max);
+    double tot[3] = {0, 0, 0};
+    const double h = 1e-3; /* midpoint rule to 60 mm: the widest Gaussian (σ 16 mm) holds e^−7 beyond */
+    for (int i = 0; i < 60000; ++i) {
+        double r = (i + 0.5) * h, v[3];
+        dm_skin_dense_eval(&d, r, v);
+        for (int c = 0; c < 3; ++c) tot[c] += DM_2PI * r * v[c] * h;
+    }
+    for (int c = 0; c < 3; ++c) cr_assert(fabs(tot[c] - rep.total_rgb[c]) < 1e-3, "%c %.5f vs %.5f", "RGB"[c], tot[c], rep.total_rgb[c]);
+}
+
+/* ---- hard cases and a sweep ---- */
+
+static void sane(const dm_skin_params *p, const char *what, dm_skin_report *rep)
+{
+    dm_profile prof;
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_profile_fit(p, NULL, what, &prof, rep, &err), DM_OK, "%s: %s", what, err.detail);
+    cr_assert_eq(dm_profile_validate(&prof, what, &err), DM_OK, "%s: %s", what, err.detail);
+    for (int k = 0; k < prof.count; ++k)
+        for (int c = 0; c < 3; ++c) cr_assert(isfinite(prof.weight[k][c]) && prof.weight[k][c] >= 0.0, "%s", what);
+    for (int c = 0; c < 3; ++c)
+        cr_assert(isfinite(rep->total_rgb[c]) && isfinite(rep->rms_radius_mm[c]) && isfinite(rep->fit_error_relative[c]),
+                  "%s", what);
+    for (int l = 0; l < DM_SKIN_LAMBDA_COUNT; ++l)
+        cr_assert(rep->total_spectral[l] >= 0.0 && rep->total_spectral[l] <= 1.0, "%s: λ row %d: %g", what, l,
+                  rep->total_spectral[l]);
+}
+
+Test(skin_profile, hard_cases)
+{
+    dm_skin_report rep;
+    dm_skin_params p = dm_skin_params_default();
+    p.melanin_fraction = 0.0;
+    sane(&p, "no melanin", &rep);
+    cr_assert_eq(rep.epidermis_invalid_count, 0);
+    p = dm_skin_params_default(), p.melanin_fraction = 0.5;
+    sane(&p, "melanin 0.5", &rep);
+    /* a dark epidermis fails diffusion at short wavelengths: expected, counted, reported */
+    printf("melanin 0.5: epidermis falls back at %d of %d wavelengths\n", rep.epidermis_invalid_count,
+           DM_SKIN_LAMBDA_COUNT);
+    cr_assert(rep.epidermis_invalid_count > 0 && (rep.invalid[0] & DM_SKIN_INVALID_EPIDERMIS));
+    p = dm_skin_params_default(), p.blood_fraction = 0.0;
+    sane(&p, "no blood", &rep);
+    double bloodless = rep.total_rgb[0];
+    p.blood_fraction = 0.001;
+    sane(&p, "blood 0.001", &rep);
+    cr_assert(rep.total_rgb[0] < bloodless);
+    p = dm_skin_params_default(), p.epidermis_mm = 0.01; /* under one transport length (≥ 0.1 mm) everywhere */
+    sane(&p, "epidermis 0.01 mm", &rep);
+    cr_assert_eq(rep.epidermis_invalid_count, DM_SKIN_LAMBDA_COUNT);
+    p = dm_skin_params_default(), p.blood_fraction = 0.1;
+    sane(&p, "blood 0.1", &rep);
+    cr_assert(rep.dermis_invalid_count > 0, "blood-rich dermis in the Soret band");
+}
+
+Test(skin_profile, sweep_whole_range, .timeout = 120)
+{
+    const double cm[3] = {0.0, 0.2, 0.5}, beta[2] = {0.0, 1.0}, ch[3] = {0.0, 0.01, 0.1}, gam[2] = {0.0, 1.0};
+    const double epi[3] = {0.001, 0.25, 2.0}, der[2] = {0.0, 0.1};
+    int count = 0;
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 3; ++c)
+                for (int g = 0; g < 2; ++g)
+                    for (int e = 0; e < 3; ++e)
+                        for (int d = 0; d < 2; ++d) {
+                            if ((b + g + d) % 2) continue; /* half the grid: each pair of levels still meets */
+                            dm_skin_params p = {cm[a], beta[b], ch[c], gam[g], epi[e], der[d], 1.4};
+                            char what[128];
+                            snprintf(what, sizeof what, "Cm %g βm %g Ch %g γ %g epi %g dermis %g", cm[a], beta[b],
+                                     ch[c], gam[g], epi[e], der[d]);
+                            dm_skin_report rep;
+                            sane(&p, what, &rep);
+                            ++count;
+                        }
+    cr_assert_eq(count, 108);
+}
+
+/* ---- every parameter pinned ----
+ * A point where every parameter matters (dermis finite, all chromophores present); the
+ * totals at 450/550/650 nm and the red RMS radius as this code computed them (a regression
+ * pin, 1e-6 relative: the code is deterministic). Each parameter changed by 5 % moves one of
+ * them by far more than that, so a change in any law or parameter handling fails here. */
+static const dm_skin_params pin_point = {0.03, 0.6, 0.02, 0.7, 0.3, 1.5, 1.4};
+
+static void pin_values(const dm_skin_params *p, double v[4])
+{
+    for (int k = 0; k < 3; ++k) v[k] = total_at(p, nist_nm[k]);
+    dm_profile prof;
+    dm_skin_report rep;
+    cr_assert_eq(dm_skin_profile_fit(p, NULL, "pin", &prof, &rep, NULL), DM_OK);
+    v[3] = rep.rms_radius_mm[0];
+}
+
+static int differs(const double a[4], const double b[4])
+{
+    for (int k = 0; k < 4; ++k)
+        if (fabs(a[k] - b[k]) > 1e-6 * fabs(b[k])) return 1;
+    return 0;
+}
+
+Test(skin_profile, every_parameter_pinned)
+{
+    const double want[4] = {0.17338332, 0.209353133, 0.295271512, 0.723295197};
+    double v[4];
+    pin_values(&pin_point, v);
+    printf("pin: %.9g %.9g %.9g %.9g\n", v[0], v[1], v[2], v[3]);
+    cr_assert(!differs(v, want), "pinned values moved: %.9g %.9g %.9g %.9g", v[0], v[1], v[2], v[3]);
+    for (int f = 0; f < 7; ++f) {
+        dm_skin_params p = pin_point;
+        double *field[7] = {&p.melanin_fraction, &p.eumelanin_blend, &p.blood_fraction, &p.oxygenation,
+                            &p.epidermis_mm,     &p.dermis_mm,       &p.eta};
+        *field[f] *= 1.05;
+        double w[4];
+        pin_values(&p, w);
+        cr_assert(differs(w, want), "parameter %d changed by 5 %% and the pin did not notice", f);
+    }
+}
