@@ -97,19 +97,19 @@ Test(skin_profile, light_skin_inside_nist_bands)
     }
 }
 
-/* The darker exemplars fall below the cohort's 5th percentile at every wavelength: DJ2006's
- * melanin spread evenly through a 0.25 mm epidermis absorbs more than the cohort's darkest
- * skins (docs/skin-model.md). Held: dark < Asian < Caucasian, each below the 5 % row, the
- * Asian's red pinned to its measured 0.169 within 0.02 and the African's under 0.01. */
-Test(skin_profile, darker_exemplars_below_nist)
+/* The darker exemplars are darker at every wavelength (Caucasian > Asian > African). Not
+ * yet held to the cohort: DJ2006's melanin spread evenly through a 0.25 mm epidermis absorbs
+ * more than the cohort's darkest skins (measured: Asian 0.000 / 0.099 / 0.169, African
+ * ~0 at 450 / 550 / 650 nm, under the 5th percentiles 0.116 / 0.190 / 0.386): open work of
+ * #30 (docs/skin-model.md), printed here so the numbers show. */
+Test(skin_profile, darker_exemplars_are_darker)
 {
     dm_skin_params c = preset("caucasian"), a = preset("asian"), f = preset("african");
     for (int k = 0; k < 3; ++k) {
         double rc = total_at(&c, nist_nm[k]), ra = total_at(&a, nist_nm[k]), rf = total_at(&f, nist_nm[k]);
         printf("%g nm: asian %.3f african %.4f (NIST 5 %% %.3f)\n", nist_nm[k], ra, rf, nist_lo[k]);
-        cr_assert(rc > ra && ra >= rf && ra < nist_lo[k] && rf < 0.01, "%g nm: %.3f %.3f %.4f", nist_nm[k], rc, ra, rf);
+        cr_assert(rc > ra && ra >= rf && rf >= 0, "%g nm: %.3f %.3f %.4f", nist_nm[k], rc, ra, rf);
     }
-    cr_assert(fabs(total_at(&a, 650) - 0.169) < 0.02);
 }
 
 /* ---- the profile ---- */
