@@ -286,7 +286,7 @@ test: deps
 	@$(MAKE) --no-print-directory run-tests
 
 run-tests:
-	@FUZZ_SECONDS=$(FUZZ_SECONDS) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) NPROC=$(NPROC) MAKE="$(MAKE)" bash scripts/run-fuzz.sh $(notdir $(FUZZ_TARGETS)); fz=$$?; \
 	  BUILD=$(BUILD) ASSETS=$(ASSETS) FUZZ_FAILED=$$fz bash scripts/run-tests.sh $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS)
 
 bench: deps
@@ -302,42 +302,38 @@ reference: deps
 	@$(MAKE) --no-print-directory -j$(NPROC) tools
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/reference.sh
 
-# libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan.
+# libFuzzer targets (clang): fuzz/NAME.c + the core library, built with ASan and UBSan. Each
+# source is compiled once for all targets (build/fuzz/obj/, coverage-instrumented with
+# fuzzer-no-link); a target links its own file with the sources it reads.
 FUZZ_CC      ?= clang
+FUZZ_CXX     ?= clang++
 FUZZ_SECONDS ?= 5
 FUZZ_TARGETS := $(patsubst fuzz/%.c,build/fuzz/%,$(wildcard fuzz/*.c))
+FUZZ_SAN     := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -pthread -D_POSIX_C_SOURCE=200809L
+fuzz_obj      = $(patsubst %,build/fuzz/obj/%.o,$(1))
 fuzz: $(FUZZ_TARGETS)
-build/fuzz/%: fuzz/%.c $(CORE_SRC) $(wildcard lib/core/*.h lib/pack/*.h)
+build/fuzz/obj/%.c.o: %.c
 	@mkdir -p $(@D)
-	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
-	  $(CORE_CFLAGS) $< $(CORE_SRC) $(CORE_LIBS) -o $@
+	$(FUZZ_CC) -std=c11 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -MMD -MP -Ilib -Itools/view $(CORE_CFLAGS) \
+	  $(if $(filter lib/image/% lib/mesh/%,$<),$(BAKE_CFLAGS)) -c $< -o $@
+build/fuzz/obj/%.cpp.o: %.cpp
+	@mkdir -p $(@D)
+	$(FUZZ_CXX) -std=c++17 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -MMD -MP -w -Ilib $(BAKE_CFLAGS) -c $< -o $@
+build/fuzz/%: build/fuzz/obj/fuzz/%.c.o $(call fuzz_obj,$(CORE_SRC))
+	$(FUZZ_CC) $(FUZZ_SAN) -fsanitize=fuzzer $^ $(CORE_LIBS) -o $@
 # fuzz_script: the viewer's script reader (C, no window) beside the core library.
-FUZZ_SCRIPT_SRC := tools/view/dm_viewer_script.c
-build/fuzz/fuzz_script: fuzz/fuzz_script.c $(CORE_SRC) $(FUZZ_SCRIPT_SRC) tools/view/dm_viewer_script.h $(wildcard lib/core/*.h)
-	@mkdir -p $(@D)
-	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -Itools/view -D_POSIX_C_SOURCE=200809L \
-	  $(CORE_CFLAGS) $< $(FUZZ_SCRIPT_SRC) $(CORE_SRC) $(CORE_LIBS) -o $@
-# fuzz_bake_exr: the bake side's EXR reader (OpenEXR's C API) beside the core library.
-FUZZ_BAKE_EXR_SRC := lib/image/dm_exr.c
-build/fuzz/fuzz_bake_exr: fuzz/fuzz_bake_exr.c $(CORE_SRC) $(FUZZ_BAKE_EXR_SRC) lib/image/dm_exr.h $(wildcard lib/core/*.h)
-	@mkdir -p $(@D)
-	$(FUZZ_CC) -std=c11 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -pthread -Ilib -D_POSIX_C_SOURCE=200809L \
-	  $(CORE_CFLAGS) $(shell $(PKG) --cflags OpenEXR 2>/dev/null) $< $(FUZZ_BAKE_EXR_SRC) $(CORE_SRC) -lOpenEXRCore-3_1 $(CORE_LIBS) -o $@
-# Targets that read meshes (fuzz_gltf, fuzz_obj): also the bake library's mesh loaders (C and C++,
-# compiled in two steps: one -std per language), linked with OpenMesh and tinygltf.
-FUZZ_CXX       ?= clang++
+build/fuzz/fuzz_script: $(call fuzz_obj,tools/view/dm_viewer_script.c)
+# fuzz_bake_exr: the offline EXR reader (OpenEXR's C API) beside the core library.
+build/fuzz/fuzz_bake_exr: $(call fuzz_obj,lib/image/dm_exr.c)
+build/fuzz/fuzz_bake_exr: CORE_LIBS += -lOpenEXRCore-3_1
+# Targets that read meshes (fuzz_gltf, fuzz_obj): also the mesh loaders (C and C++), linked
+# with OpenMesh and tinygltf by clang++.
 FUZZ_MESH      := build/fuzz/fuzz_gltf build/fuzz/fuzz_obj
 FUZZ_MESH_SRC  := $(addprefix lib/mesh/,dm_isolate.c dm_mesh.c dm_mesh_check.c dm_mesh_gpu.c dm_mesh_gltf.cpp dm_mesh_openmesh.cpp)
-FUZZ_SAN       := -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=undefined -pthread -D_POSIX_C_SOURCE=200809L
-$(FUZZ_MESH): build/fuzz/%: fuzz/%.c $(CORE_SRC) $(FUZZ_MESH_SRC) $(wildcard lib/core/*.h lib/pack/*.h lib/mesh/dm_mesh*.h lib/mesh/dm_isolate.h)
-	@rm -rf $@.obj && mkdir -p $@.obj
-	cd $@.obj && $(FUZZ_CC) -std=c11 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -I$(CURDIR)/lib $(CORE_CFLAGS) -c \
-	  $(abspath $< $(CORE_SRC) $(filter %.c,$(FUZZ_MESH_SRC)))
-	cd $@.obj && $(FUZZ_CXX) -std=c++17 $(FUZZ_SAN) -fsanitize=fuzzer-no-link -w -I$(CURDIR)/lib $(BAKE_CFLAGS) -c \
-	  $(abspath $(filter %.cpp,$(FUZZ_MESH_SRC)))
-	$(FUZZ_CXX) $(FUZZ_SAN) -fsanitize=fuzzer $@.obj/*.o $(shell $(PKG) --libs openmesh tinygltf 2>/dev/null) $(CORE_LIBS) -o $@
+$(FUZZ_MESH): build/fuzz/%: build/fuzz/obj/fuzz/%.c.o $(call fuzz_obj,$(CORE_SRC) $(FUZZ_MESH_SRC))
+	$(FUZZ_CXX) $(FUZZ_SAN) -fsanitize=fuzzer $^ $(shell $(PKG) --libs openmesh tinygltf 2>/dev/null) $(CORE_LIBS) -o $@
 
 clean:
 	rm -rf build
 
--include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)
+-include $(shell find $(BUILD)/obj build/fuzz/obj -name '*.d' 2>/dev/null)

@@ -17,7 +17,7 @@ fi
 targets=()
 for t in "$@"; do targets+=("build/fuzz/$t"); done
 [ ${#targets[@]} -eq 0 ] && exit 0
-if ! $make_cmd --no-print-directory "${targets[@]}" >&2; then
+if ! $make_cmd --no-print-directory -j"${NPROC:-2}" "${targets[@]}" >&2; then
   echo "error: fuzz: the targets did not build" >&2
   exit 1
 fi
