@@ -31,6 +31,7 @@ for t in "$@"; do
     run=(env "ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" xvfb-run -a)
   fi
   log=$(mktemp)
+  t0=$SECONDS
   "${run[@]}" "$t" -j"$jobs" 2>&1 | tee "$log" | grep -vE '^\[====\] Synthesis' >&2
   rc=${PIPESTATUS[0]}
   line=$(grep -E '^\[====\] Synthesis: Tested:' "$log" | tail -n 1)
@@ -41,7 +42,7 @@ for t in "$@"; do
   fi
   read -r t_ p_ f_ c_ <<<"$(echo "$line" | sed -E 's/.*Tested: ([0-9]+) \| Passing: ([0-9]+) \| Failing: ([0-9]+) \| Crashing: ([0-9]+).*/\1 \2 \3 \4/')"
   tested=$((tested + t_)); passing=$((passing + p_)); failing=$((failing + f_)); crashing=$((crashing + c_))
-  echo "   $name: $p_/$t_ passed" >&2
+  echo "   $name: $p_/$t_ passed ($((SECONDS - t0)) s)" >&2
   if [ "$rc" -ne 0 ] && [ "$f_" -eq 0 ] && [ "$c_" -eq 0 ]; then broken=$((broken + 1)); fi
 done
 # The bounded fuzz runs (scripts/run-fuzz.sh) ran before; a failure there counts here,
