@@ -67,6 +67,17 @@ static inline void add_mesh(dm_pack_writer *wp, const dm_provenance *pp, bool ba
     cr_assert_eq(dm_pack_writer_add(wp, &d, idx, sizeof idx, pp, &err), DM_OK, "%s", err.detail);
 }
 
+/* Adds the scene entry (`json`) to w. */
+static inline void add_scene(dm_pack_writer *w, const dm_provenance *p, const char *json)
+{
+    dm_error err = {0};
+    dm_pack_entry d;
+    memset(&d, 0, sizeof d);
+    snprintf(d.name, sizeof d.name, "scene");
+    d.kind = DM_PACK_SCENE;
+    cr_assert_eq(dm_pack_writer_add(w, &d, json, strlen(json), p, &err), DM_OK, "%s", err.detail);
+}
+
 /* Builds a small pack in memory (64-byte aligned, free with free()). */
 static inline uint8_t *build(const fixture *fx, size_t *size)
 {
@@ -76,11 +87,8 @@ static inline uint8_t *build(const fixture *fx, size_t *size)
     dm_prov_init(&p, "test_pack");
     dm_prov_add_int(&p, "n", 1);
     dm_error err = {0};
+    add_scene(&w, &p, scene_json);
     dm_pack_entry d;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "scene");
-    d.kind = DM_PACK_SCENE;
-    cr_assert_eq(dm_pack_writer_add(&w, &d, scene_json, strlen(scene_json), &p, &err), DM_OK, "%s", err.detail);
 
     if (!fx->skip_beckmann) {
         dm_beckmann_lut lut;

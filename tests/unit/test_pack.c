@@ -79,11 +79,7 @@ Test(pack, writer_write_refuses_an_invalid_pack)
     dm_prov_init(&p, "test_pack");
     dm_error err = {0};
     /* a scene that needs lut.beckmann, packed without it */
-    dm_pack_entry d;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "scene");
-    d.kind = DM_PACK_SCENE;
-    cr_assert_eq(dm_pack_writer_add(&w, &d, scene_json, strlen(scene_json), &p, &err), DM_OK);
+    add_scene(&w, &p, scene_json);
     add_mesh(&w, &p, false, false);
     char path[] = "/tmp/dermis-test-pack-w-XXXXXX";
     int fd = mkstemp(path);

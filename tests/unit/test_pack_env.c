@@ -28,11 +28,8 @@ static uint8_t *build_env(const char *skip, bool with_m, size_t *size)
     dm_provenance p;
     dm_prov_init(&p, "test_pack");
     dm_error err = {0};
+    add_scene(&w, &p, json);
     dm_pack_entry d;
-    memset(&d, 0, sizeof d);
-    snprintf(d.name, sizeof d.name, "scene");
-    d.kind = DM_PACK_SCENE;
-    cr_assert_eq(dm_pack_writer_add(&w, &d, json, strlen(json), &p, &err), DM_OK, "%s", err.detail);
     add_mesh(&w, &p, false, false);
     float rg[4 * 4 * 2] = {0}, rgba[4 * 2 * 4] = {0}, sh[27] = {0};
     d = dm_pack_texture_entry("lut.env_brdf", DM_TEX_RG32F, 4, 4);

@@ -74,6 +74,20 @@ static float *frame_of(const dm_ref_surface_desc *d)
     return rgba;
 }
 
+/* Expects a (shadows on) and b (off) alike over n values, at least min_lit of them lit; frees
+ * both. */
+static void expect_alike(const char *what, float *a, float *b, size_t n, int min_lit)
+{
+    diff df = compare(a, b, n);
+    cr_log_info("%s: %d lit, mean %.4f %%, %.4f %% over 5 %%, sum ratio %.4f %%", what, df.lit, 100 * df.mean,
+                100 * df.over5, 100 * df.sum_ratio);
+    cr_assert_gt(df.lit, min_lit, "%s: %d lit", what, df.lit);
+    cr_expect_lt(df.mean, 1e-3, "%s: mean relative difference %.3g %%", what, 100 * df.mean);
+    cr_expect_lt(df.over5, 1e-3, "%s: %.3g %% of lit values differ by more than 5 %%", what, 100 * df.over5);
+    free(a);
+    free(b);
+}
+
 /* The texture-space irradiance (what --frame diffuses) of the coarse sphere: shadow rays
  * from the flat facets blackened the band where a facet faces away from the light that its
  * interpolated normal still faces (before: 2.6 % mean, see docs/dermis-reference.md). */
@@ -85,15 +99,7 @@ Test(ref_terminator, convex_sphere_atlas_same_with_shadows)
     dm_ref_surface_desc d_on, d_off;
     synth_desc(&on, &d_on);
     synth_desc(&off, &d_off);
-    float *a = atlas_of(&d_on), *b = atlas_of(&d_off);
-    diff df = compare(a, b, (size_t)ATLAS * ATLAS);
-    cr_log_info("atlas: %d lit texels, mean %.4f %%, %.4f %% over 5 %%, sum ratio %.4f %%", df.lit, 100 * df.mean,
-                100 * df.over5, 100 * df.sum_ratio);
-    cr_assert_gt(df.lit, ATLAS * ATLAS / 3);
-    cr_expect_lt(df.mean, 1e-3, "mean relative difference %.3g %%", 100 * df.mean);
-    cr_expect_lt(df.over5, 1e-3, "%.3g %% of lit texels differ by more than 5 %%", 100 * df.over5);
-    free(a);
-    free(b);
+    expect_alike("atlas", atlas_of(&d_on), atlas_of(&d_off), (size_t)ATLAS * ATLAS, ATLAS * ATLAS / 3);
     synth_free(&on);
     synth_free(&off);
 }
@@ -111,15 +117,7 @@ Test(ref_terminator, convex_sphere_frame_same_with_shadows)
     dm_ref_surface_desc d_on, d_off;
     synth_desc(&on, &d_on);
     synth_desc(&off, &d_off);
-    float *a = frame_of(&d_on), *b = frame_of(&d_off);
-    diff df = compare(a, b, (size_t)W * H);
-    cr_log_info("frame: %d lit pixels, mean %.4f %%, %.4f %% over 5 %%, sum ratio %.4f %%", df.lit, 100 * df.mean,
-                100 * df.over5, 100 * df.sum_ratio);
-    cr_assert_gt(df.lit, 1500);
-    cr_expect_lt(df.mean, 1e-3, "mean relative difference %.3g %%", 100 * df.mean);
-    cr_expect_lt(df.over5, 1e-3, "%.3g %% of lit pixels differ by more than 5 %%", 100 * df.over5);
-    free(a);
-    free(b);
+    expect_alike("frame", frame_of(&d_on), frame_of(&d_off), (size_t)W * H, 1500);
     synth_free(&on);
     synth_free(&off);
 }
