@@ -48,20 +48,24 @@ void dm_skin_rgb_weights(double w[DM_SKIN_LAMBDA_COUNT][3])
         for (int c = 0; c < 3; ++c) w[i][c] *= scale[c];
 }
 
+/* out = Σ_λ w[λ] · reflectance[λ], three channels. */
+static void weigh(const double w[DM_SKIN_LAMBDA_COUNT][3], const double *reflectance, double out[3])
+{
+    out[0] = out[1] = out[2] = 0.0;
+    for (int i = 0; i < DM_SKIN_LAMBDA_COUNT; ++i)
+        for (int c = 0; c < 3; ++c) out[c] += w[i][c] * reflectance[i];
+}
+
 void dm_skin_spectrum_to_xyz(const double *reflectance, double xyz[3])
 {
     double wx[DM_SKIN_LAMBDA_COUNT][3];
     xyz_weights(wx);
-    xyz[0] = xyz[1] = xyz[2] = 0.0;
-    for (int i = 0; i < DM_SKIN_LAMBDA_COUNT; ++i)
-        for (int j = 0; j < 3; ++j) xyz[j] += wx[i][j] * reflectance[i];
+    weigh((const double(*)[3])wx, reflectance, xyz);
 }
 
 void dm_skin_spectrum_to_rgb(const double *reflectance, double rgb[3])
 {
     double w[DM_SKIN_LAMBDA_COUNT][3];
     dm_skin_rgb_weights(w);
-    rgb[0] = rgb[1] = rgb[2] = 0.0;
-    for (int i = 0; i < DM_SKIN_LAMBDA_COUNT; ++i)
-        for (int c = 0; c < 3; ++c) rgb[c] += w[i][c] * reflectance[i];
+    weigh((const double(*)[3])w, reflectance, rgb);
 }
