@@ -28,7 +28,8 @@ void main()
 #ifdef DM_MESH_VERTEX
 // The vertex stage's inputs and outputs in the passes that rasterise the head's mesh (the
 // loader defines DM_MESH_VERTEX for a pass file that calls dm_mesh_vertex): its attributes go
-// to the fragment stage as they are, at the clip position the pass gives.
+// to the fragment stage as they are, at the clip position the pass gives, with v_pn =
+// position . normal for dm_smooth_point.
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec4 a_tangent;
@@ -37,9 +38,11 @@ out vec3 v_pos;
 out vec3 v_nrm;
 out vec4 v_tan;
 out vec2 v_uv;
+out float v_pn;
 void dm_mesh_vertex(vec4 clip)
 {
     v_pos = a_position;
+    v_pn = dot(a_position, a_normal);
     v_nrm = a_normal;
     v_tan = a_tangent;
     v_uv = a_uv;
@@ -64,6 +67,19 @@ uniform sampler2D u_gbuf3;
 #endif
 
 #ifdef DM_FRAGMENT
+// The point where the mesh's passes shade a fragment: its flat facet's point P lifted towards
+// the smooth surface the vertex normals describe (issue #27), as the ground truth starts its
+// shadow rays (dm_ref_surface_smooth_point): along the normal by half the depth of P below the
+// corners' tangent planes weighted by its barycentrics, sum_k b_k (p_k - P).n_k (clamped as a
+// sum, not per corner as the ground truth does), nothing where the sum is negative (concave:
+// P above them). nrm and pn are the interpolated vertex normal, unnormalised, and v_pn
+// (p_k . n_k), so the sum is pn - P.nrm. A shadow map holds the flat facets, up to the sagitta below the smooth
+// surface: looked up from P, the facets next to a lit point shadow it along the terminator.
+vec3 dm_smooth_point(vec3 P, vec3 nrm, float pn)
+{
+    return P + normalize(nrm) * max(0.5 * (pn - dot(P, nrm)), 0.0);
+}
+
 // Texture-space diffusion levels (irradiance = level 0, blur k = level k), premultiplied by
 // chart coverage in alpha. One copy for the final pass and the diffusion view, so the view
 // is exactly the sum the final pass samples.

@@ -17,7 +17,8 @@
 // values, bit for bit, so the same picture as shading while rasterising, but with every SIMD
 // lane on a pixel (llvmpipe shades 4x4 blocks: along the edges of the head's ~30-pixel
 // triangles most lanes of the expensive lighting were masked off). Without either (the uv and
-// wireframe views) the mesh is drawn and shaded directly.
+// wireframe views) the mesh is drawn and shaded directly. Every pixel is shaded at its point
+// lifted to the smooth surface (dm_smooth_point, common.glsl): the G-buffer holds that point.
 uniform mat4 u_view_proj;
 #if defined(DM_VERTEX) && !defined(DM_DEFERRED)
 void main()
@@ -25,14 +26,14 @@ void main()
     dm_mesh_vertex(u_view_proj * vec4(a_position, 1.0));
 }
 #elif defined(DM_FRAGMENT)
-#ifdef DM_DEFERRED /* G-buffer: position, u | geometric normal, v | shading normal, rho_s | albedo, m */
-vec3 v_pos;
+#ifdef DM_DEFERRED /* G-buffer: position (lifted: dm_smooth_point), u | geometric normal, v | shading normal, rho_s | albedo, m */
 vec2 v_uv;
 #else
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
+in float v_pn;
 #endif
 #ifndef DM_GBUFFER
 layout(location = 0) out vec4 o_color;
@@ -110,7 +111,7 @@ void main()
 #ifdef DM_DEFERRED
     ivec2 q = ivec2(gl_FragCoord.xy);
     vec4 g0 = texelFetch(u_gbuf0, q, 0), g1 = texelFetch(u_gbuf1, q, 0);
-    v_pos = g0.xyz;
+    vec3 P = g0.xyz;
     v_uv = vec2(g0.w, g1.w);
     vec3 Ng = g1.xyz;
     vec4 g2 = texelFetch(u_gbuf2, q, 0), g3 = texelFetch(u_gbuf3, q, 0);
@@ -130,17 +131,17 @@ void main()
     }
 #endif
     dm_surf s = dm_surface(v_nrm, v_tan, v_uv); // common.glsl
-    vec3 Ng = s.Ng, N = s.N, albedo = max(s.albedo, vec3(0.0));
+    vec3 P = dm_smooth_point(v_pos, v_nrm, v_pn), Ng = s.Ng, N = s.N, albedo = max(s.albedo, vec3(0.0));
     float m = min(s.m0 * u_roughness_scale, 1.0), rho_s = s.rho_s;
 #endif
 #ifdef DM_GBUFFER
-    o_g0 = vec4(v_pos, v_uv.x);
+    o_g0 = vec4(P, v_uv.x);
     o_g1 = vec4(Ng, v_uv.y);
     o_g2 = vec4(N, rho_s);
     o_g3 = vec4(albedo, m);
     return;
 #else
-    vec3 V = normalize(u_eye - v_pos);
+    vec3 V = normalize(u_eye - P);
     float ndv = max(dot(N, V), 0.0);
 
     vec3 diffuse = vec3(0.0), specular = vec3(0.0);
@@ -155,7 +156,7 @@ void main()
          NB = normalize(mix(N, Ng, u_preint_blend.b));
 #endif
     for (int i = 0; i < DM_LIGHTS; ++i) {
-        vec3 L = dm_light_dir(i, v_pos);
+        vec3 L = dm_light_dir(i, P);
         float ndl = max(dot(N, L), 0.0);
 #ifdef DM_PRE_INTEGRATED
         vec3 d = vec3(texture(u_preint, vec2(0.5 * dot(NR, L) + 0.5, pt)).r,
@@ -164,7 +165,7 @@ void main()
         // Lambert's part takes the shadow; what the blur moves past the terminator (d - lam) only
         // where Ng.L > 0.2, since a shadow map shadows every point facing away from its light.
         vec3 lam = max(vec3(dot(NR, L), dot(NG, L), dot(NB, L)), 0.0);
-        float sh = dm_shadow(i, v_pos, Ng);
+        float sh = dm_shadow(i, P, Ng);
         vec3 kp = max(lam * sh + (d - lam) * mix(1.0, sh, smoothstep(0.0, 0.2, dot(Ng, L))), 0.0);
 #ifdef DM_ENERGY
         kp *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
@@ -174,11 +175,11 @@ void main()
         // no `continue` where N.L = 0 (k = 0, KS = 0: the same sums): see irradiance.glsl
 #if defined(DM_SCREEN_SPACE) && defined(DM_SPECULAR)
         // one shadow lookup for both terms (the texture-space and Lambert paths keep their two loops)
-        float sh = dm_shadow(i, v_pos, Ng);
+        float sh = dm_shadow(i, P, Ng);
         float k = ndl * sh;
         specular += u_light_color[i] * (sh * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
 #else
-        float k = ndl * dm_shadow(i, v_pos, Ng);
+        float k = ndl * dm_shadow(i, P, Ng);
 #endif
 #ifdef DM_ENERGY
         k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
@@ -187,7 +188,7 @@ void main()
 #endif
     }
 #ifdef DM_TRANSLUCENCY
-    e += dm_translucency(v_pos, Ng);
+    e += dm_translucency(P, Ng);
 #endif
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
@@ -208,8 +209,8 @@ void main()
 #ifdef DM_SPECULAR
 #ifndef DM_SCREEN_SPACE /* screen space: summed in the diffuse loop above */
     for (int i = 0; i < DM_LIGHTS; ++i) {
-        vec3 L = dm_light_dir(i, v_pos); // KS is 0 where N.L <= 0 (no `continue`: irradiance.glsl)
-        specular += u_light_color[i] * (dm_shadow(i, v_pos, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
+        vec3 L = dm_light_dir(i, P); // KS is 0 where N.L <= 0 (no `continue`: irradiance.glsl)
+        specular += u_light_color[i] * (dm_shadow(i, P, Ng) * dm_ks_specular(u_beckmann, N, L, V, m, rho_s));
     }
 #endif
 #ifdef DM_ENV
@@ -220,7 +221,7 @@ void main()
 #endif
 #endif
 #ifdef DM_SCREEN_SPACE
-    o_color = vec4(pre, max(dot(v_pos - u_eye, u_cam_forward), 1e-6));
+    o_color = vec4(pre, max(dot(P - u_eye, u_cam_forward), 1e-6));
     o_aux = vec4(post, 1.0);
     o_spec = vec4(specular, 1.0);
     return;

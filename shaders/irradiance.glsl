@@ -3,7 +3,8 @@
 // texel centre, cleared to 0 in gutters): the blurs treat rgb as premultiplied by it, so taps
 // in gutters drop out and the kernel renormalises over the chart (seams do not darken).
 // Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse), DM_TRANSLUCENCY (light through thin parts).
-// DM_GBUFFER (the ts_gbuffer pass, once): the surface per texel (position, geometric and
+// Every texel is lit at its point lifted to the smooth surface (dm_smooth_point, common.glsl).
+// DM_GBUFFER (the ts_gbuffer pass, once): the surface per texel (that position, geometric and
 // shading normal, rho_s, roughness before the frame's scale, albedo) into four float targets,
 // depth 0.5 where a triangle covers the texel. DM_DEFERRED (the irradiance pass, each frame):
 // common.glsl's full-screen triangle at the far plane, depth test GREATER, each covered texel
@@ -21,6 +22,7 @@ in vec3 v_pos;
 in vec3 v_nrm;
 in vec4 v_tan;
 in vec2 v_uv;
+in float v_pn;
 #endif
 #ifndef DM_GBUFFER
 out vec4 o_color;
@@ -35,15 +37,15 @@ void main()
 #ifdef DM_DEFERRED
     ivec2 q = ivec2(gl_FragCoord.xy);
     vec4 g1 = texelFetch(u_gbuf1, q, 0), g2 = texelFetch(u_gbuf2, q, 0);
-    vec3 v_pos = texelFetch(u_gbuf0, q, 0).xyz, Ng = g1.xyz, N = g2.xyz, albedo = texelFetch(u_gbuf3, q, 0).rgb;
+    vec3 P = texelFetch(u_gbuf0, q, 0).xyz, Ng = g1.xyz, N = g2.xyz, albedo = texelFetch(u_gbuf3, q, 0).rgb;
     float m0 = g1.w, rho_s = g2.w;
 #else
     dm_surf s = dm_surface(v_nrm, v_tan, v_uv); // common.glsl
-    vec3 Ng = s.Ng, N = s.N, albedo = s.albedo;
+    vec3 P = dm_smooth_point(v_pos, v_nrm, v_pn), Ng = s.Ng, N = s.N, albedo = s.albedo;
     float m0 = s.m0, rho_s = s.rho_s;
 #endif
 #ifdef DM_GBUFFER
-    o_g0 = vec4(v_pos, 1.0);
+    o_g0 = vec4(P, 1.0);
     o_g1 = vec4(Ng, m0);
     o_g2 = vec4(N, rho_s);
     o_g3 = vec4(albedo, 1.0);
@@ -54,16 +56,16 @@ void main()
     // floats): llvmpipe does not unroll a loop that continues, and the loop then costs a quarter
     // of this pass (docs/render-quality.md).
     for (int i = 0; i < DM_LIGHTS; ++i) {
-        vec3 L = dm_light_dir(i, v_pos);
+        vec3 L = dm_light_dir(i, P);
         float ndl = max(dot(N, L), 0.0);
-        float k = ndl * dm_shadow(i, v_pos, Ng);
+        float k = ndl * dm_shadow(i, P, Ng);
 #ifdef DM_ENERGY
         k *= max(1.0 - rho_s * texture(u_rho_dt, vec2(ndl, m)).r, 0.0);
 #endif
         e += u_light_color[i] * k;
     }
 #ifdef DM_TRANSLUCENCY
-    e += dm_translucency(v_pos, Ng);
+    e += dm_translucency(P, Ng);
 #endif
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;

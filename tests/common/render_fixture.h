@@ -52,6 +52,27 @@ static inline void only(dm_scene *s, const dm_effect *on, int n)
     for (int i = 0; i < n; ++i) s->effects[on[i]] = true;
 }
 
+/* The synthetic sphere's lower half seen from inside: triangles with a corner above z = 0
+ * dropped, normals and winding turned inwards (a concave bowl open at z = 0, facing the
+ * camera on +z). Light from above the rim casts a real shadow into it. */
+static inline void synth_bowl(dm_synth *s)
+{
+    float *v = s->vertices;
+    int kept = 0;
+    for (int t = 0; t < s->assets.index_count / 3; ++t) {
+        const uint32_t *c = &s->indices[t * 3];
+        bool lower = true;
+        for (int k = 0; k < 3; ++k) lower = lower && v[(size_t)c[k] * DM_VERTEX_FLOATS + DM_VERTEX_POSITION + 2] < 1e-6f;
+        if (!lower) continue;
+        const uint32_t a = c[0], b = c[1], d = c[2];
+        uint32_t *o = &s->indices[kept++ * 3];
+        o[0] = a, o[1] = d, o[2] = b; /* clockwise seen from outside: front faces inwards */
+    }
+    s->assets.index_count = kept * 3;
+    for (int i = 0; i < s->assets.vertex_count; ++i)
+        for (int c = 0; c < 3; ++c) v[(size_t)i * DM_VERTEX_FLOATS + DM_VERTEX_NORMAL + c] *= -1.0f;
+}
+
 /* Target `name` of renderer r, read back (malloc'd; info says its size). */
 static inline float *read_renderer_target(dm_renderer *r, const char *name, dm_target_info *info)
 {
