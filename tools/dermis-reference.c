@@ -49,7 +49,13 @@ static void usage(FILE *f)
             "  --size WxH           frame size, default the scene's; 1..16384 per side\n"
             "  --atlas N            frame: CPU irradiance atlas size, default 1024; 16..8192\n"
             "  --atlas-samples K    frame: KxK irradiance samples per atlas texel, default 4; 1..8\n"
-            "  --pixel-samples K    frame: KxK sub-pixel rays for the surface terms, default 3; 1..8\n"
+            "  --pixel-samples K    frame: KxK sub-pixel rays per skin pixel (the surface terms and the\n"
+            "                       diffusion at each ray's hit), default 3; 1..8\n"
+            "  --diffusion-at-centre  frame: the diffusion at the pixel centre's hit only (cheaper; the\n"
+            "                       behaviour before issue #27, for convergence studies)\n"
+            "  --without LIST       frame: leave terms out, comma-separated: albedo (white), normal-map\n"
+            "                       (the interpolated normal), shadows, subsurface (Lambert at the point):\n"
+            "                       the decomposed comparison of bench/accuracy (docs/dermis-reference.md)\n"
             "  --dipole SPEC        diffuse by a dipole (Jensen 2001) instead of the pack's Gaussians: a medium\n"
             "                       (skin1, skin2, marble, ...) or 'sa,ss,eta' / 7 numbers (mm^-1), as in\n"
             "                       dermis-fit-profile; represented by dense Gaussians (error reported)\n"
@@ -83,7 +89,9 @@ typedef struct args {
     const char *merge[MERGE_MAX];
     int merge_count;
     int size, width, height, atlas, tile_index, tile_count, threads, atlas_samples, pixel_samples;
-    bool frame, levels, verbose, quiet;
+    bool frame, levels, verbose, quiet, at_centre;
+    bool no_albedo, no_normal_map, no_shadows, no_subsurface; /* --without */
+    const char *without;
     dm_reference_options ropt;
 } args;
 
@@ -114,6 +122,25 @@ static int parse(int argc, char **argv, args *a)
             if (!(a->irradiance = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--frame")) {
             a->frame = true;
+        } else if (!strcmp(s, "--diffusion-at-centre")) {
+            a->at_centre = true;
+        } else if (!strcmp(s, "--without")) {
+            if (!(a->without = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            for (const char *t = a->without; *t;) {
+                size_t len = strcspn(t, ",");
+                bool *flag = len == 6 && !strncmp(t, "albedo", 6)       ? &a->no_albedo
+                             : len == 10 && !strncmp(t, "normal-map", 10) ? &a->no_normal_map
+                             : len == 7 && !strncmp(t, "shadows", 7)      ? &a->no_shadows
+                             : len == 10 && !strncmp(t, "subsurface", 10) ? &a->no_subsurface
+                                                                          : NULL;
+                if (!flag) {
+                    fprintf(stderr, "error: --without: '%.*s' is not one of albedo, normal-map, shadows, subsurface\n",
+                            (int)len, t);
+                    return DM_EXIT_USAGE;
+                }
+                *flag = true;
+                t += len + (t[len] == ',');
+            }
         } else if (!strcmp(s, "--size")) {
             char tail;
             if (!(v = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
@@ -190,8 +217,9 @@ static int parse(int argc, char **argv, args *a)
                       : !a->frame == !a->size                     ? "give one of --texture-space N or --frame"
                       : a->frame && (a->irradiance || a->levels || a->tile_count > 1)
                           ? "--irradiance, --levels and --tile are texture-space options"
-                      : !a->frame && (a->width || a->atlas || a->atlas_samples || a->pixel_samples)
-                          ? "--size, --atlas and the samples are --frame options"
+                      : !a->frame && (a->width || a->atlas || a->atlas_samples || a->pixel_samples || a->at_centre ||
+                                      a->without)
+                          ? "--size, --atlas, the samples, --diffusion-at-centre and --without are --frame options"
                       : a->quiet && a->verbose             ? "--quiet conflicts with -v"
                                                            : NULL;
     if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
@@ -480,8 +508,13 @@ static int frame(const args *a, const dm_pack *pack)
     char kernel_name[256];
     dm_profile profile;
     dm_ref_surface_desc desc;
-    int code = a->medium ? -1 : DM_EXIT_LOAD;
-    if (!a->medium && dm_ref_surface_desc_from_pack(pack, &scene, &profile, &desc, &err) == DM_OK) code = -1;
+    /* --without: the decomposed comparison's variants (the same in the renderer: bench/accuracy) */
+    if (a->no_shadows) scene.effects[DM_EFFECT_SHADOWS] = false;
+    if (a->no_subsurface) scene.effects[DM_EFFECT_SUBSURFACE] = false;
+    int code = DM_EXIT_LOAD;
+    if (dm_ref_surface_desc_from_pack(pack, &scene, &profile, &desc, &err) == DM_OK) code = -1;
+    if (a->no_albedo) desc.albedo = (dm_ref_texture){0};
+    if (a->no_normal_map) desc.normal_map = (dm_ref_texture){0};
     if (code == -1) code = make_kernel(a, &profile, &kernel, kernel_name, sizeof kernel_name);
     if (code != -1) {
         if (code == DM_EXIT_LOAD) fprintf(stderr, "error: %s\n", err.detail);
@@ -494,9 +527,9 @@ static int frame(const args *a, const dm_pack *pack)
     dm_ref_frame_stats st = {0};
     dm_ref_frame_options fo = {.width = W, .height = H, .atlas_size = a->atlas, .thread_count = a->threads,
                                .atlas_samples = a->atlas_samples, .pixel_samples = a->pixel_samples,
-                               .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
+                               .diffusion_at_centre = a->at_centre, .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
                                .stats = &st};
-    dm_result r = dm_ref_frame_render(pack, &scene, &fo, rgba, &err);
+    dm_result r = dm_ref_frame_render_desc(&desc, &fo, rgba, &err);
     dm_progress_end(&bar);
     code = DM_EXIT_OK;
     if (r != DM_OK) {
@@ -516,6 +549,8 @@ static int frame(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "atlas", a->atlas ? a->atlas : 1024);
         dm_prov_add_int(&prov, "atlas_samples", a->atlas_samples ? a->atlas_samples : 4);
         dm_prov_add_int(&prov, "pixel_samples", a->pixel_samples ? a->pixel_samples : 3);
+        dm_prov_add_string(&prov, "diffusion", a->at_centre ? "centre" : "pixel");
+        dm_prov_add_string(&prov, "without", a->without ? a->without : "");
         dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
         dm_prov_add_string(&prov, "profile", kernel_name);
         dm_exr_channel ch[4] = {{"R", planes, DM_EXR_FLOAT}, {"G", planes + n, DM_EXR_FLOAT},
@@ -586,7 +621,8 @@ int main(int argc, char **argv)
                                        true, &rm, NULL);
     dm_reference_memory_options mo = {.texture_space = a.frame ? 0 : a.size, .irradiance_render_size = rm.total_size,
                                       .level_count = a.levels ? (a.medium ? a.radial_gaussians : DM_PROFILE_MAX_GAUSSIANS) : 0,
-                                      .width = a.width, .height = a.height, .atlas_size = a.atlas, .atlas_samples = a.atlas_samples};
+                                      .width = a.width, .height = a.height, .atlas_size = a.atlas, .atlas_samples = a.atlas_samples,
+                                      .pixel_samples = a.pixel_samples};
     if (dm_reference_memory_check(&pack, &mo, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         dm_pack_close(&pack);

@@ -100,11 +100,14 @@ typedef struct frame_job {
     const dm_ref_surface *s;
     const camera *cam;
     int width, height, row0;
-    dm_reference_target *hit;  /* per pixel; triangle −1 on a miss */
-    const int64_t *target_of;  /* per pixel: index into D, or −1 */
-    const float *D;            /* per target, rgb */
+    dm_reference_target *hit;  /* per pixel, its centre's ray; triangle −1 on a miss */
+    const int64_t *target_of;  /* per pixel: its skin index (index into D), or −1 */
+    const float *D;            /* per target, rgb: the skin pixels' centres, then the sub-rays */
     float *rgba;
-    int samples;               /* per axis per pixel, for the surface terms */
+    int samples;               /* per axis per pixel (k): k² sub-pixel rays when k > 1 */
+    dm_reference_target *sub;  /* per skin pixel, its k² sub-pixel rays' hits (k > 1) */
+    int64_t *sub_D;            /* per sub-pixel ray: index into D, or −1 (the centre's D) */
+    const int64_t *skin_at;    /* per skin index: the pixel */
 } frame_job;
 
 static void ray_rows(void *ctx, size_t begin, size_t end)
@@ -132,6 +135,27 @@ static float finite_out(double v)
     return (float)(v > 3.0e38 ? 3.0e38 : v < -3.0e38 ? -3.0e38 : v);
 }
 
+/* Stage 3b: the k² sub-pixel rays of each skin pixel (rows are skin indices here). */
+static void sub_rays(void *ctx, size_t begin, size_t end)
+{
+    frame_job *j = ctx;
+    int k = j->samples;
+    for (size_t i = begin; i < end; ++i) {
+        size_t at = (size_t)j->skin_at[i];
+        int x = (int)(at % (size_t)j->width), y = (int)(at / (size_t)j->width);
+        for (int b = 0; b < k; ++b)
+            for (int a = 0; a < k; ++a) {
+                double dir[3];
+                pixel_dir_at(j->cam, x, y, (a + 0.5) / k, (b + 0.5) / k, j->width, j->height, dir);
+                dm_ray_hit h;
+                dm_reference_target *t = &j->sub[i * (size_t)(k * k) + (size_t)(b * k + a)];
+                if (dm_raycast_closest(j->s->rays, j->cam->eye, dir, j->cam->t_near, j->cam->t_far, true, &h))
+                    *t = (dm_reference_target){h.triangle, h.b1, h.b2};
+                else *t = (dm_reference_target){-1, 0.0f, 0.0f};
+            }
+    }
+}
+
 /* Radiance leaving hit t towards the eye, D the convolved irradiance to use there. */
 static void shade_hit(const frame_job *j, const dm_reference_target *t, const float *D, double out[3])
 {
@@ -156,9 +180,10 @@ static void shade_hit(const frame_job *j, const dm_reference_target *t, const fl
 }
 
 /* A pixel: background where its centre's ray misses; else the mean over the samples ×
- * samples sub-pixel rays that hit the head of the surface terms (albedo, normal map,
- * specular: what the renderer's mipmaps filter), each with the convolution D at the
- * centre's hit (D varies over millimetres, not over a pixel's texture detail). */
+ * samples sub-pixel rays that hit the head of the radiance there (albedo, normal map,
+ * specular: what the renderer's mipmaps filter), each with the convolution D at its own
+ * hit — or, with diffusion_at_centre, at the centre's hit (before issue #27: at 320×180 the
+ * two differed by 2.5 %). */
 static void shade_pixel(const frame_job *j, size_t at, float *o)
 {
     const dm_ref_surface *s = j->s;
@@ -177,20 +202,18 @@ static void shade_pixel(const frame_job *j, size_t at, float *o)
         return;
     }
     static const float no_D[3] = {0, 0, 0};
-    const float *D = s->terms.subsurface ? j->D + (size_t)j->target_of[at] * 3 : no_D;
+    size_t skin = (size_t)j->target_of[at];
+    const float *D = s->terms.subsurface ? j->D + skin * 3 : no_D;
     double sum[3] = {0, 0, 0};
     int n = 0, k = j->samples > 1 ? j->samples : 1;
-    for (int b = 0; b < k && k > 1; ++b)
-        for (int a = 0; a < k; ++a) {
-            double dir[3], rgb[3];
-            pixel_dir_at(j->cam, x, y, (a + 0.5) / k, (b + 0.5) / k, j->width, j->height, dir);
-            dm_ray_hit h;
-            if (!dm_raycast_closest(s->rays, j->cam->eye, dir, j->cam->t_near, j->cam->t_far, true, &h)) continue;
-            dm_reference_target sub = {h.triangle, h.b1, h.b2};
-            shade_hit(j, &sub, D, rgb);
-            for (int c = 0; c < 3; ++c) sum[c] += rgb[c];
-            ++n;
-        }
+    for (int q = 0; q < k * k && k > 1; ++q) {
+        size_t i = skin * (size_t)(k * k) + (size_t)q;
+        if (j->sub[i].triangle < 0) continue;
+        double rgb[3];
+        shade_hit(j, &j->sub[i], s->terms.subsurface && j->sub_D[i] >= 0 ? j->D + (size_t)j->sub_D[i] * 3 : D, rgb);
+        for (int c = 0; c < 3; ++c) sum[c] += rgb[c];
+        ++n;
+    }
     if (n == 0) {
         shade_hit(j, t, D, sum);
         n = 1;
@@ -238,8 +261,9 @@ typedef struct frame_state {
     dm_ref_surface *s;
     float *atlas;
     dm_reference *ref;
-    dm_reference_target *hit, *targets;
-    int64_t *target_of;
+    dm_reference_target *hit, *targets, *sub;
+    int64_t *target_of, *skin_at, *sub_D;
+    size_t skin;
     float *D;
 } frame_state;
 
@@ -251,6 +275,7 @@ static void free_state(frame_state *st)
     free(st->hit);
     free(st->targets);
     free(st->target_of);
+    free(st->sub), free(st->skin_at), free(st->sub_D);
     free(st->D);
 }
 
@@ -278,8 +303,10 @@ static void box_down(const float *hi, int size, int k, float *out, int64_t *cove
         }
 }
 
-/* Stages 2 and 4: the atlas, the convolution at every hit. */
-static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, int atlas_size, size_t npx,
+/* Stages 2 and 4: the atlas, the convolution at every hit (the skin pixels' centres, then
+ * their sub-pixel rays' hits unless o->diffusion_at_centre; for odd k the middle sub-pixel
+ * ray is the centre's and takes its D). */
+static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, int atlas_size, int pk,
                                size_t *count, dm_ref_frame_stats *stats, dm_error *err)
 {
     size_t n = (size_t)atlas_size * (size_t)atlas_size;
@@ -315,13 +342,16 @@ static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, i
     r = dm_reference_create(&st->s->mesh, st->s->mm_per_unit, &atlas, &kernel, &ro, &st->ref, err);
     if (r != DM_OK) return r;
     stats->reference_ms = now_ms() - t0;
-    /* the hits in pixel order */
-    st->targets = malloc((npx ? npx : 1) * sizeof *st->targets);
+    /* the centres in pixel order, then the sub-pixel rays' hits */
+    size_t kk = pk > 1 ? (size_t)pk * (size_t)pk : 0, subs = o->diffusion_at_centre ? 0 : st->skin * kk;
+    st->targets = malloc((st->skin + subs + 1) * sizeof *st->targets);
     if (!st->targets) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the targets");
     *count = 0;
-    for (size_t at = 0; at < npx; ++at) {
-        st->target_of[at] = st->hit[at].triangle >= 0 ? (int64_t)*count : -1;
-        if (st->hit[at].triangle >= 0) st->targets[(*count)++] = st->hit[at];
+    for (size_t i = 0; i < st->skin; ++i) st->targets[(*count)++] = st->hit[st->skin_at[i]];
+    for (size_t i = 0; i < subs; ++i) {
+        bool middle = pk % 2 == 1 && i % kk == kk / 2;
+        st->sub_D[i] = st->sub[i].triangle < 0 ? -1 : middle ? (int64_t)(i / kk) : (int64_t)*count;
+        if (st->sub[i].triangle >= 0 && !middle) st->targets[(*count)++] = st->sub[i];
     }
     st->D = malloc((*count ? *count : 1) * 3 * sizeof *st->D);
     if (!st->D) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate %zu results", *count);
@@ -376,16 +406,27 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     frame_job j = {0};
     if (r == DM_OK) {
         make_camera(&st.s->scene, st.s->rays, st.s->mm_per_unit, width, height, &cam);
-        j = (frame_job){st.s, &cam, width, height, 0, st.hit, st.target_of, NULL, rgba_out,
-                        o->pixel_samples ? o->pixel_samples : PIXEL_SAMPLES_DEFAULT};
+        j = (frame_job){.s = st.s, .cam = &cam, .width = width, .height = height, .hit = st.hit,
+                        .target_of = st.target_of, .rgba = rgba_out,
+                        .samples = o->pixel_samples ? o->pixel_samples : PIXEL_SAMPLES_DEFAULT};
         double t0 = now_ms();
         by_bands(&j, ray_rows, o->thread_count, o, "rays");
+        for (size_t at = 0; at < npx; ++at) st.target_of[at] = st.hit[at].triangle >= 0 ? (int64_t)st.skin++ : -1;
+        stats.skin_pixels = (int64_t)st.skin;
+        size_t kk = j.samples > 1 ? (size_t)j.samples * (size_t)j.samples : 0;
+        st.skin_at = malloc((st.skin + 1) * sizeof *st.skin_at);
+        st.sub = malloc((st.skin * kk + 1) * sizeof *st.sub);
+        st.sub_D = malloc((st.skin * kk + 1) * sizeof *st.sub_D);
+        if (!st.skin_at || !st.sub || !st.sub_D) r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: out of memory");
+        for (size_t at = 0; r == DM_OK && at < npx; ++at)
+            if (st.target_of[at] >= 0) st.skin_at[st.target_of[at]] = (int64_t)at;
+        for (size_t i = 0; r == DM_OK && i < st.skin * kk; ++i) st.sub_D[i] = -1;
+        j.sub = st.sub, j.sub_D = st.sub_D, j.skin_at = st.skin_at;
+        if (r == DM_OK && kk) dm_parallel_for(st.skin, 64, o->thread_count, sub_rays, &j);
         stats.rays_ms = now_ms() - t0;
-        for (size_t at = 0; at < npx; ++at) stats.skin_pixels += st.hit[at].triangle >= 0;
     }
     size_t count = 0;
-    if (r == DM_OK && st.s->terms.subsurface)
-        r = diffuse_stage(&st, o, atlas_size, npx, &count, &stats, err);
+    if (r == DM_OK && st.s->terms.subsurface) r = diffuse_stage(&st, o, atlas_size, j.samples, &count, &stats, err);
     if (r == DM_OK) {
         j.D = st.D;
         double t0 = now_ms();
@@ -400,6 +441,20 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     stats.total_ms = now_ms() - t_start;
     if (o->stats) *o->stats = stats;
     return r;
+}
+
+dm_result dm_ref_frame_hits(const dm_ref_surface *s, int width, int height, int thread_count,
+                            dm_reference_target *out, dm_error *err)
+{
+    assert(s && out);
+    if (width < 1 || height < 1 || width > SIZE_MAX_PX || height > SIZE_MAX_PX)
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: size %dx%d, expected 1..%d per side", width, height,
+                       SIZE_MAX_PX);
+    camera cam;
+    make_camera(&s->scene, s->rays, s->mm_per_unit, width, height, &cam);
+    frame_job j = {.s = s, .cam = &cam, .width = width, .height = height, .hit = out};
+    by_bands(&j, ray_rows, thread_count, &(dm_ref_frame_options){0}, "rays");
+    return DM_OK;
 }
 
 /* ---- display ------------------------------------------------------------------------ */

@@ -41,6 +41,7 @@
 #ifndef DM_REF_FRAME_H
 #define DM_REF_FRAME_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "reference/dm_ref_surface.h"
@@ -76,6 +77,10 @@ typedef struct dm_ref_frame_options {
      * same detail; one point sample per pixel instead leaves ~10 % per-pixel noise against
      * it at 320×180 (the means agree to 0.5 %). */
     int atlas_samples, pixel_samples;
+    /* false (default): D is taken at each sub-pixel ray's own hit, as the surface terms are
+     * (issue #27); true: at the centre's hit only (cheaper by ~k², the behaviour before #27:
+     * kept for the convergence table in docs/dermis-reference.md). */
+    bool diffusion_at_centre;
     /* quadrature of the convolution (cut, spacing, wide_texels); NULL = its defaults.
      * Its thread_count and progress are replaced by these options'. */
     const dm_reference_options *reference;
@@ -104,6 +109,13 @@ dm_result dm_ref_frame_render(const dm_pack *pack, const dm_scene *scene, const 
  * lights, effects and the default size): synthetic scenes and tests, no pack needed. */
 dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref_frame_options *opt,
                                    float *rgba_out, dm_error *err);
+
+/* What each pixel's centre ray hits (the frame's stage 3: the same camera, clipping and
+ * back-face culling) on the surface s (dm_ref_surface_create of the same description),
+ * width·height targets, rows bottom-up, triangle −1 where the ray misses: a caller labels
+ * the pixels (dm_ref_regions_classify) or reads the surface there. Deterministic. */
+dm_result dm_ref_frame_hits(const dm_ref_surface *s, int width, int height, int thread_count,
+                            dm_reference_target *out, dm_error *err);
 
 /* The 8-bit display image of a linear frame, as the renderer makes it: with the tonemap
  * effect, c = max(rgb · 2^exposure, 0), Hable's filmic curve of 2c over that of the white

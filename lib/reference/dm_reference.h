@@ -177,6 +177,7 @@ typedef struct dm_reference_memory_options {
     int width, height;   /* frame; 0 = the scene's */
     int atlas_size;      /* frame; 0 = 1024 */
     int atlas_samples;   /* frame; 0 = 4 */
+    int pixel_samples;   /* frame; 0 = 3 */
 } dm_reference_memory_options;
 
 typedef struct dm_reference_memory {

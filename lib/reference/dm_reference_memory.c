@@ -35,7 +35,10 @@ void dm_reference_memory_estimate(const dm_pack *pack, const dm_reference_memory
     while (k > 1 && a * k > 8192) --k; /* as dm_ref_frame_render */
     m->irradiance_size = sq(a) * 16 + sq(a * k) * 20;
     m->convolution_size = sq(a) * (16 + 16 + 48);
-    m->pixels_size = (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0) * 80;
+    /* per pixel 80 bytes; per skin pixel (every pixel, at most) and sub-pixel ray its hit,
+     * index, convolution target and result: 44 bytes */
+    uint64_t ps = (uint64_t)(o->pixel_samples > 0 ? o->pixel_samples : 3);
+    m->pixels_size = (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0) * (80 + 44 * ps * ps);
     m->total_size = m->base_size + max_u64(m->irradiance_size, m->convolution_size) + m->pixels_size;
 }
 

@@ -133,6 +133,42 @@ Test(reference_tool, frame, .init = setup, .timeout = 240)
     cr_expect_eq(test_run(x, NULL), 0, "the PNG beside the EXR");
 }
 
+/* --without: the decomposed comparison's runs (bench/accuracy). Albedo and normal map out,
+ * shadows out: the frame differs from the full one; with subsurface out too it differs
+ * again (Lambert at the point), and the provenance names what was left out. */
+Test(reference_tool, without, .init = setup, .timeout = 240)
+{
+    const char *runs[3] = {"", "--without albedo,normal-map,shadows", "--without albedo,normal-map,shadows,subsurface"};
+    float *rgb[3] = {NULL};
+    for (int k = 0; k < 3; ++k) {
+        char a[8192], x[700];
+        snprintf(a, sizeof a, "%s --frame --size 64x36 --atlas 64 --pixel-samples 2 %s -o %s/w%d.exr --quiet", pack, runs[k], dir, k);
+        cr_assert_eq(run(a), 0, "%s", runs[k]);
+        dm_exr_image img;
+        dm_error err = {0};
+        snprintf(x, sizeof x, "%s/w%d.exr", dir, k);
+        cr_assert_eq(dm_exr_read(x, &img, &err), DM_OK, "%s", err.detail);
+        const dm_param *w = dm_prov_find(&img.prov, "without"), *d = dm_prov_find(&img.prov, "diffusion");
+        cr_expect(w && !strcmp(w->s, k ? runs[k] + 10 : ""), "provenance 'without' of run %d", k);
+        cr_expect(d && !strcmp(d->s, "pixel"));
+        rgb[k] = malloc(sizeof(float) * 64 * 36);
+        memcpy(rgb[k], dm_exr_find(&img, "R"), sizeof(float) * 64 * 36);
+        dm_exr_free(&img);
+    }
+    double d01 = 0, d12 = 0;
+    for (int i = 0; i < 64 * 36; ++i) d01 += fabs(rgb[0][i] - rgb[1][i]), d12 += fabs(rgb[1][i] - rgb[2][i]);
+    cr_expect_gt(d01, 1.0, "leaving the maps and shadows out changes nothing");
+    cr_expect_gt(d12, 0.1, "leaving subsurface out changes nothing");
+    for (int k = 0; k < 3; ++k) free(rgb[k]);
+    char a[8192];
+    snprintf(a, sizeof a, "%s --frame --size 64x36 --without albedo,speculars -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "an unknown term");
+    snprintf(a, sizeof a, "%s --texture-space 32 --without shadows -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--without is a frame option");
+    snprintf(a, sizeof a, "%s --texture-space 32 --diffusion-at-centre -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--diffusion-at-centre is a frame option");
+}
+
 Test(reference_tool, errors, .init = setup)
 {
     char a[8192];
