@@ -35,6 +35,11 @@ dm_result dm_ref_frame_labels(const dm_ref_surface *s, const dm_ref_regions *rg,
     return r;
 }
 
+static bool selected(const float *weight, const uint8_t *label, int region, size_t i)
+{
+    return !(weight && !(weight[i] > 0)) && !(label && region >= 0 && label[i] != region);
+}
+
 dm_result dm_ref_transport_compute(const float *ref, const float *flat, const float *render, const float *weight,
                                    const uint8_t *label, int region, size_t n, double threshold,
                                    dm_ref_transport_stats *st, dm_error *err)
@@ -46,13 +51,18 @@ dm_result dm_ref_transport_compute(const float *ref, const float *flat, const fl
     *st = (dm_ref_transport_stats){.signal = {0}};
     long any = 0;
     for (int c = 0; c < 3; ++c) {
-        double rel = 0, num = 0, den = 0;
+        double rel = 0, num = 0, den = 0, floor = 0;
         long count = 0;
+        for (size_t i = 0; i < n; ++i)
+            if (selected(weight, label, region, i) && isfinite(ref[4 * i + (size_t)c])) floor += ref[4 * i + (size_t)c], ++count;
+        floor = count ? DM_REF_ERROR_FLOOR * floor / count : 0.0;
+        count = 0;
         for (size_t i = 0; i < n; ++i) {
-            if ((weight && !(weight[i] > 0)) || (label && region >= 0 && label[i] != region)) continue;
+            if (!selected(weight, label, region, i)) continue;
             double R = ref[4 * i + (size_t)c], F = flat[4 * i + (size_t)c], X = render[4 * i + (size_t)c];
-            if (!(R > 0) || !(fabs(R - F) > threshold * R) || !isfinite(X) || !isfinite(F)) continue;
-            rel += fabs(X - R) / R;
+            double Rf = fmax(R, floor);
+            if (!(R > 0) || !(fabs(R - F) > threshold * Rf) || !isfinite(X) || !isfinite(F)) continue;
+            rel += fabs(X - R) / Rf;
             num += fabs(X - R), den += fabs(F - R);
             ++count;
         }

@@ -13,8 +13,11 @@
  * frame without subsurface flat (dermis-reference --without subsurface: Lambert at the point,
  * everything else equal) and a render, per channel c over the weighted pixels (weight > 0,
  * the label asked for) where subsurface changes the reference by more than `threshold`
- * (|ref_c − flat_c| > threshold · ref_c, the SIGNAL pixels):
- *   mean       = mean of |render_c − ref_c| / ref_c      (relative error where it matters)
+ * (|ref_c − flat_c| > threshold · max(ref_c, floor_c), the SIGNAL pixels; floor_c =
+ * DM_REF_ERROR_FLOOR × the mean of ref_c over the pixels asked for, as dm_ref_error_stats:
+ * on the dark side of a terminator, where the reference is a thousandth of its mean, a
+ * relative change means nothing):
+ *   mean       = mean of |render_c − ref_c| / max(ref_c, floor_c)  (relative error there)
  *   normalised = Σ |render_c − ref_c| / Σ |flat_c − ref_c|  (0: exact; 1: no better than
  *                leaving subsurface out; a ratio of sums, so the pixels whose signal is
  *                barely above the threshold do not blow it up)
