@@ -15,8 +15,10 @@
  *     PACK --texture-space N`, area-weighted (dm_ref_regions.h: texel area in mm²), mean and
  *     p95 per channel, over the whole skin and per region (smooth, within 3 mm of a UV
  *     seam, thin parts and folds);
- *   - frame error: the final linear frame at 320x180 against `dermis-reference PACK --frame
- *     --size 320x180 --atlas 512` over the interior skin pixels (each pixel once).
+ *   - frame error, taken apart (common/frame_truth.h): the final linear frame at 1280x720
+ *     against `dermis-reference PACK --frame` in a transport run (white albedo, no normal
+ *     map, no shadows; normalised by the no-subsurface frame where subsurface shows), then
+ *     with the surface terms and with shadows; a no-subsurface row is the floor.
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
@@ -45,6 +47,7 @@
 #include "render/dm_render_refcmp.h"
 
 #include "common/accuracy_report.h"
+#include "common/atlas_regions.h"
 
 static setting *add(int size, int taps, int g, bool flat, dm_render_desc knobs, const char *name, const char *what)
 {
@@ -69,6 +72,10 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d", N), snprintf(w, sizeof w, "irradiance %d, 7 taps%s", N, N == 1024 ? " (the scene's default)" : "");
         add(N, 0, 0, false, (dm_render_desc){0}, n, w);
     }
+    if (!quick && !large) /* the frame's ranking of 2048 (its texture-space reference: DERMIS_BENCH_LARGE) */
+        add(2048, 0, 0, false, (dm_render_desc){0}, "2048 frame", "irradiance 2048, 7 taps (frame only)")->frame_only = true;
+    /* the floor: what leaving subsurface out costs */
+    add(B, 0, 0, false, (dm_render_desc){0}, "no subsurface", "no subsurface (Lambert x albedo): the floor")->no_subsurface = true;
     /* the levels summed per pixel by the final pass instead of once per texel by the diffusion
      * pass (dm_render_desc.diffusion_per_pixel): the two differ along chart edges */
     for (int N = 256; N <= 1024 && (N == 256 || !quick); N *= 2) {
@@ -143,17 +150,23 @@ static const char *truth_kind(const char *spec)
 }
 
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
-                     dm_refcmp_ref *ref)
+                     const char *without, dm_refcmp_ref *ref)
 {
     const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
-    char path[2048], cmd[8192], truth[64] = "", opt[80] = "";
+    char path[2048], cmd[8192], truth[64] = "", opt[200] = "", wo[64] = "";
     if (dip) {
         snprintf(truth, sizeof truth, "%s-%s-", kind, dip), snprintf(opt, sizeof opt, " --%s %s", kind, dip);
         for (char *t = truth; *t; ++t) /* the spec's '/', ',' and '.' out of the file name */
             if (!((*t >= 'a' && *t <= 'z') || (*t >= '0' && *t <= '9') || *t == '-')) *t = '_';
     }
+    if (without) { /* the frame's runs: "-without-albedo_normal-map_shadows" */
+        snprintf(wo, sizeof wo, "-without-%s", without);
+        for (char *t = wo; *t; ++t) *t = *t == ',' ? '_' : *t;
+        snprintf(opt + strlen(opt), sizeof opt - strlen(opt), " --without %s", without);
+    }
     if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
-    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d.exr", dir, hex, truth, FW, FH, FRAME_ATLAS);
+    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d%s.exr", dir, hex, truth, FW, FH, FRAME_ATLAS, FRAME_AS,
+                  FRAME_PS, wo);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
@@ -163,8 +176,11 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
             const dm_param *bp = dm_prov_find(&ref->prov, "burley"), *mine = dip == BURLEY ? bp : dp;
             const dm_param *ps = dm_prov_find(&ref->prov, "pixel_samples"); /* frames: anti-aliased */
+            const dm_param *df = dm_prov_find(&ref->prov, "diffusion"), *wt = dm_prov_find(&ref->prov, "without");
             bool truth_ok = dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) : !dp && !bp;
-            if ((!tc || tc->i == 1) && truth_ok && (N || (ps && ps->i > 1))) {
+            bool frame_ok = ps && ps->i == FRAME_PS && df && !strcmp(df->s, "pixel") && wt &&
+                            !strcmp(wt->s, without ? without : "");
+            if ((!tc || tc->i == 1) && truth_ok && (N || frame_ok)) {
                 fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
                 return 1;
             }
@@ -172,8 +188,9 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         dm_refcmp_ref_free(ref);
         if (attempt) break;
         if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d%s -o %s --quiet", bin, pack, N, opt, path);
-        else snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d%s -o %s --quiet", bin,
-                      pack, FW, FH, FRAME_ATLAS, opt, path);
+        else snprintf(cmd, sizeof cmd,
+                      "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d%s -o %s --quiet",
+                      bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, opt, path);
         if (run(cmd) != 0) break;
     }
     fprintf(stderr, "error: no usable reference %s: %s\n", path, err.detail);
@@ -181,25 +198,10 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
 }
 
 /* Per texel at size N: the region label and the area (mm²) of each of the reference's
- * own targets. */
+ * own targets (common/atlas_regions.h). */
 static int label_atlas(const dm_ref_regions *rg, const dm_mesh *m, sized *z)
 {
-    dm_reference_atlas ra = {z->N, z->N, z->ref.rgba};
-    dm_reference_target *tg = NULL;
-    int64_t *texel_of = NULL;
-    size_t count = 0, n = (size_t)z->N * z->N;
-    dm_error err = {0};
-    if (dm_reference_atlas_targets(m, &ra, 0, &tg, &texel_of, &count, &err) != DM_OK) {
-        fprintf(stderr, "error: regions at %d: %s\n", z->N, err.detail);
-        return 0;
-    }
-    z->label = calloc(n, 1), z->area = calloc(n, sizeof *z->area);
-    if (!z->label || !z->area) return 0;
-    dm_ref_regions_atlas(rg, z->N, z->N, tg, texel_of, count, z->label, z->area);
-    for (size_t i = 0; i < count; ++i)
-        ++z->count[z->label[texel_of[i]]], z->area_mm2[z->label[texel_of[i]]] += z->area[texel_of[i]];
-    free(tg), free(texel_of);
-    return 1;
+    return atlas_regions(rg, m, z->N, z->ref.rgba, &z->label, &z->area, z->count, z->area_mm2);
 }
 
 /* The pack of SCENE with `key` replaced by `value` (the scene written beside the original,
@@ -319,39 +321,6 @@ static float *flat_stretch(const dm_render_assets *a, float med[2])
     return out;
 }
 
-/* The frame at FW x FH of one setting: stats against the frame reference (and, for the
- * picture, the linear pixels into *keep when keep is not NULL). */
-static bool frame_error(const dm_render_assets *a, const setting *s, const dm_refcmp_ref *fref, dm_ref_error_stats *st,
-                        float **keep)
-{
-    dm_render_desc d = s->knobs;
-    d.width = FW, d.height = FH, d.irradiance_size = s->size;
-    dm_renderer *r = NULL;
-    dm_error err = {0};
-    float *px = malloc(sizeof *px * 4 * FW * FH);
-    float *w = calloc((size_t)FW * FH, sizeof *w);
-    bool ok = px && w && dm_renderer_create(a, &d, &r, &err) == DM_OK &&
-              dm_render_frame(r, &(dm_frame_options){0}, &err) == DM_OK && dm_renderer_read_linear(r, px, &err) == DM_OK;
-    /* interior skin: the pixel and its 4 neighbours skin in both (silhouette pixels, where
-     * the rasterizer's and the ray's coverage differ, are left out) */
-    for (int y = 1; ok && y < FH - 1; ++y)
-        for (int x = 1; x < FW - 1; ++x) {
-            bool in = true;
-            for (int k = 0; k < 5; ++k) {
-                size_t i = (size_t)(y + (k == 1) - (k == 2)) * FW + x + (k == 3) - (k == 4);
-                in &= fref->rgba[4 * i + 3] >= 0.5f && px[4 * i + 3] >= 0.5f;
-            }
-            w[(size_t)y * FW + x] = in ? 1.0f : 0.0f;
-        }
-    ok = ok && dm_ref_error_stats_compute(fref->rgba, px, w, NULL, -1, (size_t)FW * FH, st, &err) == DM_OK;
-    free(w);
-    if (!ok) fprintf(stderr, "warning: %s: frame: %s\n", s->name, err.detail);
-    dm_renderer_destroy(r);
-    if (ok && keep) *keep = px;
-    else free(px);
-    return ok;
-}
-
 int main(int argc, char **argv)
 {
     const char *outdir = argc > 1 ? argv[1] : "bench/results";
@@ -414,17 +383,30 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         const char *truth = rows_s[c].burley ? BURLEY : rows_s[c].gaussians ? dipole : NULL;
         int i = 0;
-        if (rows_s[c].technique != DM_SSS_TEXTURE_SPACE) continue;
+        if (rows_s[c].technique != DM_SSS_TEXTURE_SPACE || rows_s[c].frame_only || rows_s[c].no_subsurface) continue;
         while (i < nz && !(z[i].N == rows_s[c].size && z[i].dipole == truth)) ++i;
         if (i < nz) continue;
         z[nz].N = rows_s[c].size, z[nz].dipole = truth;
-        if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz])) return 3;
+        if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, NULL, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz]))
+            return 3;
         ++nz;
     }
-    dm_refcmp_ref fref[2] = {{0}};
-    if (!reference(bin, pack_path, hash, dir, 0, NULL, &fref[0]) ||
-        (dipole && !reference(bin, pack_path, hash, dir, 0, dipole, &fref[1])))
+    /* the frame's truths: the scene's profile in every run, the dipole (Gaussian-count rows)
+     * in the transport run; each with its flat (no-subsurface) transport frame */
+    static frame_truth ft[2];
+    for (int t = 0; t < 1 + (dipole != NULL); ++t) {
+        const char *truth = t ? dipole : NULL;
+        for (int v = 0; v < (t ? 1 : FV_COUNT); ++v) {
+            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[v], &ft[t].ref[v])) return 3;
+            ft[t].have[v] = true;
+        }
+        if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, &ft[t].flat)) return 3;
+    }
+    uint8_t *plabel = malloc((size_t)FW * FH);
+    if (!plabel || dm_ref_frame_labels(surf, rg, FW, FH, 0, plabel, &err) != DM_OK) {
+        fprintf(stderr, "error: frame labels: %s\n", err.detail);
         return 3;
+    }
 
     dm_osmesa *ctx = NULL;
     if (dm_osmesa_create(&ctx, &err) != DM_OK) {
@@ -448,8 +430,9 @@ int main(int argc, char **argv)
         rows[c].scene.effects[DM_EFFECT_GLOW] = false;
         rows[c].scene.effects[DM_EFFECT_TRANSLUCENCY] = s->translucency;
         rows[c].scene.sss_technique = s->technique;
+        if (s->no_subsurface) rows[c].scene.effects[DM_EFFECT_SUBSURFACE] = false;
         if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
-        rows[c].fref = s->burley ? NULL : &fref[s->gaussians && dipole]; /* Burley: texture space only */
+        rows[c].ft = s->burley ? NULL : &ft[s->gaussians && dipole]; /* Burley: texture space only */
         as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
         if (s->flat_stretch) {
@@ -479,7 +462,7 @@ int main(int argc, char **argv)
         const sized *zz = z;
         const char *truth = rows[c].s.burley ? BURLEY : rows[c].s.gaussians ? dipole : NULL;
         while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == truth)) ++zz;
-        if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE) {
+        if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !rows[c].s.frame_only && !rows[c].s.no_subsurface) {
             int w = 0, h = 0;
             float *px = NULL;
             if (dm_render_frame(rows[c].r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err) == DM_OK) {
@@ -499,25 +482,37 @@ int main(int argc, char **argv)
         dm_renderer_destroy(rows[c].r);
         bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
                           !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
+                          !rows[c].s.frame_only && !rows[c].s.no_subsurface &&
                           rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
-        rows[c].fok = rows[c].fref &&
-                      frame_error(&as[c], &rows[c].s, rows[c].fref, &rows[c].fst, is_default ? &default_px : NULL);
-        const dm_ref_error_stats *s = &rows[c].st[REG_ALL], *f = &rows[c].fst;
+        if (rows[c].ft) {
+            dm_render_desc d = rows[c].s.knobs;
+            d.irradiance_size = rows[c].s.size;
+            frame_measure(&as[c], &rows[c].scene, d, rows[c].ft, plabel, FW, FH, rows[c].s.name, &rows[c].fr,
+                          is_default ? &default_px : NULL);
+            rows[c].fok = rows[c].fr.trok[REG_ALL];
+        }
+        const dm_ref_error_stats *s = &rows[c].st[REG_ALL];
+        const dm_ref_transport_stats *f = &rows[c].fr.tr[REG_ALL];
         printf("%-52s %7.1f ms", rows[c].s.what, rows[c].frame_ms);
         if (rows[c].ok[REG_ALL])
             printf("  TSD mean %5.2f/%5.2f/%5.2f %%  p95 %5.2f/%5.2f/%5.2f %%", 100 * s->mean[0], 100 * s->mean[1],
                    100 * s->mean[2], 100 * s->p95[0], 100 * s->p95[1], 100 * s->p95[2]);
-        if (rows[c].fok) printf("  frame mean %5.2f/%5.2f/%5.2f %%", 100 * f->mean[0], 100 * f->mean[1], 100 * f->mean[2]);
+        if (rows[c].fok)
+            printf("  transport %5.2f/%5.2f/%5.2f %%", 100 * f->normalised[0], 100 * f->normalised[1], 100 * f->normalised[2]);
         printf("\n");
     }
     report(outdir, rows, z, nz, frames, packs[0].assets.index_count / 3, &ri, med, B);
     plot(outdir, dir, rows);
-    if (default_px) frame_picture(outdir, &fref[0], default_px);
+    if (default_px) frame_picture(outdir, &ft[0].ref[FV_FULL], default_px);
     for (int i = 0; i < nz; ++i)
         if (z[i].N == B && !z[i].dipole) regions_picture(outdir, &z[i]);
     free(default_px), free(flat);
     for (int i = 0; i < nz; ++i) dm_refcmp_ref_free(&z[i].ref), free(z[i].label), free(z[i].area);
-    dm_refcmp_ref_free(&fref[0]), dm_refcmp_ref_free(&fref[1]);
+    for (int t = 0; t < 2; ++t) {
+        for (int v = 0; v < FV_COUNT; ++v) dm_refcmp_ref_free(&ft[t].ref[v]);
+        dm_refcmp_ref_free(&ft[t].flat);
+    }
+    free(plabel);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf);
     for (int g = 0; g < NPACKS; ++g)
         if (packs[g].open) dm_pack_close(&packs[g].pack);

@@ -47,8 +47,9 @@ static void usage(FILE *f)
             "                       renderer's specular and environment; OUT.exr linear (A = 1 on skin),\n"
             "                       and OUT.png through the scene's tonemap\n"
             "  --size WxH           frame size, default the scene's; 1..16384 per side\n"
-            "  --atlas N            frame: CPU irradiance atlas size, default 1024; 16..8192\n"
-            "  --atlas-samples K    frame: KxK irradiance samples per atlas texel, default 4; 1..8\n"
+            "  --atlas N            frame: CPU irradiance atlas size, default 4096; 16..8192\n"
+            "  --atlas-samples K    frame: KxK irradiance samples per atlas texel, default 4, fewer where\n"
+            "                       atlas x K > 8192 (2 at 4096); 1..8\n"
             "  --pixel-samples K    frame: KxK sub-pixel rays per skin pixel (the surface terms and the\n"
             "                       diffusion at each ray's hit), default 3; 1..8\n"
             "  --diffusion-at-centre  frame: the diffusion at the pixel centre's hit only (cheaper; the\n"
@@ -546,8 +547,9 @@ static int frame(const args *a, const dm_pack *pack)
         base_provenance(a, "frame", &prov);
         dm_prov_add_int(&prov, "width", W);
         dm_prov_add_int(&prov, "height", H);
-        dm_prov_add_int(&prov, "atlas", a->atlas ? a->atlas : 1024);
-        dm_prov_add_int(&prov, "atlas_samples", a->atlas_samples ? a->atlas_samples : 4);
+        int atlas = a->atlas ? a->atlas : DM_REF_FRAME_ATLAS_DEFAULT;
+        dm_prov_add_int(&prov, "atlas", atlas);
+        dm_prov_add_int(&prov, "atlas_samples", dm_ref_frame_atlas_samples(atlas, a->atlas_samples));
         dm_prov_add_int(&prov, "pixel_samples", a->pixel_samples ? a->pixel_samples : 3);
         dm_prov_add_string(&prov, "diffusion", a->at_centre ? "centre" : "pixel");
         dm_prov_add_string(&prov, "without", a->without ? a->without : "");
@@ -566,7 +568,7 @@ static int frame(const args *a, const dm_pack *pack)
             code = DM_EXIT_SAVE;
         } else if (planes && !a->quiet) {
             printf("%s, %s: %dx%d ground-truth frame, %lld skin pixels, atlas %d, %lld covered texels\n", a->out, png, W,
-                   H, (long long)st.skin_pixels, a->atlas ? a->atlas : 1024, (long long)st.covered_texels);
+                   H, (long long)st.skin_pixels, atlas, (long long)st.covered_texels);
             printf("  setup %.0f ms, irradiance %.0f ms, elements %.0f ms, rays %.0f ms, convolution %.1f s, shading %.0f ms;"
                    " total %.1f s\n",
                    st.setup_ms, st.atlas_ms, st.reference_ms, st.rays_ms, st.convolution_ms / 1e3, st.compose_ms,

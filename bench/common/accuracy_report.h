@@ -17,7 +17,13 @@
 #include "render/dm_render_image.h"
 #include "render/dm_render_refcmp.h"
 
-enum { W = 1280, H = 720, FW = 320, FH = 180, FRAME_ATLAS = 512, MAX_FRAMES = 64, MAX_ROWS = 40, MAX_G = 8 };
+#include "common/frame_truth.h"
+
+/* The frame references: at the frame size, atlas FRAME_ATLAS with FRAME_AS² samples a texel,
+ * FRAME_PS² sub-pixel rays a pixel with the diffusion at each (the converged defaults of
+ * dermis-reference --frame: docs/dermis-reference.md, Convergence). */
+enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3 };
+enum { MAX_FRAMES = 64, MAX_ROWS = 44, MAX_G = 8 };
 enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
@@ -31,6 +37,8 @@ typedef struct setting {
     int screen_taps;            /* screen-space kernel taps */
     bool translucency;
     bool burley; /* its own truth and pack: a Gaussian fit of BURLEY against BURLEY itself */
+    bool frame_only;    /* no texture-space comparison (2048: its reference takes 15+ min) */
+    bool no_subsurface; /* the floor: the renderer's Lambert, subsurface off */
     dm_render_desc knobs;
 } setting;
 
@@ -67,9 +75,10 @@ typedef struct row {
     dm_scene scene;
     dm_renderer *r;
     double ms[MAX_FRAMES], frame_ms;
-    dm_ref_error_stats st[NREG], fst;
-    bool ok[NREG], fok;
-    const dm_refcmp_ref *fref; /* the frame reference of its truth */
+    dm_ref_error_stats st[NREG];
+    bool ok[NREG], fok;        /* fok: the transport run compared */
+    frame_result fr;
+    const frame_truth *ft;     /* the frame references of its truth */
 } row;
 
 static setting rows_s[MAX_ROWS];
@@ -94,7 +103,8 @@ static void plot(const char *outdir, const char *dir, const row *rows)
         char tsd[32] = "?", fr_[32] = "?";
         if (rows[c].ok[REG_ALL]) snprintf(tsd, sizeof tsd, "%.6f", 100 * mean3(rows[c].st[REG_ALL].mean));
         if (rows[c].ok[REG_ALL] && !fit) order[n++] = c;
-        if (rows[c].fok) snprintf(fr_, sizeof fr_, "%.6f", 100 * mean3(rows[c].fst.mean)), fmax_ = fmax(fmax_, 100 * mean3(rows[c].fst.mean));
+        double tr = 100 * frame_norm3(&rows[c].fr.tr[REG_ALL]);
+        if (rows[c].fok) snprintf(fr_, sizeof fr_, "%.6f", tr), fmax_ = fmax(fmax_, tr);
         fprintf(f, "%.3f %s %s \"%s\" \"%s\" %d\n", rows[c].frame_ms, tsd, fr_, rows[c].ok[REG_ALL] ? rows[c].s.name : "",
                 rows[c].ok[REG_ALL] ? "" : rows[c].s.name, fit);
     }
@@ -116,20 +126,106 @@ static void plot(const char *outdir, const char *dir, const row *rows)
                "set title 'lps-sss: error against dermis-reference vs frame time, one point per setting'\n"
                "set xlabel 'frame ms (median, 1280x720, llvmpipe on 2 cores; log scale)'\nset logscale x\n"
                "set ylabel 'texture space: mean relative error, %% (R, G, B averaged; area-weighted)'\n"
-               "set y2label 'frame: mean relative error, %% (interior skin pixels)' tc rgb '#d62728'\n"
+               "set y2label 'frame, transport run: error / no-subsurface error, %% (1280x720)' tc rgb '#d62728'\n"
                "set y2tics tc rgb '#d62728'\nset ytics nomirror\nset grid\nset key top right\n"
                "set datafile missing '?'\nset yrange [0:*]\nset y2range [0:%g]\nset offsets graph 0.02, graph 0.25, graph 0.15, graph 0.05\n"
                "plot '%s' using 1:2 with lines lw 2 lc rgb '#999999' title 'Pareto front of the texture-space error (full frames)', "
                "'%s' using 1:($6 == 1 ? 1/0 : $2) with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N (gems3-skin), whole skin', "
                "'' using 1:($6 == 1 ? $2 : 1/0) with points pt 9 ps 1.4 lc rgb '#2ca02c' title 'N Gaussians fitted to the skin1 dipole, vs its reference', "
                "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle, "
-               "'' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame 320x180 vs --frame (right axis)', "
+               "'' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame transport vs --frame, normalised (right axis; no subsurface = 100, off the axis)', "
                "'' using 1:3:5 axes x1y2 with labels offset 0.6,-0.4 left rotate by -30 font ',8' tc rgb '#d62728' notitle\n",
             png, 1.4 * fmax_, front, dat);
     if (pclose(g) == 0) printf("accuracy bench: wrote %s\n", png);
 }
 
 static void triple(FILE *md, const double v[3]) { fprintf(md, " %.2f / %.2f / %.2f |", 100 * v[0], 100 * v[1], 100 * v[2]); }
+
+/* The transport run's normalised error: all channels, then R / G / B. */
+static void transport_cell(FILE *md, const dm_ref_transport_stats *t)
+{
+    fprintf(md, " **%.1f** (%.1f / %.1f / %.1f) |", 100 * t->normalised_rgb, 100 * t->normalised[0], 100 * t->normalised[1],
+            100 * t->normalised[2]);
+}
+
+/* A row by its short name, or NULL. */
+static const row *row_named(const row *rows, const char *name)
+{
+    for (int c = 0; c < nrows; ++c)
+        if (!strcmp(rows[c].s.name, name) && rows[c].fok) return &rows[c];
+    return NULL;
+}
+
+/* The instrument's own test (issue #27): no subsurface scores worse than every technique,
+ * more Gaussians never worse than fewer, and TSD 2048 <= 1024 <= 512, in the transport run
+ * (normalised, R/G/B averaged). Writes one line per check. */
+static void frame_rankings(FILE *md, const row *rows)
+{
+    const row *flat = row_named(rows, "no subsurface");
+    int bad = 0, checked = 0;
+    fprintf(md, "\n**Rankings** (transport run, normalised over all channels):\n\n");
+    for (int c = 0; flat && c < nrows; ++c) {
+        if (&rows[c] == flat || !rows[c].fok) continue;
+        double e = frame_norm3(&rows[c].fr.tr[REG_ALL]), f = frame_norm3(&flat->fr.tr[REG_ALL]);
+        ++checked;
+        if (!(e < f)) fprintf(md, "- **violated**: %s scores %.2f %%, not below no subsurface's %.2f %%\n", rows[c].s.name, 100 * e, 100 * f), ++bad;
+    }
+    if (flat) fprintf(md, "- no subsurface (%.2f %%) scores worse than each of the %d other rows%s\n",
+                      100 * frame_norm3(&flat->fr.tr[REG_ALL]), checked, bad ? ": NOT ALL (above)" : "");
+    char a[40], b[40];
+    double prev = INFINITY;
+    int g_bad = 0, g_n = 0;
+    for (int g = 1; g <= MAX_G; ++g) {
+        const row *r = NULL;
+        for (int B = 256; B <= 1024 && !r; B *= 2) snprintf(a, sizeof a, "%d G%d", B, g), r = row_named(rows, a);
+        if (!r) continue;
+        double e = frame_norm3(&r->fr.tr[REG_ALL]);
+        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: %s (%.2f %%) scores worse than fewer Gaussians (%.2f %%)\n", a, 100 * e, 100 * prev), ++g_bad;
+        prev = fmin(prev, e), ++g_n;
+    }
+    if (g_n) fprintf(md, "- more Gaussians never score worse than fewer (%d rows)%s\n", g_n, g_bad ? ": NOT SO (above)" : "");
+    prev = INFINITY;
+    int t_bad = 0, t_n = 0;
+    for (int N = 256; N <= 2048; N *= 2) {
+        snprintf(a, sizeof a, "%d", N), snprintf(b, sizeof b, "%d frame", N);
+        const row *r = row_named(rows, a) ? row_named(rows, a) : row_named(rows, b);
+        if (!r) continue;
+        double e = frame_norm3(&r->fr.tr[REG_ALL]);
+        fprintf(md, "- TSD irradiance %d: %.2f %%\n", N, 100 * e);
+        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: TSD %d scores worse than the size below it\n", N), ++t_bad;
+        prev = e, ++t_n;
+    }
+    if (t_n > 1) fprintf(md, "- texture space: a larger irradiance never scores worse%s\n", t_bad ? ": NOT SO (above)" : "");
+}
+
+/* The frame taken apart: per row the transport run by region, then what the surface terms
+ * and the shadows add (mean relative error over the interior pixels of each run). */
+static void frame_report(FILE *md, const row *rows)
+{
+    fprintf(md, "\n## The frame, taken apart\n\nEach run against its own reference at %dx%d. **Transport** "
+                "(normalised %%: all channels' sums, then R / G / B) over the whole skin and per region — the labels of "
+                "`dm_ref_regions.h` projected into the frame through each pixel's triangle (`dm_ref_frame_labels`); "
+                "then the mean relative error over the interior skin pixels of each run: transport, **+ surface** "
+                "(albedo and normal map: `--without shadows`), **+ shadows** (the scene as it is: ray-cast shadows "
+                "against the shadow map). The Gaussian-count rows have their own truth (the skin1 dipole) in the "
+                "transport run only.\n\n"
+                "| setting | transport %% | smooth %% | seam %% | thin %% | transport mean %% | + surface mean %% | + shadows mean %% |\n"
+                "|---|---:|---:|---:|---:|---:|---:|---:|\n", FW, FH);
+    for (int c = 0; c < nrows; ++c) {
+        const frame_result *f = &rows[c].fr;
+        if (!rows[c].fok) continue;
+        fprintf(md, "| %s |", rows[c].s.name);
+        transport_cell(md, &f->tr[REG_ALL]);
+        for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
+            if (f->trok[g]) transport_cell(md, &f->tr[g]);
+            else fprintf(md, " – |");
+        for (int v = 0; v < FV_COUNT; ++v)
+            if (f->runok[v]) triple(md, f->run[v].mean);
+            else fprintf(md, " – |");
+        fprintf(md, "\n");
+    }
+    frame_rankings(md, rows);
+}
 
 static void report(const char *outdir, const row *rows, const sized *z, int nz, int frames, int tris,
                    const dm_ref_regions_info *ri, const float med[2], int B)
@@ -153,24 +249,27 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "the reference's area-weighted mean over the region), over the texels covered in both; **area-"
                 "weighted**: each texel counts the skin area it stands for, (3-D area / UV area of its triangle) / "
                 "N² mm²; mean and p95 (the error below which 95 %% of the skin *area* lies), in %%, R / G / B.\n\n"
-                "**Frame**: the final linear frame at %dx%d (`dermis-render`'s picture before the tonemap) against "
-                "`dermis-reference PACK --frame --size %dx%d --atlas %d` (irradiance on the CPU with ray-cast "
-                "shadows, 4x4 samples per atlas texel, diffused exactly; the surface terms over 3x3 sub-pixel rays, "
-                "as the renderer's mipmaps filter them; its specular and tonemap) over the interior skin pixels (the "
-                "pixel and its four neighbours skin in both: silhouette pixels, where the rasterizer's and the rays' "
-                "coverage differ, are left out), each pixel once (weighted by screen area, not skin area). It adds what TSD's irradiance itself gets wrong "
-                "(shadow-map edges, the irradiance texel size) to the diffusion error.\n\n",
-            FW, FH, FW, FH, FRAME_ATLAS);
-    fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame mean %% | frame p95 %% |\n"
+                "**Frame (transport)**: the final linear frame at %dx%d (`dermis-render`'s picture before the "
+                "tonemap) of the *transport run* — white albedo, no normal map, no shadows, in the renderer and in "
+                "`dermis-reference PACK --frame --without albedo,normal-map,shadows` alike (atlas %d, %dx%d samples a "
+                "texel, %dx%d sub-pixel rays a pixel with the diffusion at each) — over the interior skin pixels where "
+                "subsurface changes the reference by more than 2 %% (against the same reference `--without ...,"
+                "subsurface`): **normalised** = Σ|render − ref| / Σ|no-subsurface − ref| over them (100 %% = no "
+                "better than leaving subsurface out) and the **mean** relative error there "
+                "(`lib/reference/dm_ref_frame_compare.h`). What the surface terms and the shadows add: the next "
+                "section.\n\n",
+            FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_AS, FRAME_PS, FRAME_PS);
+    fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame transport, normalised %%: all (R / G / B) | frame transport mean %% |\n"
                 "|---|---:|---:|---:|---:|---:|\n");
     for (int c = 0; c < nrows; ++c) {
         fprintf(md, "| %s | **%.1f** |", rows[c].s.what, rows[c].frame_ms);
         if (rows[c].ok[REG_ALL]) triple(md, rows[c].st[REG_ALL].mean), triple(md, rows[c].st[REG_ALL].p95);
         else fprintf(md, " – | – |");
-        if (rows[c].fok) triple(md, rows[c].fst.mean), triple(md, rows[c].fst.p95);
+        if (rows[c].fok) transport_cell(md, &rows[c].fr.tr[REG_ALL]), triple(md, rows[c].fr.tr[REG_ALL].mean);
         else fprintf(md, " – | – |");
         fprintf(md, "\n");
     }
+    frame_report(md, rows);
     fprintf(md, "\n## Texture-space error by region\n\nLabels from the geometry (`lib/reference/dm_ref_regions.h`), per "
                 "texel at the reference's own surface point for it (`dm_reference_atlas_targets`), first match wins: "
                 "**seam**: within 3 mm (3-D) of a seam edge — an edge whose two triangles give it different UVs, or "
@@ -210,37 +309,55 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "space with `dermis-reference --burley 0.8,0.6,0.4/1,0.5,0.25` (Burley represented by 12 Gaussians "
                 "from d/40): what the 6-Gaussian fit loses. Screen-space rows (Jimenez's "
                 "separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
-                "frame error only, against the same frame reference (it does not depend on the technique). "
+                "frame error only, against the same frame references (they do not depend on the technique). The "
+                "no-subsurface row is the renderer with subsurface off (Lambert × albedo): the floor. The 2048 row "
+                "is measured on the frame only (its texture-space reference takes 15+ min). "
                 "Translucency rows add light through thin parts (from the shadow map's thickness), which the reference "
                 "carries by its 3-D convolution instead: their error shows what that adds. References are cached under `BUILD/cache/accuracy/` by pack hash and "
                 "size (`DERMIS_BENCH_LARGE=1` adds 2048, whose reference takes 15+ min on 2 cores; "
                 "`DERMIS_BENCH_QUICK=1` runs the 256 rows only). Plot: `accuracy.png` (mean error against frame ms, "
-                "log scale, with the Pareto front of the texture-space points); `accuracy-frame.png`: the frame "
-                "reference, the default render (irradiance 1024) and the relative error (pixel-weighted legend).\n",
+                "log scale, with the Pareto front of the texture-space points, and the transport run normalised on the "
+                "right axis); `accuracy-frame.png`: the full run's reference, the default render (irradiance 1024) "
+                "and the relative error, cropped to the head (pixel-weighted legend).\n",
             med[0], med[1], B, dipole ? "--dipole skin1" : "--preset gems3-skin",
             dipole ? "`dermis-reference --dipole skin1`, the dipole represented by 12 Gaussians" : "gems3-skin's six Gaussians");
     fclose(md);
     printf("accuracy bench: wrote %s/accuracy.md\n", outdir);
 }
 
-static void frame_picture(const char *outdir, const dm_refcmp_ref *fref, const float *px)
+/* The full run's reference | render | relative error, cropped to the head (its skin pixels'
+ * box and a margin) at one pixel per frame pixel. */
+static void frame_picture(const char *outdir, const dm_refcmp_ref *fref, const float *full)
 {
+    int x0 = FW, y0 = FH, x1 = -1, y1 = -1;
+    for (int y = 0; y < FH; ++y)
+        for (int x = 0; x < FW; ++x)
+            if (fref->rgba[4 * ((size_t)y * FW + x) + 3] >= 0.5f)
+                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1, y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+    if (x1 < 0) return;
+    x0 = x0 > 16 ? x0 - 16 : 0, y0 = y0 > 16 ? y0 - 16 : 0, x1 = x1 + 16 < FW ? x1 + 16 : FW - 1, y1 = y1 + 16 < FH ? y1 + 16 : FH - 1;
+    int cw = x1 - x0 + 1, ch = y1 - y0 + 1;
+    float *ref = malloc(sizeof *ref * 4 * (size_t)cw * ch), *px = malloc(sizeof *px * 4 * (size_t)cw * ch);
+    for (int y = 0; ref && px && y < ch; ++y) {
+        memcpy(ref + 4 * (size_t)y * cw, fref->rgba + 4 * ((size_t)(y0 + y) * FW + x0), sizeof *ref * 4 * cw);
+        memcpy(px + 4 * (size_t)y * cw, full + 4 * ((size_t)(y0 + y) * FW + x0), sizeof *px * 4 * cw);
+    }
     dm_refcmp_stats st;
     dm_error err = {0};
-    float *rel = malloc(sizeof *rel * FW * FH);
-    int ow = 3 * 2 * FW, oh = 2 * FH + dm_refcmp_legend_height(ow);
+    float *rel = malloc(sizeof *rel * (size_t)cw * ch);
+    int ow = 3 * cw, oh = ch + dm_refcmp_legend_height(ow);
     uint8_t *img = malloc((size_t)ow * oh * 4);
     char path[1024];
     snprintf(path, sizeof path, "%s/accuracy-frame.png", outdir);
-    if (rel && img && dm_refcmp_stats_compute(fref->rgba, px, FW, FH, &st, rel, &err) == DM_OK) {
-        dm_refcmp_compose(fref->rgba, px, rel, FW, FH, &st, &(dm_refcmp_view){.layout = DM_REFCMP_SIDE_BY_SIDE}, img, ow, oh);
+    if (ref && px && rel && img && dm_refcmp_stats_compute(ref, px, cw, ch, &st, rel, &err) == DM_OK) {
+        dm_refcmp_compose(ref, px, rel, cw, ch, &st, &(dm_refcmp_view){.layout = DM_REFCMP_SIDE_BY_SIDE}, img, ow, oh);
         dm_provenance prov;
         dm_prov_init(&prov, "bench/accuracy");
         dm_prov_add_string(&prov, "scene", SCENE);
         if (dm_render_write_png(path, ow, oh, img, &prov, &err) == DM_OK) printf("accuracy bench: wrote %s\n", path);
         else fprintf(stderr, "warning: %s\n", err.detail);
     }
-    free(rel), free(img);
+    free(rel), free(img), free(ref), free(px);
 }
 
 /* The labels of one atlas as a picture: smooth grey, seam blue, thin orange, uncovered black. */

@@ -14,7 +14,7 @@
 #define PI 3.14159265358979323846
 
 enum {
-    BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = 1024, ATLAS_MIN = 16, ATLAS_MAX = 8192,
+    BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = DM_REF_FRAME_ATLAS_DEFAULT, ATLAS_MIN = 16, ATLAS_MAX = 8192,
     ATLAS_SAMPLES_DEFAULT = 4, PIXEL_SAMPLES_DEFAULT = 3, SAMPLES_MAX = 8
 };
 
@@ -303,6 +303,13 @@ static void box_down(const float *hi, int size, int k, float *out, int64_t *cove
         }
 }
 
+int dm_ref_frame_atlas_samples(int atlas_size, int atlas_samples)
+{
+    int k = atlas_samples ? atlas_samples : ATLAS_SAMPLES_DEFAULT;
+    while (k > 1 && atlas_size * k > ATLAS_MAX) --k;
+    return k;
+}
+
 /* Stages 2 and 4: the atlas, the convolution at every hit (the skin pixels' centres, then
  * their sub-pixel rays' hits unless o->diffusion_at_centre; for odd k the middle sub-pixel
  * ray is the centre's and takes its D). */
@@ -310,8 +317,7 @@ static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, i
                                size_t *count, dm_ref_frame_stats *stats, dm_error *err)
 {
     size_t n = (size_t)atlas_size * (size_t)atlas_size;
-    int k = o->atlas_samples ? o->atlas_samples : ATLAS_SAMPLES_DEFAULT;
-    while (k > 1 && atlas_size * k > ATLAS_MAX) --k;
+    int k = dm_ref_frame_atlas_samples(atlas_size, o->atlas_samples);
     size_t fine = n * (size_t)k * (size_t)k;
     st->atlas = malloc(n * 4 * sizeof *st->atlas);
     float *hi = k > 1 ? malloc(fine * 4 * sizeof *hi) : st->atlas;

@@ -68,12 +68,12 @@ typedef struct dm_ref_frame_stats {
 
 typedef struct dm_ref_frame_options {
     int width, height; /* 0: the scene's output size; [1, 16384] */
-    int atlas_size;    /* CPU irradiance atlas, texels per side; 0 = 1024; [16, 8192] */
+    int atlas_size;    /* CPU irradiance atlas, texels per side; 0 = DM_REF_FRAME_ATLAS_DEFAULT; [16, 8192] */
     int thread_count;  /* 0 = all cores */
     /* Anti-aliasing, per axis (1..8): the atlas texel is the mean irradiance over its area,
      * atlas_samples² points (0 = 4, reduced until atlas_size × it ≤ 8192); a skin pixel is
      * the mean of the surface terms (albedo, normal, specular) over pixel_samples² sub-pixel
-     * rays that hit (0 = 3), D taken at the centre's hit. The renderer's mipmaps filter the
+     * rays that hit (0 = 3), D taken at each of them (see diffusion_at_centre). The renderer's mipmaps filter the
      * same detail; one point sample per pixel instead leaves ~10 % per-pixel noise against
      * it at 320×180 (the means agree to 0.5 %). */
     int atlas_samples, pixel_samples;
@@ -96,6 +96,14 @@ typedef struct dm_ref_frame_options {
     dm_ref_frame_stats *stats;
     float **atlas;
 } dm_ref_frame_options;
+
+/* The converged default atlas (docs/dermis-reference.md, Convergence: on the head at
+ * 1280×720 the transport signal moves 8 % from 1024 to 2048 and 2.5 % from 2048 to 4096). */
+#define DM_REF_FRAME_ATLAS_DEFAULT 4096
+
+/* The atlas samples per axis a run takes: atlas_samples (0 = 4), reduced until
+ * atlas_size × it ≤ 8192 (4096: 2). */
+int dm_ref_frame_atlas_samples(int atlas_size, int atlas_samples);
 
 /* Renders the reference frame of `scene` (usually dm_pack_scene of pack; its camera,
  * lights, material, effects, environment) from pack's mesh, maps and environment into

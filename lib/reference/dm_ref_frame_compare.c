@@ -50,6 +50,7 @@ dm_result dm_ref_transport_compute(const float *ref, const float *flat, const fl
         return dm_fail(err, DM_ERR_RANGE, "transport statistics: threshold %g, expected (0, 1)", threshold);
     *st = (dm_ref_transport_stats){.signal = {0}};
     long any = 0;
+    double num_all = 0, den_all = 0;
     for (int c = 0; c < 3; ++c) {
         double rel = 0, num = 0, den = 0, floor = 0;
         long count = 0;
@@ -69,8 +70,10 @@ dm_result dm_ref_transport_compute(const float *ref, const float *flat, const fl
         st->signal[c] = count;
         st->mean[c] = count ? rel / count : 0.0;
         st->normalised[c] = den > 0 ? num / den : 0.0;
+        num_all += num, den_all += den;
         any += count;
     }
+    st->normalised_rgb = den_all > 0 ? num_all / den_all : 0.0;
     if (!any) return dm_fail(err, DM_ERR_EMPTY, "transport statistics: no pixel where subsurface changes the frame");
     return DM_OK;
 }

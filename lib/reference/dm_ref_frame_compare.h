@@ -58,6 +58,10 @@ typedef struct dm_ref_transport_stats {
     long signal[3];       /* signal pixels per channel */
     double mean[3];       /* mean relative error over them */
     double normalised[3]; /* Σ |render − ref| / Σ |flat − ref| over them */
+    double normalised_rgb; /* the same summed over the three channels' signal pixels: one
+                            * number, weighted to where subsurface changes most (red) — a
+                            * channel whose signal is small (blue, green on skin) does not
+                            * swing it */
 } dm_ref_transport_stats;
 
 /* The transport statistics above over the n pixels with weight > 0 (NULL: all) whose label

@@ -3,6 +3,7 @@
 #include <stdio.h>
 
 #include "reference/dm_reference.h"
+#include "reference/dm_ref_frame.h"
 #include "core/dm_memory.h"
 #include "pack/dm_pack.h"
 #include "core/dm_scene.h"
@@ -31,8 +32,8 @@ void dm_reference_memory_estimate(const dm_pack *pack, const dm_reference_memory
     dm_scene scene;
     int w = o->width, h = o->height;
     if ((!w || !h) && dm_pack_scene(pack, &scene, NULL) == DM_OK) w = scene.width, h = scene.height;
-    int a = o->atlas_size > 0 ? o->atlas_size : 1024, k = o->atlas_samples > 0 ? o->atlas_samples : 4;
-    while (k > 1 && a * k > 8192) --k; /* as dm_ref_frame_render */
+    int a = o->atlas_size > 0 ? o->atlas_size : DM_REF_FRAME_ATLAS_DEFAULT;
+    int k = dm_ref_frame_atlas_samples(a, o->atlas_samples > 0 ? o->atlas_samples : 0);
     m->irradiance_size = sq(a) * 16 + sq(a * k) * 20;
     m->convolution_size = sq(a) * (16 + 16 + 48);
     /* per pixel 80 bytes; per skin pixel (every pixel, at most) and sub-pixel ray its hit,

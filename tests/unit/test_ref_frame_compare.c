@@ -54,6 +54,8 @@ Test(frame_compare, transport_statistics_by_hand)
     /* blue: subsurface changes nothing: no signal pixel, zero */
     cr_expect_eq(st.signal[2], 0);
     cr_expect_eq(st.normalised[2], 0.0);
+    /* all channels: red's sums and green's (blue has none): (0.30 + 0.80 · 2) / (0.80 + 0.80 · 2) */
+    cr_expect(fabs(st.normalised_rgb - 1.90 / 2.40) < 1e-6, "all channels %g", st.normalised_rgb);
     /* a weight and a label select: only pixel 2 (label 1) of the weighted ones */
     const float w[4] = {1, 1, 1, 0};
     const uint8_t label[4] = {0, 1, 1, 1};
