@@ -7,36 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/onoff_diff.h"
 #include "../common/render_fixture.h"
 #include "render/dm_render.h"
 #include "render/dm_render_synth.h"
 
 enum { W = 96, H = 96 };
 
-typedef struct diff {
-    int lit;      /* values > 1e-3 of the brightest without shadows */
-    double mean;  /* mean of |on − off| / off over them */
-    double over5; /* the fraction of them off by more than 5 % */
-} diff;
-
-/* n RGBA values, red channel, where off's alpha (coverage) is set. */
-static diff compare(const float *on, const float *off, size_t n)
-{
-    double top = 0, rel = 0;
-    int over = 0;
-    diff d = {0};
-    for (size_t i = 0; i < n; ++i) top = fmax(top, off[i * 4]);
-    for (size_t i = 0; i < n; ++i) {
-        if (off[i * 4 + 3] == 0 || !(off[i * 4] > 1e-3 * top)) continue;
-        double e = fabs((double)on[i * 4] - off[i * 4]);
-        ++d.lit;
-        rel += e / off[i * 4];
-        over += e > 0.05 * off[i * 4];
-    }
-    d.mean = d.lit ? rel / d.lit : 0;
-    d.over5 = d.lit ? (double)over / d.lit : 0;
-    return d;
-}
 
 /* The 24 × 12-facet sphere, lit from the camera's right, the given effects; what `target`
  * holds after one frame ("linear": the final linear picture). shadow_size 0: the default. */
@@ -70,7 +47,7 @@ static void check(const dm_effect *with, const dm_effect *without, int n, int sh
 {
     int count;
     float *a = sphere_with(with, n + 1, shadow_size, target, &count), *b = sphere_with(without, n, shadow_size, target, &count);
-    diff df = compare(a, b, (size_t)count);
+    onoff_diff df = onoff_compare(a, b, (size_t)count);
     cr_log_info("%s, shadow map %d: %d lit, mean %.4f %%, %.4f %% over 5 %%", target, shadow_size, df.lit,
                 100 * df.mean, 100 * df.over5);
     cr_assert_gt(df.lit, count / 10);

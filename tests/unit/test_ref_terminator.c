@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/onoff_diff.h"
 #include "../common/ref_synth.h"
 #include "reference/dm_ref_frame.h"
 #include "reference/dm_ref_shade.h"
@@ -16,34 +17,6 @@
 enum { ATLAS = 128, W = 96, H = 96 };
 static const double R = 20.0; /* mm */
 
-typedef struct diff {
-    int lit;          /* values > 1e-3 of the brightest without shadows */
-    double mean;      /* mean of |on − off| / off over them */
-    double over5;     /* the fraction of them off by more than 5 % */
-    double sum_ratio; /* Σ |on − off| / Σ off */
-} diff;
-
-/* on and off: n RGBA pixels; red channel, where mask (alpha of off) is set. */
-static diff compare(const float *on, const float *off, size_t n)
-{
-    double top = 0, num = 0, den = 0, rel = 0;
-    for (size_t i = 0; i < n; ++i) top = fmax(top, off[i * 4]);
-    diff d = {0};
-    int over = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (off[i * 4 + 3] == 0 || !(off[i * 4] > 1e-3 * top)) continue;
-        double e = fabs((double)on[i * 4] - off[i * 4]);
-        ++d.lit;
-        rel += e / off[i * 4];
-        over += e > 0.05 * off[i * 4];
-        num += e;
-        den += off[i * 4];
-    }
-    d.mean = d.lit ? rel / d.lit : 0;
-    d.over5 = d.lit ? (double)over / d.lit : 0;
-    d.sum_ratio = den > 0 ? num / den : 0;
-    return d;
-}
 
 /* The 24 × 12-facet sphere of radius R at the origin, smooth vertex normals, one
  * shadow-casting directional light from the camera's right (the camera is on +Z). */
@@ -78,7 +51,7 @@ static float *frame_of(const dm_ref_surface_desc *d)
  * both. */
 static void expect_alike(const char *what, float *a, float *b, size_t n, int min_lit)
 {
-    diff df = compare(a, b, n);
+    onoff_diff df = onoff_compare(a, b, n);
     cr_log_info("%s: %d lit, mean %.4f %%, %.4f %% over 5 %%, sum ratio %.4f %%", what, df.lit, 100 * df.mean,
                 100 * df.over5, 100 * df.sum_ratio);
     cr_assert_gt(df.lit, min_lit, "%s: %d lit", what, df.lit);
