@@ -1,5 +1,6 @@
 /* bench/common/accuracy_report.h — bench/accuracy's rows and what it writes from them: the
- * Markdown report, the gnuplot Pareto plot, the frame comparison and the region map.
+ * Markdown report (ending with the screen-space edge section of edge_table.h), the gnuplot
+ * Pareto plot, the frame comparison and the region map.
  * Header-only like bench_util.h (benches are one .c each); included by bench/accuracy.c only. */
 #ifndef BENCH_ACCURACY_REPORT_H
 #define BENCH_ACCURACY_REPORT_H
@@ -11,6 +12,7 @@
 
 #include "reference/dm_ref_regions.h"
 #include "common/bench_util.h"
+#include "common/edge_table.h"
 #include "pack/dm_pack.h"
 #include "core/dm_prov.h"
 #include "render/dm_render.h"
@@ -321,6 +323,7 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "and the relative error, cropped to the head (pixel-weighted legend).\n",
             med[0], med[1], B, dipole ? "--dipole skin1" : "--preset gems3-skin",
             dipole ? "`dermis-reference --dipole skin1`, the dipole represented by 12 Gaussians" : "gems3-skin's six Gaussians");
+    edge_table(md); /* on failure the section stops short and stderr says why */
     fclose(md);
     printf("accuracy bench: wrote %s/accuracy.md\n", outdir);
 }

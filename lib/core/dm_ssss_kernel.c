@@ -45,58 +45,30 @@ dm_result dm_ssss_kernel_fit(const dm_profile *p, int taps, dm_ssss_kernel *k, d
         }
     }
     for (int c = 0; c < 3; ++c) {
-        double M[DM_SSSS_MAX_TAPS][DM_SSSS_MAX_TAPS], total = 0, norm2 = 0;
+        /* the line-spread function's bin masses, l = Σ_j w_j p_j / Σ_j w_j: the marginal of M */
+        double wsum = 0, l[DM_SSSS_MAX_TAPS];
+        for (int j = 0; j < p->count; ++j) wsum += p->weight[j][c];
+        if (!(wsum > 0)) { /* a channel with no weight: identity kernel, nothing to fit */
+            k->weight[h][c] = 1.0f;
+            continue;
+        }
+        for (int a = 0; a < taps; ++a) {
+            l[a] = 0;
+            for (int j = 0; j < p->count; ++j) l[a] += p->weight[j][c] * pm[j][a];
+            l[a] /= wsum;
+        }
+        /* what the product l lᵀ loses of the 2-D profile's bins M/ΣM (ΣM = wsum: each p_j sums to 1) */
+        double e2 = 0, norm2 = 0;
         for (int a = 0; a < taps; ++a)
             for (int b = 0; b < taps; ++b) {
                 double m = 0;
                 for (int j = 0; j < p->count; ++j) m += p->weight[j][c] * pm[j][a] * pm[j][b];
-                M[a][b] = m;
-                total += m;
-            }
-        if (!(total > 0)) { /* a channel with no weight: identity kernel, nothing to fit */
-            k->weight[h][c] = 1.0f;
-            continue;
-        }
-        for (int a = 0; a < taps; ++a)
-            for (int b = 0; b < taps; ++b) {
-                M[a][b] /= total;
-                norm2 += M[a][b] * M[a][b];
-            }
-        /* power iteration from the row sums (M is symmetric with non-negative entries) */
-        double u[DM_SSSS_MAX_TAPS], lambda = 0;
-        for (int a = 0; a < taps; ++a) {
-            u[a] = 0;
-            for (int b = 0; b < taps; ++b) u[a] += M[a][b];
-        }
-        for (int it = 0; it < 200; ++it) {
-            double n = 0, v[DM_SSSS_MAX_TAPS];
-            for (int a = 0; a < taps; ++a) n += u[a] * u[a];
-            n = sqrt(n);
-            for (int a = 0; a < taps; ++a) u[a] /= n;
-            lambda = 0;
-            for (int a = 0; a < taps; ++a) {
-                v[a] = 0;
-                for (int b = 0; b < taps; ++b) v[a] += M[a][b] * u[b];
-                lambda += u[a] * v[a];
-            }
-            memcpy(u, v, sizeof(double) * (size_t)taps);
-        }
-        double n = 0;
-        for (int a = 0; a < taps; ++a) n += u[a] * u[a];
-        n = sqrt(n);
-        double kk[DM_SSSS_MAX_TAPS], sum = 0;
-        for (int a = 0; a < taps; ++a) {
-            kk[a] = sqrt(fmax(lambda, 0.0)) * u[a] / n;
-            sum += kk[a];
-        }
-        double e2 = 0;
-        for (int a = 0; a < taps; ++a)
-            for (int b = 0; b < taps; ++b) {
-                double d = M[a][b] - kk[a] * kk[b];
-                e2 += d * d;
+                m /= wsum;
+                e2 += (m - l[a] * l[b]) * (m - l[a] * l[b]);
+                norm2 += m * m;
             }
         k->fit_error[c] = norm2 > 0 ? sqrt(e2 / norm2) : 0.0;
-        for (int a = 0; a < taps; ++a) k->weight[a][c] = (float)(sum > 0 ? fmax(kk[a], 0.0) / sum : a == h);
+        for (int a = 0; a < taps; ++a) k->weight[a][c] = (float)l[a];
     }
     for (int a = 0; a < taps; ++a) k->offset_mm[a] = (float)off[a];
     return DM_OK;

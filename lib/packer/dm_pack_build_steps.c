@@ -255,8 +255,9 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
     return r;
 }
 
-/* The screen-space technique's separable kernel, fitted to the profile (core/dm_ssss_kernel.h);
- * its fitting error goes into the entry's provenance and the report's source column. */
+/* The screen-space technique's separable kernel, fitted to the profile's line-spread function
+ * (core/dm_ssss_kernel.h); what its 2-D product loses of the profile (fit_error) goes into the
+ * entry's provenance and the report's source column. */
 dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
 {
     dm_ssss_kernel k;
@@ -267,14 +268,14 @@ dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
     dm_provenance p;
     dm_prov_init(&p, DM_PACK_BUILD_TOOL);
     dm_prov_add_string(&p, "source", j->scene.profile_source);
-    dm_prov_add_string(&p, "product", "screen-space separable SSS kernel (Jimenez et al. 2015), rank-1 fit");
+    dm_prov_add_string(&p, "product", "screen-space separable SSS kernel (Jimenez et al. 2015), the line-spread function's bin masses");
     dm_prov_add_int(&p, "taps", k.taps);
     dm_prov_add_double(&p, "range_mm", k.range_mm);
     dm_prov_add_double(&p, "fit_error_r", k.fit_error[0]);
     dm_prov_add_double(&p, "fit_error_g", k.fit_error[1]);
     dm_prov_add_double(&p, "fit_error_b", k.fit_error[2]);
     char src[160];
-    snprintf(src, sizeof src, "%d taps, +-%.2f mm, fit error %.2f/%.2f/%.2f %% (R/G/B)", k.taps, k.range_mm,
+    snprintf(src, sizeof src, "%d taps, +-%.2f mm, 2-D product error %.2f/%.2f/%.2f %% (R/G/B)", k.taps, k.range_mm,
              100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
     dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
     return dmpb_add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);

@@ -15,8 +15,9 @@
 #include "render/dm_render.h"
 #include "render/dm_render_synth.h"
 
-/* One Gaussian is separable: the rank-1 fit is exact, and the 1-D weights are the Gaussian's
- * mass over each tap's bin (computed here by numerical integration, not by erf). */
+/* One Gaussian is separable: the product of its line-spread kernels is exact in 2-D too, and the
+ * 1-D weights are the Gaussian's mass over each tap's bin (computed here by numerical
+ * integration, not by erf). */
 Test(ssss_kernel, one_gaussian_is_exact_and_matches_bin_masses)
 {
     dm_profile p = {.count = 1, .variance_mm2 = {2.0}, .weight = {{1, 1, 1}}};

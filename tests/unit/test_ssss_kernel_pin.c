@@ -3,13 +3,13 @@
  * every test green, the existing checks taking the kernel's own offsets as given).
  *
  * The definition: taps at o_a = R·t·|t|, t = (a − h)/h, R = 3σ of the profile's widest
- * Gaussian; bins between midpoints, the end bins to ±∞; M = Σ_j w_j p_j p_jᵀ with p_j[a] the
- * mass of the 1-D Gaussian j in bin a; the kernel the best rank-1 approximation of M/ΣM,
- * scaled to sum 1 per channel. Here p_j by Simpson's rule (not erf), the rank-1 factor by
- * Jacobi rotations (not power iteration).
+ * Gaussian; bins between midpoints, the end bins to ±∞; the weights the profile's line-spread
+ * function (its marginal, Σ_j w_j G₁(v_j, x)) integrated over each bin, Σ_j w_j p_j[a] / Σ_j w_j
+ * with p_j[a] the mass of the 1-D Gaussian j in bin a (issue #29). Here p_j by Simpson's rule
+ * (not erf).
  *
  * Tolerances: offsets and range to 1e-6 relative (float storage: 6e-8); weights to 2e-6
- * absolute (float storage, Simpson's 1e-10, Jacobi's 1e-12). A 5 % change of the range
+ * absolute (float storage, Simpson's 1e-10). A 5 % change of the range
  * (2.85σ or 3.15σ) moves the offsets by 5 % and the weights by ~1e-2: far outside. */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -36,44 +36,6 @@ static double gauss_mass(double s, double lo, double hi)
     return sum * step / 3.0 / (s * sqrt(2.0 * 3.14159265358979323846));
 }
 
-/* The eigenvector of the largest eigenvalue of a symmetric n x n matrix (cyclic Jacobi). */
-static double top_eigen(double A[MAXT][MAXT], int n, double u[MAXT])
-{
-    double V[MAXT][MAXT];
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) V[i][j] = i == j;
-    for (int sweep = 0; sweep < 100; ++sweep) {
-        double off = 0.0;
-        for (int p = 0; p < n; ++p)
-            for (int q = p + 1; q < n; ++q) off += A[p][q] * A[p][q];
-        if (off < 1e-30) break;
-        for (int p = 0; p < n; ++p)
-            for (int q = p + 1; q < n; ++q) {
-                if (fabs(A[p][q]) < 1e-300) continue;
-                double theta = (A[q][q] - A[p][p]) / (2.0 * A[p][q]);
-                double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
-                double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
-                for (int k = 0; k < n; ++k) { /* A ← Jᵀ A J */
-                    double akp = A[k][p], akq = A[k][q];
-                    A[k][p] = c * akp - s * akq, A[k][q] = s * akp + c * akq;
-                }
-                for (int k = 0; k < n; ++k) {
-                    double apk = A[p][k], aqk = A[q][k];
-                    A[p][k] = c * apk - s * aqk, A[q][k] = s * apk + c * aqk;
-                }
-                for (int k = 0; k < n; ++k) {
-                    double vkp = V[k][p], vkq = V[k][q];
-                    V[k][p] = c * vkp - s * vkq, V[k][q] = s * vkp + c * vkq;
-                }
-            }
-    }
-    int best = 0;
-    for (int i = 1; i < n; ++i)
-        if (A[i][i] > A[best][best]) best = i;
-    for (int i = 0; i < n; ++i) u[i] = V[i][best];
-    return A[best][best];
-}
-
 /* The kernel by the definition above: offsets, range and per-channel weights. */
 static void reference_kernel(const dm_profile *p, int taps, double off[MAXT], double *range, double w[MAXT][3])
 {
@@ -93,18 +55,12 @@ static void reference_kernel(const dm_profile *p, int taps, double off[MAXT], do
             pm[j][a] = gauss_mass(sqrt(p->variance_mm2[j]), lo, hi);
         }
     for (int c = 0; c < 3; ++c) {
-        double M[MAXT][MAXT], total = 0.0;
-        for (int a = 0; a < taps; ++a)
-            for (int b = 0; b < taps; ++b) {
-                M[a][b] = 0.0;
-                for (int j = 0; j < p->count; ++j) M[a][b] += p->weight[j][c] * pm[j][a] * pm[j][b];
-                total += M[a][b];
-            }
-        for (int a = 0; a < taps; ++a)
-            for (int b = 0; b < taps; ++b) M[a][b] /= total;
-        double u[MAXT], lambda = top_eigen(M, taps, u), sum = 0.0;
-        for (int a = 0; a < taps; ++a) sum += sqrt(lambda) * fabs(u[a]);
-        for (int a = 0; a < taps; ++a) w[a][c] = sqrt(lambda) * fabs(u[a]) / sum;
+        double total = 0.0;
+        for (int j = 0; j < p->count; ++j) total += p->weight[j][c];
+        for (int a = 0; a < taps; ++a) {
+            w[a][c] = 0.0;
+            for (int j = 0; j < p->count; ++j) w[a][c] += p->weight[j][c] * pm[j][a] / total;
+        }
     }
 }
 
