@@ -7,10 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { KEY_COUNT = 7, REQUIRED_COUNT = 3 };
-static const char *const keys[KEY_COUNT] = {"melanin",     "eumelanin", "blood", "oxygenation",
-                                            "epidermis-mm", "dermis-mm", "eta"};
+#include "core/dm_skin_keys.h"
 
+enum { KEY_COUNT = DM_SKIN_KEY_COUNT };
+#define keys dm_skin_keys
+
+/* The parameter of key k (core/dm_skin_keys.h's order). */
 static double *field(dm_skin_params *p, int k)
 {
     double *f[KEY_COUNT] = {&p->melanin_fraction, &p->eumelanin_blend, &p->blood_fraction, &p->oxygenation,
@@ -18,33 +20,45 @@ static double *field(dm_skin_params *p, int k)
     return f[k];
 }
 
-static int key_index(const char *key, size_t len)
-{
-    for (int k = 0; k < KEY_COUNT; ++k)
-        if (strlen(keys[k]) == len && !strncmp(key, keys[k], len)) return k;
-    return -1;
-}
-
 static dm_result unknown_key(const char *what, const char *key, int len, dm_error *err)
 {
-    return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
-                   "%s: unknown key '%.*s', expected melanin, eumelanin, blood, oxygenation, epidermis-mm, dermis-mm "
-                   "or eta",
-                   what, len, key);
+    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: unknown key '%.*s', expected %s", what, len, key,
+                   dm_skin_keys_text());
 }
 
-dm_result dm_skin_spec_set(dm_skin_params *p, const char *key, double value, const char *what, dm_error *err)
+dm_result dm_skin_spec_pairs(const char *preset, const char *const *key, const double *value, int count,
+                             const char *what, dm_skin_params *out, dm_error *err)
 {
-    int k = key_index(key, strlen(key));
-    if (k < 0) return unknown_key(what, key, (int)strlen(key), err);
-    *field(p, k) = value;
-    return DM_OK;
+    dm_skin_params p = dm_skin_params_default();
+    dm_result r;
+    if (preset && (r = dm_skin_preset(preset, &p, err)) != DM_OK) {
+        char inner[sizeof err->detail];
+        snprintf(inner, sizeof inner, "%s", err ? err->detail : "");
+        return dm_fail(err, r, "%s: %s", what, inner);
+    }
+    int seen[KEY_COUNT] = {0};
+    for (int i = 0; i < count; ++i) {
+        int k = dm_skin_key_index(key[i], strlen(key[i]));
+        if (k < 0) return unknown_key(what, key[i], (int)strlen(key[i]), err);
+        if (seen[k]) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: key '%s' given twice", what, keys[k]);
+        seen[k] = 1;
+        *field(&p, k) = value[i];
+    }
+    for (int k = 0; !preset && k < DM_SKIN_KEY_REQUIRED_COUNT; ++k)
+        if (!seen[k])
+            return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                           "%s: '%s' is required (melanin, eumelanin and blood are, unless a preset is given)", what,
+                           keys[k]);
+    if ((r = dm_skin_params_validate(&p, what, err)) == DM_OK) *out = p;
+    return r;
 }
 
 dm_result dm_skin_spec_parse(const char *spec, const char *what, dm_skin_params *out, dm_error *err)
 {
-    dm_skin_params p = dm_skin_params_default();
-    int seen[KEY_COUNT] = {0};
+    char names[KEY_COUNT + 1][16];
+    const char *name_ptr[KEY_COUNT + 1];
+    double values[KEY_COUNT + 1];
+    int n = 0;
     const char *s = spec;
     while (*s) {
         const char *eq = strchr(s, '='), *end = strchr(s, ',');
@@ -52,26 +66,21 @@ dm_result dm_skin_spec_parse(const char *spec, const char *what, dm_skin_params 
         if (!eq || eq > end)
             return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: '%.*s' is not key=value (e.g. melanin=0.05)", what,
                            (int)(end - s), s);
-        int k = key_index(s, (size_t)(eq - s));
+        int k = dm_skin_key_index(s, (size_t)(eq - s));
         if (k < 0) return unknown_key(what, s, (int)(eq - s), err);
-        if (seen[k]) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: key '%s' given twice", what, keys[k]);
-        seen[k] = 1;
+        if (n > KEY_COUNT) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: key '%s' given twice", what, keys[k]);
         char *stop;
         errno = 0;
         double v = strtod(eq + 1, &stop);
         if (stop == eq + 1 || stop != end || errno == ERANGE)
             return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: %s = '%.*s', expected a number", what, keys[k],
                            (int)(end - eq - 1), eq + 1);
-        *field(&p, k) = v;
+        snprintf(names[n], sizeof names[n], "%s", keys[k]);
+        name_ptr[n] = names[n];
+        values[n++] = v;
         s = *end ? end + 1 : end;
     }
-    for (int k = 0; k < REQUIRED_COUNT; ++k)
-        if (!seen[k])
-            return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: '%s=' is required (melanin, eumelanin and blood are)",
-                           what, keys[k]);
-    dm_result r = dm_skin_params_validate(&p, what, err);
-    if (r == DM_OK) *out = p;
-    return r;
+    return dm_skin_spec_pairs(NULL, name_ptr, values, n, what, out, err);
 }
 
 void dm_skin_spec_format(const dm_skin_params *p, int digits, char *buf, int buf_size)

@@ -1,7 +1,8 @@
 /* dm_skin_spec.h — the physical skin's parameters as a command line or a scene gives them:
  * "key=value,…" over a preset or the defaults.
  *
- * Keys (dm_skin_optics.h has the ranges, the laws and the defaults):
+ * Keys (core/dm_skin_keys.h names them; dm_skin_optics.h has the ranges, the laws and the
+ * defaults):
  *   melanin       Cm, melanosome volume fraction of the epidermis      required
  *   eumelanin     βm, eumelanin share of the melanin                   required
  *   blood         Ch, blood volume fraction of the dermis              required
@@ -26,9 +27,12 @@ extern "C" {
  * dm_skin_params_validate, naming the parameter and its range. */
 dm_result dm_skin_spec_parse(const char *spec, const char *what, dm_skin_params *out, dm_error *err);
 
-/* Sets one key (as above) of p to value, unvalidated; DM_ERR_INVALID_ARGUMENT naming the
- * known keys for an unknown one. For readers that hold the pairs already (a scene file). */
-dm_result dm_skin_spec_set(dm_skin_params *p, const char *key, double value, const char *what, dm_error *err);
+/* The same from pairs already read (a scene file's {"skin": {…}}): count keys (the names
+ * above) and their values, over the preset `preset` (NULL: the defaults, and the required
+ * keys must be there; a preset gives them). Errors as dm_skin_spec_parse's, and
+ * dm_skin_preset's for an unknown preset. */
+dm_result dm_skin_spec_pairs(const char *preset, const char *const *key, const double *value, int count,
+                             const char *what, dm_skin_params *out, dm_error *err);
 
 /* Writes p as a spec that dm_skin_spec_parse reads, every key, with `digits` significant
  * digits (17: reads back exactly; 6: for people), into buf of buf_size bytes (≥ 256). */

@@ -118,7 +118,7 @@ Test(fit_profile_skin, bad_parameters_are_usage_errors_naming_the_parameter)
         {"--skin melanin=0.1,eumelanin=0.5,blood=0.01,dermis-mm=0.05", "dermis_mm (dermis-mm) = 0.05"},
         {"--skin melanin=0.1,eumelanin=0.5,blood=0.01,eta=3", "eta = 3"},
         {"--skin melanin=nan,eumelanin=0.5,blood=0.01", "melanin_fraction (melanin, Cm) = nan"},
-        {"--skin melanin=0.1,blood=0.01", "'eumelanin=' is required"},
+        {"--skin melanin=0.1,blood=0.01", "'eumelanin' is required"},
         {"--skin melanin=0.1,eumelanin=x,blood=0.01", "eumelanin = 'x', expected a number"},
         {"--skin melanin=0.1,eumelanin=0.5,blood=0.01,hair=1", "unknown key 'hair'"},
         {"--skin melanin=0.1,melanin=0.2,eumelanin=0.5,blood=0.01", "'melanin' given twice"},
