@@ -73,8 +73,8 @@ static void source_scales(const dm_profile_source *s, double *lo, double *hi)
         }
         return;
     }
-    if (s->kind == DM_SOURCE_SKIN) { /* the dense Gaussians that carry weight; lo ≥ hi/100 so
-                                      * that the cap 1e3·lo reaches past 3·hi */
+    if (s->kind == DM_SOURCE_SKIN) { /* the dense Gaussians that carry weight (grid_init's cap
+                                      * follows hi: lo may be 4 µm, a closed-form layer's spike) */
         const dm_skin_dense *d = &s->skin_dense;
         *lo = INFINITY;
         *hi = 0.0;
@@ -84,7 +84,6 @@ static void source_scales(const dm_profile_source *s, double *lo, double *hi)
                 *hi = fmax(*hi, sqrt(d->variance_mm2[k]));
             }
         if (*hi == 0.0) *lo = *hi = 1.0; /* all-zero: the fit reports DM_ERR_EMPTY */
-        *lo = fmax(*lo, *hi / 100.0);
         return;
     }
     if (s->kind == DM_SOURCE_GAUSSIANS) {
@@ -140,8 +139,9 @@ static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error 
     int burley = s->kind == DM_SOURCE_BURLEY;
     g->r_min = (burley ? 1e-5 : 1e-3) * lo;
     /* r_max: walk out by √2 until r²R(r) (the profile's mass per unit ln r) has fallen
-     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min (Burley: 1e3·hi). */
-    double cap = burley ? 1e3 * hi : 1e6 * g->r_min, peak = 0.0, r = g->r_min;
+     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min (Burley and the
+     * skin, whose scales span more: 1e3·hi). */
+    double cap = burley || s->kind == DM_SOURCE_SKIN ? 1e3 * hi : 1e6 * g->r_min, peak = 0.0, r = g->r_min;
     for (;;) {
         double p = peak_r2(s, r);
         if (!isfinite(p)) return dm_fail(err, DM_ERR_NON_FINITE, "profile source: R(%g mm) is not finite", r);
