@@ -2,7 +2,6 @@
 #include "bake/dm_skin_spec.h"
 
 #include <errno.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,8 +54,7 @@ dm_result dm_skin_spec_pairs(const char *preset, const char *const *key, const d
 
 dm_result dm_skin_spec_parse(const char *spec, const char *what, dm_skin_params *out, dm_error *err)
 {
-    char names[KEY_COUNT + 1][16];
-    const char *name_ptr[KEY_COUNT + 1];
+    const char *names[KEY_COUNT + 1]; /* one more than the keys: a repeat reaches the check */
     double values[KEY_COUNT + 1];
     int n = 0;
     const char *s = spec;
@@ -68,19 +66,19 @@ dm_result dm_skin_spec_parse(const char *spec, const char *what, dm_skin_params 
                            (int)(end - s), s);
         int k = dm_skin_key_index(s, (size_t)(eq - s));
         if (k < 0) return unknown_key(what, s, (int)(eq - s), err);
-        if (n > KEY_COUNT) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: key '%s' given twice", what, keys[k]);
+        if (n > KEY_COUNT)
+            return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: more than %d keys: one is given twice", what, KEY_COUNT);
         char *stop;
         errno = 0;
         double v = strtod(eq + 1, &stop);
         if (stop == eq + 1 || stop != end || errno == ERANGE)
             return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: %s = '%.*s', expected a number", what, keys[k],
                            (int)(end - eq - 1), eq + 1);
-        snprintf(names[n], sizeof names[n], "%s", keys[k]);
-        name_ptr[n] = names[n];
+        names[n] = keys[k];
         values[n++] = v;
         s = *end ? end + 1 : end;
     }
-    return dm_skin_spec_pairs(NULL, name_ptr, values, n, what, out, err);
+    return dm_skin_spec_pairs(NULL, names, values, n, what, out, err);
 }
 
 void dm_skin_spec_format(const dm_skin_params *p, int digits, char *buf, int buf_size)
