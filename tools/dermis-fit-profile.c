@@ -1,6 +1,7 @@
 /* dermis-fit-profile — fits N Gaussians (shared variances, per-channel weights) to a
  * diffusion profile: the GPU Gems 3 table, a dipole / multipole from optical parameters,
- * or Burley's normalized diffusion from albedo and mean free path; writes the profile JSON and prints what each N costs. */
+ * Burley's normalized diffusion from albedo and mean free path, or the physical skin from
+ * melanin, blood and layers; writes the profile JSON and prints what each N costs. */
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -9,6 +10,7 @@
 
 #include "bake/dm_profile_fit.h"
 #include "bake/dm_profile_json.h"
+#include "bake/dm_skin_spec.h"
 #include "core/dm_cli.h"
 #include "core/dm_diffusion.h"
 #include "core/dm_output.h"
@@ -21,6 +23,9 @@ typedef struct options {
     const char *preset;    /* --preset */
     const char *spec;      /* --dipole / --multipole value */
     bool burley;           /* --burley */
+    const char *skin;      /* --skin SPEC */
+    const char *skin_preset; /* --skin-preset NAME */
+    bool list_presets;     /* --list-presets */
     const char *albedo, *mfp; /* --albedo, --mfp (Burley) */
     int source_count;      /* how many source options were given */
     bool multipole;
@@ -38,7 +43,7 @@ typedef struct options {
 static void usage(FILE *f)
 {
     fprintf(f, "Usage: " TOOL " (--preset gems3-skin | --dipole SPEC | --multipole SPEC --thickness MM |\n"
-               "                          --burley --albedo R,G,B --mfp R,G,B)\n"
+               "                          --burley --albedo R,G,B --mfp R,G,B | --skin SKIN | --skin-preset NAME)\n"
                "                          [-n N] [--table] [-o profile.json] [options]\n");
 }
 
@@ -66,7 +71,18 @@ static void help(void)
            "                         S(A) = 1.85 - A + 7|A - 0.8|^3 (their searchlight fit for the mfp)\n"
            "                         (R ~ 1/r at 0: its fit and errors weigh by r^2, not r)\n"
            "  --albedo A|R,G,B       Burley albedo A per channel, [0, 1]; required with --burley\n"
-           "  --mfp MM|R,G,B         Burley mean free path per channel, (0, %g] mm; required there\n\n"
+           "  --mfp MM|R,G,B         Burley mean free path per channel, (0, %g] mm; required there\n"
+           "  --skin SKIN            the physical two-layer skin (docs/skin-model.md): spectral multipole\n"
+           "                         layers, CIE D65 to linear sRGB, its R(r) per channel. SKIN is\n"
+           "                         melanin=Cm,eumelanin=B,blood=Ch[,oxygenation=G][,epidermis-mm=MM]\n"
+           "                         [,dermis-mm=MM][,eta=E]: Cm melanosome fraction [0, %g],\n"
+           "                         B eumelanin share [0, 1], Ch dermal blood fraction [0, %g],\n"
+           "                         G HbO2 share [0, 1] (0.75), epidermis [%g, %g] mm (0.25),\n"
+           "                         dermis 0 (semi-infinite, default) or [%g, %g] mm, E [%g, %g] (1.4)\n"
+           "  --skin-preset NAME     a named skin: caucasian, asian, african (Donner & Jensen 2006) or\n"
+           "                         fitzpatrick-1 ... fitzpatrick-6 (our mapping onto Jacques' melanosome\n"
+           "                         bands); --list-presets prints their parameters\n"
+           "  --list-presets         print the skin presets and exit\n\n"
            "Fit:\n"
            "  -n, --gaussians N      Gaussians, 1..%d (default %d); the runtime blurs 2(N-1) passes\n"
            "  --nodes N              radial quadrature nodes in ln r, odd, %d..%d (default %d)\n"
@@ -82,7 +98,9 @@ static void help(void)
            "Exit codes: 0 ok, 1 usage (bad option or parameter), 2 cannot load input,\n"
            "            3 fit failed, 4 cannot save output.\n",
            DM_SIGMA_MAX_PER_MM, DM_SIGMA_MAX_PER_MM, DM_ETA_MIN, DM_ETA_MAX, DM_THICKNESS_MAX_MM,
-           DM_MULTIPOLE_PAIRS_MAX, DM_MULTIPOLE_PAIRS_DEFAULT, DM_MFP_MAX_MM, DM_PROFILE_MAX_GAUSSIANS, DM_FIT_GAUSSIANS_DEFAULT,
+           DM_MULTIPOLE_PAIRS_MAX, DM_MULTIPOLE_PAIRS_DEFAULT, DM_MFP_MAX_MM, DM_SKIN_MELANIN_MAX, DM_SKIN_BLOOD_MAX,
+           DM_SKIN_EPIDERMIS_MIN_MM, DM_SKIN_EPIDERMIS_MAX_MM, DM_SKIN_DERMIS_MIN_MM, DM_SKIN_DERMIS_MAX_MM,
+           DM_SKIN_ETA_MIN, DM_SKIN_ETA_MAX, DM_PROFILE_MAX_GAUSSIANS, DM_FIT_GAUSSIANS_DEFAULT,
            DM_FIT_NODES_MIN, DM_FIT_NODES_MAX, DM_FIT_NODES_DEFAULT, DM_PROFILE_MAX_GAUSSIANS);
 }
 
@@ -112,6 +130,14 @@ static int parse(int argc, char **argv, options *o)
         } else if (!strcmp(a, "--burley")) {
             o->burley = true;
             ++o->source_count;
+        } else if (!strcmp(a, "--skin")) {
+            if (!(o->skin = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            ++o->source_count;
+        } else if (!strcmp(a, "--skin-preset")) {
+            if (!(o->skin_preset = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+            ++o->source_count;
+        } else if (!strcmp(a, "--list-presets")) {
+            o->list_presets = true;
         } else if (!strcmp(a, "--albedo")) {
             if (!(o->albedo = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--mfp")) {
@@ -158,10 +184,12 @@ static int parse(int argc, char **argv, options *o)
         }
     }
     const char *why = NULL;
-    if (o->source_count == 0)
-        why = "give a source: --preset, --dipole, --multipole or --burley";
+    if (o->list_presets)
+        why = o->source_count || o->output || o->table ? "--list-presets takes no other option" : NULL;
+    else if (o->source_count == 0)
+        why = "give a source: --preset, --dipole, --multipole, --burley, --skin or --skin-preset";
     else if (o->source_count > 1)
-        why = "--preset, --dipole, --multipole and --burley exclude each other";
+        why = "--preset, --dipole, --multipole, --burley, --skin and --skin-preset exclude each other";
     else if (o->burley && (!o->albedo || !o->mfp))
         why = "--burley needs --albedo and --mfp";
     else if (!o->burley && (o->albedo || o->mfp))
@@ -196,10 +224,35 @@ static int parse_medium(const options *o, dm_medium *m)
     return 0;
 }
 
+/* The skin presets and their parameters, as --skin would take them. */
+static void list_presets(void)
+{
+    for (int i = 0; dm_skin_preset_name(i); ++i) {
+        dm_skin_params p;
+        char spec[512];
+        dm_skin_preset(dm_skin_preset_name(i), &p, NULL);
+        dm_skin_spec_format(&p, 6, spec, sizeof spec);
+        printf("%-14s %s\n", dm_skin_preset_name(i), spec);
+    }
+}
+
 static void provenance(const options *o, const dm_profile_source *s, dm_provenance *p)
 {
     dm_prov_init(p, TOOL);
-    if (s->kind == DM_SOURCE_GAUSSIANS) {
+    if (s->kind == DM_SOURCE_SKIN) {
+        dm_prov_add_string(p, "source", "skin");
+        if (o->skin_preset) dm_prov_add_string(p, "skin_preset", o->skin_preset);
+        char spec[512];
+        dm_skin_spec_format(&s->skin, 17, spec, sizeof spec);
+        dm_prov_add_string(p, "skin", spec);
+        dm_prov_add_string(p, "skin_model", "two layers, spectral multipole 400-700 nm (Donner & Jensen 2005/2006), "
+                                            "CIE D65 to linear sRGB (docs/skin-model.md)");
+        double total[3];
+        dm_profile_source_total(s, total);
+        static const char *const t[3] = {"skin_total_reflectance_r", "skin_total_reflectance_g",
+                                         "skin_total_reflectance_b"};
+        for (int c = 0; c < 3; ++c) dm_prov_add_double(p, t[c], total[c]);
+    } else if (s->kind == DM_SOURCE_GAUSSIANS) {
         dm_prov_add_string(p, "source", "preset");
         dm_prov_add_string(p, "preset", o->preset);
     } else if (s->kind == DM_SOURCE_BURLEY) {
@@ -253,6 +306,10 @@ int main(int argc, char **argv)
     options o;
     int rc = parse(argc, argv, &o);
     if (rc) return rc;
+    if (o.list_presets) {
+        list_presets();
+        return DM_EXIT_OK;
+    }
     if (o.output && (rc = dm_output_check_cli("-o", o.output, (const char *const[]){".json", NULL}, NULL, 0, NULL)))
         return rc; /* before any work (core/dm_output.h) */
 
@@ -269,6 +326,19 @@ int main(int argc, char **argv)
         src.kind = DM_SOURCE_GAUSSIANS;
         dm_profile_gems3_skin(&src.gaussians);
         snprintf(name, sizeof name, "%s", o.preset);
+    } else if (o.skin || o.skin_preset) {
+        dm_skin_params sp;
+        dm_error err = {0};
+        if ((o.skin ? dm_skin_spec_parse(o.skin, "--skin", &sp, &err)
+                    : dm_skin_preset(o.skin_preset, &sp, &err)) != DM_OK) {
+            fprintf(stderr, "error: %s%s\n", o.skin ? "" : "--skin-preset: ", err.detail);
+            return DM_EXIT_USAGE;
+        }
+        if (dm_profile_source_skin(&sp, &src, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            return DM_EXIT_PROCESS;
+        }
+        snprintf(name, sizeof name, "%s", o.skin_preset ? o.skin_preset : "skin");
     } else if (o.burley) {
         src.kind = DM_SOURCE_BURLEY;
         dm_error err = {0};
@@ -313,7 +383,9 @@ int main(int argc, char **argv)
                           .has_error = 1,
                           .error_relative_max = fr.error_relative_max,
                           .source = &src,
-                          .source_preset = o.preset ? o.preset : o.burley ? "" : src.medium.name,
+                          .source_preset = o.preset ? o.preset : o.skin_preset ? o.skin_preset
+                                                               : o.burley || o.skin ? ""
+                                                                                    : src.medium.name,
                           .provenance = &prov};
     memcpy(doc.total_reflectance, total, sizeof total);
     memcpy(doc.error_relative, fr.error_relative, sizeof fr.error_relative);
@@ -327,6 +399,12 @@ int main(int argc, char **argv)
                fr.error_relative[2], fr.error_relative_max, fit_ms);
         printf("total reflectance R %.4f G %.4f B %.4f%s\n", total[0], total[1], total[2],
                o.normalize ? " (normalised to white in the file)" : "");
+        if (src.kind == DM_SOURCE_SKIN) {
+            double phys[3];
+            dm_profile_source_total(&src, phys);
+            printf("skin total diffuse reflectance R %.4f G %.4f B %.4f (the physical profile's, linear sRGB)\n",
+                   phys[0], phys[1], phys[2]);
+        }
     }
     if (o.verbose) {
         double inc[DM_PROFILE_MAX_GAUSSIANS];

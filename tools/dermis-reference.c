@@ -9,6 +9,7 @@
 
 #include "image/dm_exr.h"
 #include "bake/dm_profile_fit.h"
+#include "bake/dm_skin_spec.h"
 #include "reference/dm_ref_frame.h"
 #include "reference/dm_ref_surface.h"
 #include "reference/dm_reference.h"
@@ -64,7 +65,12 @@ static void usage(FILE *f)
             "  --thickness MM       slab thickness, (0, 1e4]; --pairs N dipole pairs, default 20\n"
             "  --burley A/MFP       Burley normalized diffusion (Christensen & Burley 2015) as in dermis-fit-profile:\n"
             "                       albedo and mean free path (mm), 1 or 3 numbers each, e.g. 0.8,0.6,0.4/1,0.5,0.25\n"
-            "  --radial-gaussians N Gaussians representing --dipole/--multipole/--burley, default 12; 2..32\n"
+            "  --skin SKIN          the physical skin as in dermis-fit-profile --skin (melanin=Cm,eumelanin=B,\n"
+            "                       blood=Ch[,oxygenation=G,epidermis-mm=MM,dermis-mm=MM,eta=E]): its own\n"
+            "                       R(r) per channel, not a fit of few Gaussians (docs/skin-model.md)\n"
+            "  --skin-preset NAME   a named skin (dermis-fit-profile --list-presets)\n"
+            "  --radial-gaussians N Gaussians representing --dipole/--multipole/--burley/--skin, default 12;\n"
+            "                       2..32 (the residual error is printed)\n"
             "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
             "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
             "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"
@@ -84,6 +90,7 @@ static void usage(FILE *f)
 
 typedef struct args {
     const char *pack, *out, *irradiance, *medium;
+    const char *skin, *skin_preset; /* --skin SPEC, --skin-preset NAME */
     bool multipole, burley; /* burley: medium is "ALBEDO/MFP" */
     double thickness_mm;
     int pairs, radial_gaussians;
@@ -95,6 +102,12 @@ typedef struct args {
     const char *without;
     dm_reference_options ropt;
 } args;
+
+/* A radial profile replaces the pack's Gaussians: a medium, Burley or the physical skin. */
+static bool radial(const args *a)
+{
+    return a->medium || a->skin || a->skin_preset;
+}
 
 static int parse(int argc, char **argv, args *a)
 {
@@ -174,6 +187,10 @@ static int parse(int argc, char **argv, args *a)
             if (!(a->medium = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
             a->multipole = !strcmp(s, "--multipole");
             a->burley = !strcmp(s, "--burley");
+        } else if (!strcmp(s, "--skin")) {
+            if (!(a->skin = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--skin-preset")) {
+            if (!(a->skin_preset = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--thickness")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, 1e-9, DM_THICKNESS_MAX_MM, &a->thickness_mm))
                 return DM_EXIT_USAGE;
@@ -225,7 +242,9 @@ static int parse(int argc, char **argv, args *a)
                                                            : NULL;
     if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
     if (!bad && !a->multipole && (a->thickness_mm > 0.0 || a->pairs)) bad = "--thickness and --pairs apply to --multipole";
-    if (!bad && !a->medium && a->radial_gaussians) bad = "--radial-gaussians applies to --dipole/--multipole";
+    if (!bad && (!!a->medium + !!a->skin + !!a->skin_preset) > 1)
+        bad = "--dipole/--multipole/--burley, --skin and --skin-preset exclude each other";
+    if (!bad && !radial(a) && a->radial_gaussians) bad = "--radial-gaussians applies to --dipole/--multipole/--burley/--skin";
     if (bad) {
         fprintf(stderr, "error: %s\n", bad);
         return DM_EXIT_USAGE;
@@ -313,10 +332,35 @@ static int load_surface(const args *a, const dm_pack *pack, dm_scene *scene, dm_
     return -1;
 }
 
-/* What is convolved: the profile's Gaussians, or --dipole/--multipole's representation. */
+/* The physical skin's own profile in a->radial_gaussians dense Gaussians (its residual printed). */
+static int skin_kernel(const args *a, dm_reference_kernel *k, char *name, size_t name_size)
+{
+    dm_error err = {0};
+    dm_skin_params p;
+    if ((a->skin ? dm_skin_spec_parse(a->skin, "--skin", &p, &err) : dm_skin_preset(a->skin_preset, &p, &err)) != DM_OK) {
+        fprintf(stderr, "error: %s%s\n", a->skin ? "" : "--skin-preset: ", err.detail);
+        return DM_EXIT_USAGE;
+    }
+    dm_profile_source src;
+    double e[3];
+    if (dm_profile_source_skin(&p, &src, &err) != DM_OK ||
+        dm_reference_kernel_from_source(&src, a->radial_gaussians, k, e, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_PROCESS;
+    }
+    snprintf(name, name_size, "skin:%s", a->skin ? a->skin : a->skin_preset);
+    if (!a->quiet)
+        printf("%s %s in %d Gaussians (sigma %.3g..%.3g mm): relative L2 error %.2e %.2e %.2e (residual)\n",
+               a->skin ? "--skin" : "--skin-preset", a->skin ? a->skin : a->skin_preset, k->count,
+               sqrt(k->variance_mm2[0]), sqrt(k->variance_mm2[k->count - 1]), e[0], e[1], e[2]);
+    return -1;
+}
+
+/* What is convolved: the profile's Gaussians, or --dipole/--multipole/--skin's representation. */
 static int make_kernel(const args *a, const dm_profile *profile, dm_reference_kernel *k, char *name, size_t name_size)
 {
     dm_error err = {0};
+    if (a->skin || a->skin_preset) return skin_kernel(a, k, name, name_size);
     if (!a->medium) {
         snprintf(name, name_size, "%s", profile->name);
         if (dm_reference_kernel_from_profile(profile, k, &err) == DM_OK) return -1;
@@ -351,6 +395,16 @@ static void base_provenance(const args *a, const char *mode, dm_provenance *prov
     dm_prov_add_double(prov, "cut_sigma", a->ropt.cut_sigma != 0.0 ? a->ropt.cut_sigma : 4.0);
     dm_prov_add_double(prov, "spacing_sigma", a->ropt.spacing_sigma != 0.0 ? a->ropt.spacing_sigma : 0.3);
     dm_prov_add_double(prov, "wide_texels", a->ropt.wide_texels != 0.0 ? a->ropt.wide_texels : 4.0);
+    if (a->skin || a->skin_preset) {
+        dm_skin_params p;
+        char spec[512];
+        if ((a->skin ? dm_skin_spec_parse(a->skin, "--skin", &p, NULL) : dm_skin_preset(a->skin_preset, &p, NULL)) == DM_OK) {
+            dm_skin_spec_format(&p, 17, spec, sizeof spec);
+            dm_prov_add_string(prov, "skin", spec);
+        }
+        if (a->skin_preset) dm_prov_add_string(prov, "skin_preset", a->skin_preset);
+        dm_prov_add_int(prov, "radial_gaussians", a->radial_gaussians);
+    }
     if (a->medium) {
         dm_prov_add_string(prov, a->burley ? "burley" : a->multipole ? "multipole" : "dipole", a->medium);
         if (a->multipole) dm_prov_add_double(prov, "thickness_mm", a->thickness_mm);

@@ -19,8 +19,17 @@ dm_result dm_profile_source_validate(const dm_profile_source *s, const char *wha
     if (s->kind == DM_SOURCE_GAUSSIANS) return dm_profile_validate(&s->gaussians, what, err);
     if (s->kind == DM_SOURCE_MEDIUM) return dm_medium_validate(&s->medium, what, err);
     if (s->kind == DM_SOURCE_BURLEY) return dm_burley_validate(&s->burley, what, err);
-    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: source kind %d, expected Gaussians, a medium or Burley", what,
-                   (int)s->kind);
+    if (s->kind == DM_SOURCE_SKIN) return dm_skin_params_validate(&s->skin, what, err);
+    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "%s: source kind %d, expected Gaussians, a medium, Burley or a skin",
+                   what, (int)s->kind);
+}
+
+dm_result dm_profile_source_skin(const dm_skin_params *p, dm_profile_source *out, dm_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->kind = DM_SOURCE_SKIN;
+    out->skin = *p;
+    return dm_skin_dense_profile(p, 0, &out->skin_dense, err);
 }
 
 void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3])
@@ -29,6 +38,8 @@ void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[
         dm_profile_eval(&s->gaussians, r_mm, rgb);
     else if (s->kind == DM_SOURCE_BURLEY)
         dm_burley_eval(&s->burley, r_mm, rgb);
+    else if (s->kind == DM_SOURCE_SKIN)
+        dm_skin_dense_eval(&s->skin_dense, r_mm, rgb);
     else
         dm_medium_eval(&s->medium, r_mm, rgb);
 }
@@ -39,6 +50,8 @@ void dm_profile_source_total(const dm_profile_source *s, double rgb[3])
         dm_profile_channel_sums(&s->gaussians, rgb);
     else if (s->kind == DM_SOURCE_BURLEY)
         dm_burley_total(&s->burley, rgb);
+    else if (s->kind == DM_SOURCE_SKIN)
+        dm_skin_dense_total(&s->skin_dense, rgb);
     else
         dm_medium_total(&s->medium, rgb);
 }
@@ -58,6 +71,19 @@ static void source_scales(const dm_profile_source *s, double *lo, double *hi)
             *lo = fmin(*lo, 0.1 * d);
             *hi = fmax(*hi, 3.0 * d);
         }
+        return;
+    }
+    if (s->kind == DM_SOURCE_SKIN) { /* the dense Gaussians that carry weight (grid_init's cap
+                                      * follows hi: lo may be 4 µm, a closed-form layer's spike) */
+        const dm_skin_dense *d = &s->skin_dense;
+        *lo = INFINITY;
+        *hi = 0.0;
+        for (int k = 0; k < DM_SKIN_DENSE_GAUSSIANS; ++k)
+            if (d->weight[k][0] != 0.0 || d->weight[k][1] != 0.0 || d->weight[k][2] != 0.0) {
+                *lo = fmin(*lo, sqrt(d->variance_mm2[k]));
+                *hi = fmax(*hi, sqrt(d->variance_mm2[k]));
+            }
+        if (*hi == 0.0) *lo = *hi = 1.0; /* all-zero: the fit reports DM_ERR_EMPTY */
         return;
     }
     if (s->kind == DM_SOURCE_GAUSSIANS) {
@@ -113,8 +139,9 @@ static dm_result grid_init(grid *g, const dm_profile_source *s, int m, dm_error 
     int burley = s->kind == DM_SOURCE_BURLEY;
     g->r_min = (burley ? 1e-5 : 1e-3) * lo;
     /* r_max: walk out by √2 until r²R(r) (the profile's mass per unit ln r) has fallen
-     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min (Burley: 1e3·hi). */
-    double cap = burley ? 1e3 * hi : 1e6 * g->r_min, peak = 0.0, r = g->r_min;
+     * below 1e-10 of its peak, past the widest scale; at most 1e6·r_min (Burley and the
+     * skin, whose scales span more: 1e3·hi). */
+    double cap = burley || s->kind == DM_SOURCE_SKIN ? 1e3 * hi : 1e6 * g->r_min, peak = 0.0, r = g->r_min;
     for (;;) {
         double p = peak_r2(s, r);
         if (!isfinite(p)) return dm_fail(err, DM_ERR_NON_FINITE, "profile source: R(%g mm) is not finite", r);

@@ -25,6 +25,7 @@
 
 #include <stdbool.h>
 
+#include "bake/dm_skin_profile.h"
 #include "core/dm_diffusion.h"
 #include "core/dm_profile.h"
 #include "core/dm_result.h"
@@ -51,14 +52,24 @@ enum {
  * error of the radial mass density r R(r): e_c = ∫₀^∞ (r R_c − r Σ w G)² dr, which is
  * finite. r_min is then 1e-6 of the smallest d = ℓ/S(A) and r_max at most 3000 of the
  * largest (the disc [0, r_min] counts r_min³ f(r_min): ~1e-6 of the norm). */
-typedef enum dm_source_kind { DM_SOURCE_GAUSSIANS, DM_SOURCE_MEDIUM, DM_SOURCE_BURLEY } dm_source_kind;
+/* DM_SOURCE_SKIN: the physical skin of bake/dm_skin_profile.h, its per-channel R_c(r) held as
+ * the dense representation (dm_skin_dense: 32 Gaussians per wavelength, exact to ~1e-6, with
+ * signed channel weights, so a channel's negative lobes are there as they are); build it with
+ * dm_profile_source_skin. */
+typedef enum dm_source_kind { DM_SOURCE_GAUSSIANS, DM_SOURCE_MEDIUM, DM_SOURCE_BURLEY, DM_SOURCE_SKIN } dm_source_kind;
 
 typedef struct dm_profile_source {
     dm_source_kind kind;
     dm_profile gaussians; /* DM_SOURCE_GAUSSIANS */
     dm_medium medium;     /* DM_SOURCE_MEDIUM */
     dm_burley burley;     /* DM_SOURCE_BURLEY */
+    dm_skin_params skin;  /* DM_SOURCE_SKIN: the parameters … */
+    dm_skin_dense skin_dense; /* … and their profile */
 } dm_profile_source;
+
+/* A DM_SOURCE_SKIN source of the parameters p (validated here: dm_skin_params_validate's
+ * errors, naming the parameter); DM_ERR_OUT_OF_MEMORY. */
+dm_result dm_profile_source_skin(const dm_skin_params *p, dm_profile_source *out, dm_error *err);
 
 /* A radial source as a command line names it (dermis-reference's --dipole, --multipole,
  * --burley): burley, "ALBEDO/MFP" (dm_burley_parse's two lists, e.g. "0.8,0.6,0.4/1,0.5,0.25");
@@ -72,7 +83,7 @@ dm_result dm_profile_source_validate(const dm_profile_source *s, const char *wha
 /* R(r) of the source per channel, mm⁻². */
 void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3]);
 /* Its total diffuse reflectance ∫ 2πr R dr in closed form (weight sums, the dipole /
- * multipole formulas, or Burley's albedo). */
+ * multipole formulas, Burley's albedo, or the skin's colorimetric total R̃_c(0)). */
 void dm_profile_source_total(const dm_profile_source *s, double rgb[3]);
 
 /* Zero-initialised = defaults. */

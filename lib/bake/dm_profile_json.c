@@ -13,6 +13,7 @@ static void put_source(dm_sbuf *b, const dm_profile_source *s, const char *prese
     dm_profile_source_total(s, total);
     const char *model = s->kind == DM_SOURCE_GAUSSIANS             ? "gaussians"
                         : s->kind == DM_SOURCE_BURLEY           ? "burley"
+                        : s->kind == DM_SOURCE_SKIN             ? "skin"
                         : s->medium.model == DM_MODEL_MULTIPOLE ? "multipole"
                                                                  : "dipole";
     dm_sbuf_put(b, "{\n    \"model\": \"%s\",\n    \"preset\": ", model);
@@ -20,6 +21,16 @@ static void put_source(dm_sbuf *b, const dm_profile_source *s, const char *prese
     if (s->kind == DM_SOURCE_GAUSSIANS) {
         dm_sbuf_put(b, ",\n    \"gaussians\": ");
         dm_profile_put_gaussians(b, &s->gaussians, "    ", 0);
+    } else if (s->kind == DM_SOURCE_SKIN) { /* bake/dm_skin_optics.h: the two-layer spectral model */
+        const dm_skin_params *k = &s->skin;
+        const char *const names[7] = {"melanin_fraction", "eumelanin_blend", "blood_fraction", "oxygenation",
+                                      "epidermis_mm",     "dermis_mm",       "eta"};
+        const double v[7] = {k->melanin_fraction, k->eumelanin_blend, k->blood_fraction, k->oxygenation,
+                             k->epidermis_mm,     k->dermis_mm,       k->eta};
+        for (int i = 0; i < 7; ++i) {
+            dm_sbuf_put(b, ",\n    \"%s\": ", names[i]);
+            dm_sbuf_num(b, v[i]);
+        }
     } else if (s->kind == DM_SOURCE_BURLEY) { /* Christensen & Burley 2015, S(A) for ℓ (searchlight) */
         dm_sbuf_put(b, ",\n    \"albedo\": ");
         dm_sbuf_rgb(b, s->burley.albedo);

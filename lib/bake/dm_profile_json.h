@@ -10,9 +10,12 @@
  *     "blur_passes": 2(N − 1),               separable passes the runtime spends
  *     "total_reflectance_rgb": [...],        Σ_k w_kc before normalisation (∫ 2πr ΣG dr)
  *     "error": {"measure": "...", "relative_rgb": [...], "relative_max": e},
- *     "source": {"model": "gaussians"|"dipole"|"multipole", "preset": "...", ...
+ *     "source": {"model": "gaussians"|"dipole"|"multipole"|"burley"|"skin", "preset": "...",
  *                the parameters: gaussians, or sigma_a_per_mm, sigma_s_prime_per_mm, eta,
- *                thickness_mm, pairs; and its closed-form "total_reflectance_rgb"},
+ *                thickness_mm, pairs, or albedo, mfp_mm, or the skin's melanin_fraction,
+ *                eumelanin_blend, blood_fraction, oxygenation, epidermis_mm, dermis_mm, eta;
+ *                and its closed-form "total_reflectance_rgb" (the skin's: colorimetric,
+ *                the total diffuse reflectance per channel)},
  *     "provenance": {...} }                  dm_prov_to_json
  * Non-finite numbers are written as null.
  */

@@ -5,11 +5,61 @@
 #include <assert.h>
 #include <math.h>
 
+#include "bake/dm_skin_mc.h"
 #include "core/dm_diffusion.h"
+
+/* 0 below lo, 1 above hi, C¹ smoothstep between. */
+static double ramp(double x, double lo, double hi)
+{
+    double t = (x - lo) / (hi - lo);
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+double dm_skin_layer_diffusion_weight(const dm_skin_layer *l)
+{
+    double sigma_t = l->sigma_a + l->sigma_s_prime;
+    return ramp(l->sigma_s_prime / sigma_t, DM_SKIN_ALBEDO_FALLBACK, DM_SKIN_ALBEDO_DIFFUSIVE) *
+           ramp(l->thickness_mm * sigma_t, DM_SKIN_DEPTH_FALLBACK, DM_SKIN_DEPTH_DIFFUSIVE);
+}
 
 int dm_skin_layer_diffusive(const dm_skin_layer *l)
 {
-    return l->sigma_a <= l->sigma_s_prime && l->thickness_mm * (l->sigma_a + l->sigma_s_prime) >= 1.0;
+    return dm_skin_layer_diffusion_weight(l) == 1.0;
+}
+
+/* Gauss–Legendre, 16 nodes on [0, 1] (half-nodes and weights of the [−1, 1] rule). */
+static const double gl_x[8] = {0.0950125098376374, 0.2816035507792589, 0.4580167776572274, 0.6178762444026438,
+                               0.7554044083550030, 0.8656312023878318, 0.9445750230732326, 0.9894009349916499};
+static const double gl_w[8] = {0.1894506104550685, 0.1826034150449236, 0.1691565193950025, 0.1495959888165767,
+                               0.1246289712555339, 0.0951585116824928, 0.0622535239386479, 0.0271524594117541};
+
+double dm_skin_single_scatter_reflectance(double albedo, double optical_depth, double eta)
+{
+    /* below the critical cosine μc = √(1 − 1/η²) nothing leaves (total internal reflection):
+     * integrate over [μc, 1] only, where the integrand is smooth */
+    double mu_c = sqrt(fmax(0.0, 1.0 - 1.0 / (eta * eta))), half = 0.5 * (1.0 - mu_c), acc = 0.0;
+    for (int i = 0; i < 8; ++i)
+        for (int side = -1; side <= 1; side += 2) {
+            double mu = mu_c + half * (1.0 + side * gl_x[i]);
+            double escape = isinf(optical_depth) ? 1.0 : 1.0 - exp(-optical_depth * (1.0 + 1.0 / mu));
+            acc += half * gl_w[i] * mu / (1.0 + mu) * escape * (1.0 - dm_skin_mc_fresnel(eta, 1.0, mu));
+        }
+    return 0.5 * albedo * acc;
+}
+
+/* The strongly absorbing or optically thin slab in closed form (dm_skin_layers.h): single
+ * scattering back, Beer–Lambert through, no lateral spread. */
+static void absorber(const dm_skin_layer *l, dm_skin_slab *out)
+{
+    double sigma_t = l->sigma_a + l->sigma_s_prime, d = l->thickness_mm;
+    double albedo = l->sigma_s_prime / sigma_t;
+    double r = dm_skin_single_scatter_reflectance(albedo, sigma_t * d, l->eta_top);
+    *out = (dm_skin_slab){{r, 0}, {0, 0}, {0, 0}, {0, 0}};
+    if (isinf(d)) return;
+    out->r_up.v = dm_skin_single_scatter_reflectance(albedo, sigma_t * d, l->eta_bottom);
+    out->t.v = fmax(0.0, exp(-l->sigma_a * d) - r);
+    out->t_up.v = fmax(0.0, exp(-2.0 * l->sigma_a * d) - out->r_up.v);
 }
 
 /* Extrapolation distance z_b = 2AD of a face with index ratio eta. */
@@ -55,17 +105,10 @@ static void multipole(double alpha_p, double l, double d, double zb_lit, double 
     if (t) t->v *= k, t->d *= k;
 }
 
-void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out)
+/* The multipole slab (diffusion; dm_skin_layers.h). */
+static void diffusion(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out)
 {
     double d = l->thickness_mm;
-    if (!dm_skin_layer_diffusive(l)) { /* Beer–Lambert: absorbs, does not spread */
-        *out = (dm_skin_slab){{0, 0}, {0, 0}, {0, 0}, {0, 0}};
-        if (!isinf(d)) {
-            out->t.v = exp(-l->sigma_a * d);
-            out->t_up.v = exp(-2.0 * l->sigma_a * d);
-        }
-        return;
-    }
     int n = pairs > 0 ? pairs : DM_MULTIPOLE_PAIRS_DEFAULT;
     double sigma_t = l->sigma_a + l->sigma_s_prime, alpha_p = l->sigma_s_prime / sigma_t;
     double sigma_tr2 = 3.0 * l->sigma_a * sigma_t, q = sqrt(sigma_tr2 + s_per_mm * s_per_mm);
@@ -76,6 +119,26 @@ void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm,
         return;
     }
     multipole(alpha_p, 1.0 / sigma_t, d, zb_bottom, zb_top, n, q, &out->r_up, &out->t_up);
+}
+
+static dm_skin_dual blend(double w, dm_skin_dual a, dm_skin_dual b)
+{
+    return (dm_skin_dual){w * a.v + (1.0 - w) * b.v, w * a.d + (1.0 - w) * b.d};
+}
+
+void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out)
+{
+    double w = dm_skin_layer_diffusion_weight(l);
+    if (w == 1.0) {
+        diffusion(l, pairs, s_per_mm, out);
+        return;
+    }
+    absorber(l, out);
+    if (w == 0.0) return;
+    dm_skin_slab dif, abs = *out;
+    diffusion(l, pairs, s_per_mm, &dif);
+    out->r = blend(w, dif.r, abs.r), out->r_up = blend(w, dif.r_up, abs.r_up);
+    out->t = blend(w, dif.t, abs.t), out->t_up = blend(w, dif.t_up, abs.t_up);
 }
 
 /* a·b and a/b on duals. */

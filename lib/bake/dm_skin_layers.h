@@ -27,11 +27,23 @@
  * a blood-rich dermis in the Soret band), or a slab thinner than one transport mean free
  * path l = 1/σt′ (its real source would lie below it: the multipole's R and T then turn
  * negative; from d ≥ l on they are positive and tend smoothly to the thick limit) — the
- * layer is treated as a pure
- * absorber instead (Beer–Lambert): no diffuse reflectance, transmittance e^(−σa d) going
- * down (collimated light at normal incidence) and e^(−2σa d) going up (diffuse light; the
- * mean 1/μ of a Lambertian flux is 2), no lateral spread (∂/∂s² = 0); a semi-infinite one
- * reflects nothing. The layer reports it (dm_skin_layer_diffusive), callers count it.
+ * layer is a strongly absorbing or thin slab in closed form instead, with no lateral spread
+ * (∂/∂s² = 0):
+ *   R = α′/2 ∫₀¹ μ/(1 + μ) (1 − e^(−τ(1 + 1/μ))) (1 − F_η(μ)) dμ,   τ = σt′ d
+ * (single scattering, isotropic in the reduced coefficients, of light entering at normal
+ * incidence, leaving at μ through the face's Fresnel transmittance 1 − F_η (unpolarised,
+ * dm_skin_mc_fresnel from index η to 1; η = 1: none lost, α′(1 − ln 2)/2 when semi-
+ * infinite); R↑ the same through the bottom face's η),
+ *   T = e^(−σa d) − R going down (collimated light at normal incidence),
+ *   T↑ = e^(−2σa d) − R going up (diffuse light: the mean 1/μ of a Lambertian flux is 2),
+ * both ≥ 0: Beer–Lambert on the light that did not scatter back, so R + T ≤ 1.
+ * The switch is continuous: the slab's responses are w·(multipole) + (1 − w)·(closed form),
+ * w = dm_skin_layer_diffusion_weight, a C¹ ramp in α′ over [DM_SKIN_ALBEDO_FALLBACK,
+ * DM_SKIN_ALBEDO_DIFFUSIVE] times one in d/l over [DM_SKIN_DEPTH_FALLBACK,
+ * DM_SKIN_DEPTH_DIFFUSIVE]. The ramps lie where the multipole is still positive (α′ ≥ 0.4,
+ * d ≥ l), so w·(multipole) never adds a negative response; above them the multipole is
+ * used alone, as before. The layer reports it (dm_skin_layer_diffusive: w = 1), callers
+ * count it.
  */
 #ifndef DM_SKIN_LAYERS_H
 #define DM_SKIN_LAYERS_H
@@ -62,9 +74,21 @@ typedef struct dm_skin_slab {
     dm_skin_dual t, t_up; /* transmittance going down, going up (0 for a semi-infinite slab) */
 } dm_skin_slab;
 
-/* 1 when diffusion holds for the layer (σa ≤ σs′ and d σt′ ≥ 1), 0 when the Beer–Lambert
- * fallback applies. The switch is a step: results jump where a parameter crosses it. */
+/* The ramps of the switch (above): albedo α′ = σs′/σt′ and depth d/l = d σt′. */
+#define DM_SKIN_ALBEDO_FALLBACK 0.4
+#define DM_SKIN_ALBEDO_DIFFUSIVE 0.5
+#define DM_SKIN_DEPTH_FALLBACK 1.0
+#define DM_SKIN_DEPTH_DIFFUSIVE 1.1
+
+/* The multipole's share w ∈ [0, 1] of the layer's responses: 1 where diffusion holds
+ * (α′ ≥ 0.5, d σt′ ≥ 1.1), 0 where only the closed form applies, C¹ between. */
+double dm_skin_layer_diffusion_weight(const dm_skin_layer *l);
+/* 1 when the weight is 1 (the multipole alone), else 0 (the closed form takes part). */
 int dm_skin_layer_diffusive(const dm_skin_layer *l);
+/* The single-scattering reflectance above: albedo α′ ∈ [0, 1], optical depth τ ≥ 0
+ * (INFINITY: semi-infinite), the face's index ratio eta ≥ 1; 16-point Gauss–Legendre in μ over
+ * [μc, 1], μc = √(1 − 1/η²) the critical cosine (no light leaves below it). */
+double dm_skin_single_scatter_reflectance(double albedo, double optical_depth, double eta);
 
 /* The slab's responses at frequency s_per_mm ≥ 0 with pairs image pairs (0: the default of
  * dm_diffusion.h, DM_MULTIPOLE_PAIRS_DEFAULT); the fallback above where not diffusive. */

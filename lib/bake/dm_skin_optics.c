@@ -23,10 +23,15 @@ typedef struct preset {
     const char *name;
     double cm, beta, ch;
 } preset;
+/* DJ2006's exemplars, then a Fitzpatrick gallery that is our own mapping (no paper tabulates
+ * Fitzpatrick I–VI parameters): melanosome fractions placed on Jacques' (1998) bands, light
+ * adults 1.3–6.3 % (I its floor, II its middle, III its top), moderately pigmented 11–16 %
+ * (IV its middle), darkly pigmented 18–43 % (V a quarter up, VI its top); eumelanin share,
+ * blood and the rest as the default. */
 static const preset presets[] = {
-    {"caucasian", 0.005, 0.7, 0.005},
-    {"asian", 0.15, 0.0, 0.01},
-    {"african", 0.5, 0.7, 0.05},
+    {"caucasian", 0.005, 0.7, 0.005},    {"asian", 0.15, 0.0, 0.01},          {"african", 0.5, 0.7, 0.05},
+    {"fitzpatrick-1", 0.013, 0.7, 0.005}, {"fitzpatrick-2", 0.038, 0.7, 0.005}, {"fitzpatrick-3", 0.063, 0.7, 0.005},
+    {"fitzpatrick-4", 0.135, 0.7, 0.005}, {"fitzpatrick-5", 0.24, 0.7, 0.005},  {"fitzpatrick-6", 0.43, 0.7, 0.005},
 };
 enum { PRESET_COUNT = sizeof presets / sizeof presets[0] };
 
@@ -40,8 +45,14 @@ dm_result dm_skin_preset(const char *name, dm_skin_params *p, dm_error *err)
         p->blood_fraction = presets[i].ch;
         return DM_OK;
     }
-    return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "skin preset '%s': unknown, expected caucasian, asian or african",
+    return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                   "skin preset '%s': unknown, expected caucasian, asian, african or fitzpatrick-1 … fitzpatrick-6",
                    name);
+}
+
+const char *dm_skin_preset_name(int index)
+{
+    return index >= 0 && index < PRESET_COUNT ? presets[index].name : NULL;
 }
 
 static dm_result in_range(double v, double lo, double hi, const char *what, const char *field, const char *extra,
@@ -55,16 +66,16 @@ static dm_result in_range(double v, double lo, double hi, const char *what, cons
 dm_result dm_skin_params_validate(const dm_skin_params *p, const char *what, dm_error *err)
 {
     dm_result r;
-    if ((r = in_range(p->melanin_fraction, 0.0, DM_SKIN_MELANIN_MAX, what, "melanin_fraction (Cm)", "", err)) ||
-        (r = in_range(p->eumelanin_blend, 0.0, 1.0, what, "eumelanin_blend (betam)", "", err)) ||
-        (r = in_range(p->blood_fraction, 0.0, DM_SKIN_BLOOD_MAX, what, "blood_fraction (Ch)", "", err)) ||
+    if ((r = in_range(p->melanin_fraction, 0.0, DM_SKIN_MELANIN_MAX, what, "melanin_fraction (melanin, Cm)", "", err)) ||
+        (r = in_range(p->eumelanin_blend, 0.0, 1.0, what, "eumelanin_blend (eumelanin, betam)", "", err)) ||
+        (r = in_range(p->blood_fraction, 0.0, DM_SKIN_BLOOD_MAX, what, "blood_fraction (blood, Ch)", "", err)) ||
         (r = in_range(p->oxygenation, 0.0, 1.0, what, "oxygenation (gamma)", "", err)) ||
-        (r = in_range(p->epidermis_mm, DM_SKIN_EPIDERMIS_MIN_MM, DM_SKIN_EPIDERMIS_MAX_MM, what, "epidermis_mm", "",
+        (r = in_range(p->epidermis_mm, DM_SKIN_EPIDERMIS_MIN_MM, DM_SKIN_EPIDERMIS_MAX_MM, what, "epidermis_mm (epidermis-mm)", "",
                       err)) ||
         (r = in_range(p->eta, DM_SKIN_ETA_MIN, DM_SKIN_ETA_MAX, what, "eta", "", err)))
         return r;
     if (p->dermis_mm != 0.0)
-        return in_range(p->dermis_mm, DM_SKIN_DERMIS_MIN_MM, DM_SKIN_DERMIS_MAX_MM, what, "dermis_mm",
+        return in_range(p->dermis_mm, DM_SKIN_DERMIS_MIN_MM, DM_SKIN_DERMIS_MAX_MM, what, "dermis_mm (dermis-mm)",
                         " or 0 (semi-infinite)", err);
     return DM_OK;
 }

@@ -54,12 +54,18 @@ typedef struct dm_skin_params {
 dm_skin_params dm_skin_params_default(void);
 
 /* The DJ2006 exemplars (SKIN-MODEL.md): "caucasian" (Cm 0.005, βm 0.7, Ch 0.005), "asian"
- * (0.15, 0, 0.01), "african" (0.5, 0.7, 0.05), the rest as the default.
+ * (0.15, 0, 0.01), "african" (0.5, 0.7, 0.05); and a Fitzpatrick gallery, our own mapping
+ * onto Jacques' melanosome bands (no paper tabulates one): "fitzpatrick-1" … "-6" with
+ * Cm 0.013, 0.038, 0.063 (light adults 1.3–6.3 %), 0.135 (moderate 11–16 %), 0.24, 0.43
+ * (dark 18–43 %), βm 0.7, Ch 0.005. The rest as the default.
  * DM_ERR_INVALID_ARGUMENT, naming the known ones, for another name. */
 dm_result dm_skin_preset(const char *name, dm_skin_params *p, dm_error *err);
+/* The preset names in order, index 0..; NULL past the last. */
+const char *dm_skin_preset_name(int index);
 
 /* Refuses a NaN, infinite or out-of-range parameter: the message names `what`, the
- * parameter, its value and its accepted range (DM_ERR_RANGE or DM_ERR_NON_FINITE). */
+ * parameter (field, and its key in dm_skin_spec.h), its value and its accepted range
+ * (DM_ERR_RANGE or DM_ERR_NON_FINITE). */
 dm_result dm_skin_params_validate(const dm_skin_params *p, const char *what, dm_error *err);
 
 /* The laws above, one each, mm⁻¹ at λ nm (any λ > 0; the ε of blood from the caller). */

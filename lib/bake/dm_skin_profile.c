@@ -189,3 +189,10 @@ void dm_skin_dense_eval(const dm_skin_dense *d, double r_mm, double rgb[3])
         for (int c = 0; c < 3; ++c) rgb[c] += d->weight[k][c] * g;
     }
 }
+
+void dm_skin_dense_total(const dm_skin_dense *d, double rgb[3])
+{
+    rgb[0] = rgb[1] = rgb[2] = 0.0;
+    for (int k = 0; k < ND; ++k)
+        for (int c = 0; c < 3; ++c) rgb[c] += d->weight[k][c];
+}

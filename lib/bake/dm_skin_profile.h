@@ -75,6 +75,8 @@ typedef struct dm_skin_dense {
 dm_result dm_skin_dense_profile(const dm_skin_params *p, int pair_count, dm_skin_dense *out, dm_error *err);
 /* R_c(r) of the dense profile, mm⁻², per channel (may be negative). */
 void dm_skin_dense_eval(const dm_skin_dense *d, double r_mm, double rgb[3]);
+/* Its total ∫ 2πr R_c dr per channel: the weight sums (the colorimetric totals to ~1e-6). */
+void dm_skin_dense_total(const dm_skin_dense *d, double rgb[3]);
 
 #ifdef __cplusplus
 }

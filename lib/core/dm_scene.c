@@ -193,8 +193,60 @@ static bool parse_environment(ctx *c, const cJSON *root, dm_scene *s)
            dm_jread_bool_opt(&c->j, e, "$.environment", "background", &s->env_background) && parse_env_alternatives(c, e, s);
 }
 
+/* {"skin": {"preset": NAME, KEY: number, …}}: names and types checked, numbers stored (the
+ * packer checks the ranges and fits the profile: the model is offline). */
+static bool parse_skin(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
+{
+    char p[DM_JPATH_SIZE];
+    dm_jread_path(p, jpath, "skin");
+    static const char *const top[] = {"skin", NULL};
+    if (!dm_jread_keys(&c->j, v, jpath, top)) return false;
+    const cJSON *skin = dm_jread_get(v, "skin");
+    if (!cJSON_IsObject(skin)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, skin, "an object of skin parameters");
+    dm_scene_skin *k = &s->skin;
+    memset(k, 0, sizeof *k);
+    const cJSON *e;
+    cJSON_ArrayForEach(e, skin)
+    {
+        char ep[DM_JPATH_SIZE];
+        dm_jread_path(ep, p, e->string);
+        if (!strcmp(e->string, "preset")) {
+            if (!cJSON_IsString(e) || !*e->valuestring || strlen(e->valuestring) >= sizeof k->preset)
+                return dm_jread_fail(&c->j, DM_ERR_FORMAT, ep, e, "a preset name (dermis-fit-profile --list-presets)");
+            snprintf(k->preset, sizeof k->preset, "%s", e->valuestring);
+            continue;
+        }
+        int i = dm_skin_key_index(e->string, strlen(e->string));
+        if (i < 0) {
+            char want[160];
+            snprintf(want, sizeof want, "a key among preset, %s", dm_skin_keys_text());
+            return dm_jread_fail(&c->j, DM_ERR_FORMAT, ep, e, want);
+        }
+        if (!cJSON_IsNumber(e)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, ep, e, "a number");
+        for (int j = 0; j < k->key_count; ++j)
+            if (k->key[j] == i) return dm_jread_fail(&c->j, DM_ERR_FORMAT, ep, e, "each key once");
+        k->key[k->key_count] = i;
+        k->value[k->key_count++] = e->valuedouble;
+    }
+    for (int i = 0; !k->preset[0] && i < DM_SKIN_KEY_REQUIRED_COUNT; ++i) {
+        bool seen = false;
+        for (int j = 0; j < k->key_count; ++j) seen = seen || k->key[j] == i;
+        if (!seen) {
+            char want[160];
+            snprintf(want, sizeof want, "\"%s\" (melanin, eumelanin and blood are required without a preset)",
+                     dm_skin_keys[i]);
+            return dm_jread_fail(&c->j, DM_ERR_FORMAT, p, skin, want);
+        }
+    }
+    k->given = true;
+    dm_profile_gems3_skin(&s->profile); /* the stand-in until the packer fits the skin's */
+    snprintf(s->profile_source, sizeof s->profile_source, "skin");
+    return true;
+}
+
 static bool parse_profile(ctx *c, const cJSON *v, const char *jpath, dm_scene *s)
 {
+    if (cJSON_IsObject(v) && dm_jread_get(v, "skin")) return parse_skin(c, v, jpath, s);
     if (cJSON_IsObject(v)) { /* inline, in the dm_profile.h JSON form (what dm_scene_to_json writes) */
         char what[DM_SCENE_PATH_SIZE + DM_JPATH_SIZE];
         snprintf(what, sizeof what, "%s: %s", c->j.where, jpath);

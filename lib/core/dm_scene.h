@@ -17,6 +17,7 @@
 
 #include "core/dm_hash.h"
 #include "core/dm_profile.h"
+#include "core/dm_skin_keys.h"
 #include "core/dm_result.h"
 
 #ifdef __cplusplus
@@ -78,6 +79,19 @@ typedef struct dm_light {
     bool casts_shadow;
 } dm_light;
 
+/* The physical skin a scene names as its profile ("profile": {"skin": {…}}). The scene reader
+ * (core) only checks the names and stores the numbers: the model and its ranges are offline
+ * (bake/dm_skin_spec.h), so the packer evaluates it and fits the profile when it packs
+ * (profile_source "skin" until then, and `profile` is the gems3-skin stand-in meanwhile).
+ * Keys: core/dm_skin_keys.h; "preset" a starting point the keys override. */
+typedef struct dm_scene_skin {
+    bool given;
+    char preset[DM_SKIN_PRESET_NAME_SIZE];  /* "" or a preset name */
+    int key_count;                          /* [0, DM_SKIN_KEY_COUNT] */
+    int key[DM_SKIN_KEY_COUNT];             /* index into dm_skin_keys, in file order */
+    double value[DM_SKIN_KEY_COUNT];
+} dm_scene_skin;
+
 typedef struct dm_scene {
     char path[DM_SCENE_PATH_SIZE]; /* the scene file itself */
     char file_hash[DM_HASH_HEX_SIZE]; /* its content hash (dm_hash_hex) from the one read of
@@ -109,7 +123,8 @@ typedef struct dm_scene {
     bool effects[DM_EFFECT_COUNT];
     /* subsurface */
     dm_profile profile;      /* default gems3-skin; from "profile": "gems3-skin" or a JSON path */
-    char profile_source[DM_SCENE_PATH_SIZE];
+    char profile_source[DM_SCENE_PATH_SIZE]; /* "gems3-skin", "inline", "skin" or the file */
+    dm_scene_skin skin;      /* "profile": {"skin": {…}}: the parameters, stored, not evaluated */
     int blur_taps;           /* taps per separable pass, odd, default 7 (the chapter's) */
     int irradiance_size;     /* texture-space resolution, default 1024 */
     float mix;               /* pre/post-scatter albedo mix, default 0.5 */
@@ -139,8 +154,10 @@ typedef struct dm_scene {
  *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background",
  *                      "alternatives": [ ≤ 7 non-empty paths ] (needs "path") },
  *     "effects": REQUIRED { NAME: true | false | { "enabled": bool (default true), params } },
- *        subsurface params: "profile" ("gems3-skin", a profile JSON path, or an inline profile
- *        object), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1],
+ *        subsurface params: "profile" ("gems3-skin", a profile JSON path, an inline profile
+ *        object, or a physical skin {"skin": {"preset": NAME, KEY: number, …}} with the keys
+ *        of core/dm_skin_keys.h: melanin, eumelanin, blood required without a preset; its
+ *        ranges are checked and its profile fitted by the packer), "taps" odd [3, 63], "irradiance_size" [64, 8192], "mix" [0, 1],
  *        "technique" "texture-space" | "screen-space" | "pre-integrated",
  *        "screen_taps" 11 | 17 | 25;
  *        translucency: "intensity" [0, 100] (off unless listed, also in dm_scene_defaults);

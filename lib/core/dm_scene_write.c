@@ -14,6 +14,19 @@ static cJSON *vec3(const float v[3])
     return cJSON_CreateDoubleArray(d, 3);
 }
 
+/* An unfitted physical skin as read ({"skin": {…}}), the numbers at 17 digits. */
+static cJSON *skin_json(const dm_scene_skin *k)
+{
+    cJSON *o = cJSON_CreateObject(), *in = cJSON_AddObjectToObject(o, "skin");
+    if (k->preset[0]) cJSON_AddStringToObject(in, "preset", k->preset);
+    for (int i = 0; i < k->key_count; ++i) {
+        char num[32];
+        snprintf(num, sizeof num, "%.17g", k->value[i]);
+        cJSON_AddItemToObject(in, dm_skin_keys[k->key[i]], cJSON_CreateRaw(num));
+    }
+    return o;
+}
+
 /* The inline profile as the one profile writer writes it (dm_profile_to_json), verbatim:
  * 17 significant digits, so the scene's profile reads back exactly (cJSON's own printing
  * keeps 15 when they come within an ulp). NULL when it cannot be written. */
@@ -73,7 +86,7 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
         if (e == DM_EFFECT_SUBSURFACE) {
             cJSON *o = cJSON_AddObjectToObject(fx, name);
             cJSON_AddBoolToObject(o, "enabled", s->effects[e]);
-            cJSON_AddItemToObject(o, "profile", profile_json(&s->profile));
+            cJSON_AddItemToObject(o, "profile", s->skin.given ? skin_json(&s->skin) : profile_json(&s->profile));
             cJSON_AddNumberToObject(o, "taps", s->blur_taps);
             cJSON_AddNumberToObject(o, "irradiance_size", s->irradiance_size);
             cJSON_AddNumberToObject(o, "mix", s->mix);

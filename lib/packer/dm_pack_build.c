@@ -74,6 +74,7 @@ dm_result dm_pack_build_begin(dm_pack_build *b, const char *scene_path, const ch
     dm_pack_writer_init(&b->w);
     dm_result r = dm_scene_read_assets(scene_path, asset_dirs, asset_count, &b->scene, err);
     if (r == DM_OK) snprintf(b->scene_hash, sizeof b->scene_hash, "%s", b->scene.file_hash);
+    if (r == DM_OK) r = dmpb_fit_skin(b, err);
     if (r == DM_OK) r = gltf_material_maps(b, err);
     return r;
 }

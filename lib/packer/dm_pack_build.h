@@ -54,6 +54,9 @@ typedef struct dm_pack_build {
     char mesh_hash[DM_HASH_HEX_SIZE];
     bool input_failed; /* the failure of dm_pack_build_run was an input (the mesh, a map) that
                         * did not load, whatever its code: the tools' exit 2 */
+    dm_scene_skin skin; /* the scene's physical skin as read (given: the profile was fitted to
+                         * it here, and the scene then holds that profile inline) */
+    char skin_spec[256]; /* its parameters as dermis-fit-profile --skin takes them, exact */
 } dm_pack_build;
 
 /* Reads the scene (relative paths searched in asset_dirs, core/dm_scene.h), hashes it, and

@@ -14,6 +14,12 @@ const char *dmpb_base_name(const char *path);
 dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err);
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
 
+/* A scene's physical skin ("profile": {"skin": {…}}): its parameters checked, the profile
+ * fitted to it as dermis-fit-profile --skin does by default (six Gaussians, normalised to
+ * white), put in the scene as an inline profile (dm_pack_build_skin.c). Nothing to do when
+ * the scene names no skin. */
+dm_result dmpb_fit_skin(dm_pack_build *j, dm_error *err);
+
 /* The steps (dm_pack_build.c runs them from its table). */
 dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_mesh(dm_pack_build *j, dm_error *err);

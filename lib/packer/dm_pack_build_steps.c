@@ -229,7 +229,12 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
     const dm_profile *pr = &j->scene.profile;
     dm_provenance p;
     dm_prov_init(&p, DM_PACK_BUILD_TOOL);
-    dm_prov_add_string(&p, "source", j->scene.profile_source);
+    dm_prov_add_string(&p, "source", j->skin.given ? "skin" : j->scene.profile_source);
+    if (j->skin.given) { /* the parameters the profile was fitted to, exact, and how */
+        dm_prov_add_string(&p, "skin", j->skin_spec);
+        if (j->skin.preset[0]) dm_prov_add_string(&p, "skin_preset", j->skin.preset);
+        dm_prov_add_string(&p, "skin_fit", "dermis-fit-profile --skin defaults: 6 Gaussians, normalised to white");
+    }
     char *text = NULL;
     size_t size = 0;
     dm_result r = DM_OK;
@@ -248,6 +253,8 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
     char src[160];
     if (from_file)
         snprintf(src, sizeof src, "from %.150s", dmpb_base_name(j->scene.profile_source));
+    else if (j->skin.given)
+        snprintf(src, sizeof src, "fitted to the skin %s", j->skin.preset[0] ? j->skin.preset : "of the scene");
     else
         snprintf(src, sizeof src, "%s preset", pr->name);
     if (r == DM_OK) r = dmpb_add(j, &d, text, size, &p, src, err);

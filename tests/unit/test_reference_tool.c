@@ -216,3 +216,35 @@ Test(reference_tool, dipole, .init = setup, .timeout = 120)
     for (int i = 0; i < 32 * 32; ++i) cr_expect(isfinite(dm_exr_find(&img, "R")[i]));
     dm_exr_free(&img);
 }
+
+/* The physical skin's own profile (--skin-preset, --skin) instead of the pack's Gaussians:
+ * its residual printed, its parameters in the provenance, finite non-negative output; bad
+ * skins are usage errors naming the parameter. */
+Test(reference_tool, skin, .init = setup, .timeout = 120)
+{
+    char a[8192], x[700], log[700];
+    snprintf(a, sizeof a, "%s --texture-space 32 --skin-preset fitzpatrick-2 --radial-gaussians 24 -o %s/skin.exr", pack,
+             dir);
+    cr_assert_eq(run(a), 0);
+    snprintf(log, sizeof log, "%s/log.txt", dir);
+    char *out = test_slurp(log);
+    cr_expect(out && strstr(out, "--skin-preset fitzpatrick-2 in 24 Gaussians") && strstr(out, "(residual)"), "%s",
+              out ? out : "");
+    free(out);
+    dm_exr_image img;
+    dm_error err = {0};
+    snprintf(x, sizeof x, "%s/skin.exr", dir);
+    cr_assert_eq(dm_exr_read(x, &img, &err), DM_OK, "%s", err.detail);
+    const dm_param *p = dm_prov_find(&img.prov, "profile"), *s = dm_prov_find(&img.prov, "skin");
+    cr_expect(p && !strcmp(p->s, "skin:fitzpatrick-2"), "profile %s", p ? p->s : "(none)");
+    cr_expect(s && strstr(s->s, "melanin=0.037999999999999999,"), "skin %s", s ? s->s : "(none)");
+    for (int i = 0; i < 32 * 32; ++i) cr_expect(isfinite(dm_exr_find(&img, "R")[i]) && dm_exr_find(&img, "R")[i] >= 0.0f);
+    dm_exr_free(&img);
+    snprintf(a, sizeof a, "%s --texture-space 32 --skin melanin=0.9,eumelanin=0.5,blood=0.01 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "melanin out of range");
+    out = test_slurp(log);
+    cr_expect(out && strstr(out, "melanin_fraction (melanin, Cm) = 0.9, expected a value in [0, 0.5]"), "%s", out ? out : "");
+    free(out);
+    snprintf(a, sizeof a, "%s --texture-space 32 --skin-preset caucasian --dipole skin1 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "two radial sources");
+}

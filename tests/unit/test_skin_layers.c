@@ -6,6 +6,7 @@
 #include <math.h>
 
 #include "bake/dm_skin_layers.h"
+#include "bake/dm_skin_mc.h"
 #include "core/dm_diffusion.h"
 #include "core/dm_math.h"
 
@@ -111,15 +112,16 @@ Test(skin_layers, one_medium_cut_in_two)
     }
 }
 
-/* Every response of a diffusive slab is in [0, 1] at every frequency, the transmittances
- * fall with s (they spread), and R + T ≤ 1 at s = 0. */
+/* Every response of a slab at least one transport length thick (the multipole alone from
+ * 1.1 l, blended with the closed form over 1–1.1 l) is in [0, 1] at every frequency, the
+ * transmittances fall with s (they spread), and R + T ≤ 1 at s = 0. */
 Test(skin_layers, responses_bounded)
 {
     const double sa[3] = {0.02, 0.5, 4.0};
     for (int k = 0; k < 3; ++k)
         for (double f = 1.0; f < 50.0; f *= 1.3) {
             dm_skin_layer l = {sa[k], 5.0, f / (sa[k] + 5.0), 1.4, 1.0};
-            cr_assert(dm_skin_layer_diffusive(&l));
+            cr_assert(dm_skin_layer_diffusive(&l) == (f >= DM_SKIN_DEPTH_DIFFUSIVE));
             double prev_t = 2.0;
             for (double s = 0.0; s < 100.0; s = s * 2 + 0.05) {
                 dm_skin_slab o;
@@ -134,25 +136,88 @@ Test(skin_layers, responses_bounded)
         }
 }
 
-/* The documented fallback: thinner than one transport length, or σa > σs′. */
-Test(skin_layers, beer_lambert_fallback)
+/* ∫₀¹ μ/(1+μ)(1 − e^(−τ(1+1/μ)))(1 − F(μ)) dμ by Simpson on 200000 intervals: the
+ * independent reference of the closed form's Gauss–Legendre sum. */
+static double single_scatter_ref(double albedo, double tau, double eta)
+{
+    const int n = 200000;
+    double acc = 0.0;
+    for (int i = 1; i <= n; ++i) { /* the integrand is 0 at μ = 0 */
+        double mu = (double)i / n, f = mu / (1.0 + mu) * (isinf(tau) ? 1.0 : 1.0 - exp(-tau * (1.0 + 1.0 / mu)));
+        acc += (i == n ? 1.0 : i % 2 ? 4.0 : 2.0) * f * (1.0 - dm_skin_mc_fresnel(eta, 1.0, mu));
+    }
+    return 0.5 * albedo * acc / (3.0 * n);
+}
+
+/* The single-scattering closed form: α′(1 − ln 2)/2 for a semi-infinite index-matched slab
+ * (exact), τ(α′/2) for a very thin one (first order in τ: ∫ μ/(1+μ)·τ(1+1/μ) dμ = τ), and
+ * Simpson's rule elsewhere (5e-4 relative: measured 1.3e-4 at worst; the Fresnel transmittance
+ * rises as √(μ − μc) from the critical angle, which a 16-node Gauss sum follows only so far). */
+Test(skin_layers, single_scatter_closed_form)
+{
+    cr_assert(fabs(dm_skin_single_scatter_reflectance(0.8, INFINITY, 1.0) - 0.4 * (1.0 - log(2.0))) < 1e-12);
+    double thin = dm_skin_single_scatter_reflectance(0.6, 1e-6, 1.0);
+    cr_assert(fabs(thin - 0.3e-6) < 1e-11, "%.12g", thin);
+    const double tau[4] = {0.05, 0.5, 2.0, 20.0}, eta[2] = {1.0, 1.4};
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 4; ++k) {
+            double r = dm_skin_single_scatter_reflectance(0.7, tau[k], eta[j]), ref = single_scatter_ref(0.7, tau[k], eta[j]);
+            cr_assert(fabs(r - ref) < 5e-4 * ref, "τ %g η %g: %.8f vs %.8f", tau[k], eta[j], r, ref);
+        }
+}
+
+/* The documented fallback: thinner than one transport length, or σa > 1.5 σs′ (α′ < 0.4):
+ * the closed form alone. */
+Test(skin_layers, closed_form_fallback)
 {
     dm_skin_layer thin = {0.5, 9.0, 0.05, 1.4, 1.0}, dark = {20.0, 6.0, 0.25, 1.4, 1.0};
-    dm_skin_layer at = {0.5, 9.0, 1.0 / 9.5, 1.4, 1.0};
-    cr_assert(!dm_skin_layer_diffusive(&thin));
-    cr_assert(!dm_skin_layer_diffusive(&dark));
+    dm_skin_layer at = {0.5, 9.0, DM_SKIN_DEPTH_DIFFUSIVE / 9.5, 1.4, 1.0};
+    cr_assert(!dm_skin_layer_diffusive(&thin) && dm_skin_layer_diffusion_weight(&thin) == 0.0);
+    cr_assert(!dm_skin_layer_diffusive(&dark) && dm_skin_layer_diffusion_weight(&dark) == 0.0);
     cr_assert(dm_skin_layer_diffusive(&at));
     dm_skin_slab o;
     dm_skin_layer_transform(&dark, 0, 3.0, &o);
-    cr_assert(o.r.v == 0.0 && o.r_up.v == 0.0 && o.r.d == 0.0);
-    cr_assert(fabs(o.t.v - exp(-5.0)) < 1e-15 && fabs(o.t_up.v - exp(-10.0)) < 1e-15 && o.t.d == 0.0);
+    double a = 6.0 / 26.0, r = dm_skin_single_scatter_reflectance(a, 26.0 * 0.25, 1.4),
+           r_up = dm_skin_single_scatter_reflectance(a, 26.0 * 0.25, 1.0);
+    cr_assert(o.r.v == r && o.r_up.v == r_up && o.r.d == 0.0 && o.t.d == 0.0);
+    cr_assert(fabs(o.t.v - fmax(0.0, exp(-5.0) - r)) < 1e-15 && fabs(o.t_up.v - fmax(0.0, exp(-10.0) - r_up)) < 1e-15);
     dm_skin_layer semi_dark = {20.0, 6.0, INFINITY, 1.4, 1.0};
     dm_skin_layer_transform(&semi_dark, 0, 0.0, &o);
-    cr_assert(o.r.v == 0.0 && o.t.v == 0.0);
-    /* over a diffusive bottom: R = T↓ R2 T↑ exactly (no reflection of its own) */
+    cr_assert(o.r.v == dm_skin_single_scatter_reflectance(a, INFINITY, 1.4) && o.t.v == 0.0);
+    /* over a diffusive bottom: DJ2005's sum with the closed form's R, T */
     dm_skin_layer two[2] = {thin, {0.05, 2.5, INFINITY, 1.0, 1.4}};
-    dm_skin_dual r;
-    dm_skin_stack_transform(two, 2, 0, 0.0, &r, NULL);
-    double r2 = dm_dipole_total(0.05, 2.5, 1.0);
-    cr_assert(fabs(r.v - exp(-0.025) * exp(-0.05) * r2) < 1e-15, "%.15g", r.v);
+    dm_skin_dual rs;
+    dm_skin_stack_transform(two, 2, 0, 0.0, &rs, NULL);
+    double r1 = dm_skin_single_scatter_reflectance(9.0 / 9.5, 9.5 * 0.05, 1.4);
+    double r1u = dm_skin_single_scatter_reflectance(9.0 / 9.5, 9.5 * 0.05, 1.0);
+    double t = exp(-0.025) - r1, tu = exp(-0.05) - r1u, r2 = dm_dipole_total(0.05, 2.5, 1.0);
+    double want = r1 + t * r2 * tu / (1.0 - r1u * r2);
+    cr_assert(fabs(rs.v - want) < 1e-14, "%.15g vs %.15g", rs.v, want);
+}
+
+/* The switch is continuous: across each ramp the weight goes 0 → 1 with no step, and the
+ * responses of a slab swept through it (depth through 1–1.1 l; albedo through 0.4–0.5)
+ * change by no more than 0.01 between neighbours 1/2000 of the sweep apart (the old step
+ * switch jumped by 0.1–0.3 here). */
+Test(skin_layers, switch_is_continuous)
+{
+    double prev[2][4] = {{-1}, {-1}};
+    for (int i = 0; i <= 2000; ++i) {
+        double x = (double)i / 2000;
+        dm_skin_layer thick = {0.5, 9.0, (0.9 + 0.3 * x) / 9.5, 1.4, 1.0};           /* d: 0.9 → 1.2 l */
+        double sa = 1.0 / (0.35 + 0.2 * x) * 6.0 - 6.0;                              /* α′: 0.35 → 0.55 */
+        dm_skin_layer dark = {sa, 6.0, 0.25, 1.4, 1.0};
+        const dm_skin_layer *ls[2] = {&thick, &dark};
+        for (int k = 0; k < 2; ++k) {
+            dm_skin_slab o;
+            dm_skin_layer_transform(ls[k], 0, 0.0, &o);
+            double v[4] = {o.r.v, o.r_up.v, o.t.v, o.t_up.v};
+            for (int j = 0; j < 4; ++j) {
+                cr_assert(v[j] >= 0.0 && v[j] <= 1.0, "sweep %d at %g: response %d = %g", k, x, j, v[j]);
+                if (i) cr_assert(fabs(v[j] - prev[k][j]) < 0.01, "sweep %d at %g: response %d jumps %g → %g", k, x, j,
+                                 prev[k][j], v[j]);
+                prev[k][j] = v[j];
+            }
+        }
+    }
 }

@@ -1,12 +1,14 @@
 /* The physical skin as a profile (bake/dm_skin_profile.h, bake/dm_skin_optics.h): the
  * parameter check, the exemplars against the NIST forearm cohort, the RMS radii against
  * GPU Gems 3, the fit, the hard cases and a sweep, and a pin on every parameter. */
+#define _XOPEN_SOURCE 700 /* j0 */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "bake/dm_skin_layers.h"
+#include "bake/dm_skin_mc.h"
 #include "bake/dm_skin_profile.h"
 #include "core/dm_math.h"
 
@@ -98,10 +100,12 @@ Test(skin_profile, light_skin_inside_nist_bands)
 }
 
 /* The darker exemplars are darker at every wavelength (Caucasian > Asian > African). Not
- * yet held to the cohort: DJ2006's melanin spread evenly through a 0.25 mm epidermis absorbs
- * more than the cohort's darkest skins (measured: Asian 0.000 / 0.099 / 0.169, African
- * ~0 at 450 / 550 / 650 nm, under the 5th percentiles 0.116 / 0.190 / 0.386): open work of
- * #30 (docs/skin-model.md), printed here so the numbers show. */
+ * held to the cohort: DJ2006's melanin spread evenly through a 0.25 mm epidermis absorbs
+ * more than the cohort's darkest skins (measured: Asian 0.050 / 0.099 / 0.169, African
+ * 0.011 / 0.014 / 0.018 at 450 / 550 / 650 nm, under the 5th percentiles 0.116 / 0.190 /
+ * 0.386). The Monte Carlo of the same layers agrees that they are that dark (Asian 0.03 /
+ * 0.05 / 0.12, African 0.006 / 0.007 / 0.012 at g 0.8): it is the parameters, not the
+ * diffusion (docs/skin-model.md). Printed here so the numbers show. */
 Test(skin_profile, darker_exemplars_are_darker)
 {
     dm_skin_params c = preset("caucasian"), a = preset("asian"), f = preset("african");
@@ -112,6 +116,37 @@ Test(skin_profile, darker_exemplars_are_darker)
     }
     /* today's value, pinned so that a change to the model or the preset shows */
     cr_assert(fabs(total_at(&a, 650) - 0.169) < 0.02, "asian at 650 nm: %.3f", total_at(&a, 650));
+}
+
+/* ---- the switch to the closed form where diffusion fails ---- */
+
+/* Melanin swept over [0.01, 0.5] in steps of 0.0005 at every wavelength, for both melanin
+ * types: no step of the total larger than 0.01. The largest step is the physics' own
+ * slope where melanin starts to tell (measured 0.0058, at Cm 0.01); the old switch jumped
+ * by 0.074 (Cm 0.10 → 0.12 at 450 nm took the total from 0.075 to 0). */
+Test(skin_profile, melanin_sweep_is_continuous)
+{
+    const double beta[2] = {0.0, 0.7};
+    double worst = 0.0;
+    for (int b = 0; b < 2; ++b)
+        for (int l = 0; l < DM_SKIN_LAMBDA_COUNT; ++l) {
+            dm_skin_params p = dm_skin_params_default();
+            p.eumelanin_blend = beta[b];
+            double prev = -1.0;
+            for (int i = 20; i <= 1000; ++i) {
+                p.melanin_fraction = i * 0.0005;
+                dm_skin_dual r;
+                dm_skin_reflectance_at(&p, l, 0, 0.0, &r, NULL);
+                cr_assert(isfinite(r.v) && r.v >= 0.0);
+                if (prev >= 0.0) {
+                    worst = fmax(worst, fabs(r.v - prev));
+                    cr_assert(fabs(r.v - prev) < 0.01, "βm %g row %d Cm %g: %.4f → %.4f", beta[b], l,
+                              p.melanin_fraction, prev, r.v);
+                }
+                prev = r.v;
+            }
+        }
+    printf("melanin sweep: largest step %.4f\n", worst);
 }
 
 /* ---- the profile ---- */
@@ -271,5 +306,114 @@ Test(skin_profile, every_parameter_pinned)
         double w[4];
         pin_values(&p, w);
         cr_assert(differs(w, want), "parameter %d changed by 5 %% and the pin did not notice", f);
+    }
+}
+
+/* ---- against the Monte Carlo (bake/dm_skin_mc.h) ----
+ * The Caucasian exemplar's two layers as an MCML-style stack (n 1.4 both, air above,
+ * Henyey–Greenstein g 0.8 with μs = σs′/(1 − g), semi-infinite dermis), 2·10⁴ photons
+ * (SE ≈ 0.7 %). Diffusion theory with DJ2005's layering overestimates it: measured +9.8 %,
+ * +4.6 %, +4.5 % at 450/550/650 nm (the dipole alone is +1.5–2.2 % at n = 1.4,
+ * docs/skin-mc.md; the thin epidermis, 2.4 transport lengths at 450 nm, adds the rest). Held
+ * at what is measured, with 4 SE of room: the 2 % the issue asks for is not met
+ * (docs/skin-model.md). */
+Test(skin_profile, caucasian_against_monte_carlo, .timeout = 60)
+{
+    dm_skin_params p = preset("caucasian");
+    const double high[3] = {0.13, 0.075, 0.075};
+    for (int k = 0; k < 3; ++k) {
+        int li = dm_skin_data_index(nist_nm[k]);
+        dm_skin_layer L[2];
+        dm_skin_layers_at(&p, li, L);
+        const double g = 0.8;
+        dm_skin_mc_layer m[2];
+        for (int j = 0; j < 2; ++j)
+            m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
+        dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 20000, .seed = 30, .thread_count = 1};
+        dm_skin_mc_result res = {0};
+        dm_error err = {0};
+        cr_assert_eq(dm_skin_mc_run(&d, &res, &err), DM_OK, "%s", err.detail);
+        double model = total_at(&p, nist_nm[k]), rel = model / res.diffuse_reflectance - 1.0;
+        double se = res.diffuse_reflectance_se / res.diffuse_reflectance;
+        printf("%g nm: model %.4f, Monte Carlo %.4f ± %.4f (%+.1f %%)\n", nist_nm[k], model, res.diffuse_reflectance,
+               res.diffuse_reflectance_se, 100.0 * rel);
+        cr_assert(rel > -4.0 * se && rel < high[k] + 4.0 * se, "%g nm: %+.3f", nist_nm[k], rel);
+    }
+}
+
+/* The darker exemplars' shortfall against the cohort is not diffusion's: the Monte Carlo of
+ * the same layers (as above, 10⁴ photons) is below the NIST 5th percentile at 450/550/650 nm
+ * too (measured Asian 0.028 / 0.054 / 0.117, African 0.006 / 0.007 / 0.012 against 0.116 /
+ * 0.190 / 0.386; SE < 0.002), and below the layered model (whose closed form and diffusion
+ * both overestimate a strongly absorbing epidermis). docs/skin-model.md, "Measured". */
+Test(skin_profile, dark_exemplars_below_the_cohort_in_the_monte_carlo_too, .timeout = 60)
+{
+    const char *names[2] = {"asian", "african"};
+    for (int e = 0; e < 2; ++e) {
+        dm_skin_params p = preset(names[e]);
+        for (int k = 0; k < 3; ++k) {
+            dm_skin_layer L[2];
+            dm_skin_layers_at(&p, dm_skin_data_index(nist_nm[k]), L);
+            const double g = 0.8;
+            dm_skin_mc_layer m[2];
+            for (int j = 0; j < 2; ++j)
+                m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
+            dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 10000, .seed = 32, .thread_count = 1};
+            dm_skin_mc_result res = {0};
+            cr_assert_eq(dm_skin_mc_run(&d, &res, NULL), DM_OK);
+            double mc = res.diffuse_reflectance, model = total_at(&p, nist_nm[k]);
+            printf("%s %g nm: Monte Carlo %.4f ± %.4f, model %.4f, NIST 5 %% %.3f\n", names[e], nist_nm[k], mc,
+                   res.diffuse_reflectance_se, model, nist_lo[k]);
+            cr_assert(mc + 4.0 * res.diffuse_reflectance_se < nist_lo[k], "%s %g nm: %.4f", names[e], nist_nm[k], mc);
+            cr_assert(mc < model, "%s %g nm: MC %.4f, model %.4f", names[e], nist_nm[k], mc, model);
+        }
+    }
+}
+
+/* R_λ(r) of the model by the inverse transform (1/2π) ∫ s J0(s r) R̃(s) ds, trapezoid with
+ * Δs = 0.005 mm⁻¹ to 400 mm⁻¹ (R̃ falls as e^(−l s), l ≈ 0.1 mm: e^−40 there; at r = 5 mm
+ * J0's period 1.26 mm⁻¹ holds 250 steps). Independent of the Gaussian fit. */
+static double model_r(const dm_skin_params *p, int li, double r)
+{
+    const double ds = 0.005;
+    double acc = 0.0;
+    for (int i = 1; i <= 80000; ++i) {
+        double s = i * ds;
+        dm_skin_dual f;
+        dm_skin_reflectance_at(p, li, 0, s, &f, NULL);
+        acc += (i == 80000 ? 0.5 : 1.0) * s * j0(s * r) * f.v;
+    }
+    return acc * ds / DM_2PI;
+}
+
+/* R(r) of the Caucasian exemplar at 650 nm (dermis l′ = 0.41 mm, epidermis 0.25 mm = 1.1 of
+ * its own l) against the Monte Carlo's annuli (g 0.8, 4·10⁴ photons, 0.1 mm bins) over
+ * 0.2–5 mm. Measured model/MC: 1.43 at 0.25 mm, 0.78–0.83 over 0.5–1 mm, 0.91–1.05 over
+ * 1–4.5 mm: the layered diffusion puts too much light next to the beam (its total is +3.6 %)
+ * and too little at 1–2 l′, and agrees beyond. Diffusion's known accuracy (a single layer's
+ * dipole against the same MC, docs/skin-mc.md: 0.37–0.62 under 0.25 l′, 0.92–1.18 over
+ * 0.4–5 l′) is kept beyond 1 mm (≥ 2.4 l′): 15 % + 4 SE per annulus; under it the layering
+ * is worse than one dipole, held at what is measured: 50 % + 4 SE. */
+Test(skin_profile, radial_profile_against_monte_carlo, .timeout = 120)
+{
+    dm_skin_params p = preset("caucasian");
+    int li = dm_skin_data_index(650);
+    dm_skin_layer L[2];
+    dm_skin_layers_at(&p, li, L);
+    const double g = 0.8, dr = 0.1;
+    dm_skin_mc_layer m[2];
+    for (int j = 0; j < 2; ++j)
+        m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
+    double rd[60], se[60];
+    dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 40000, .seed = 31, .thread_count = 0,
+                         .dr_mm = dr, .radial_bin_count = 60};
+    dm_skin_mc_result res = {.rd_r_per_mm2 = rd, .rd_r_se_per_mm2 = se};
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_mc_run(&d, &res, &err), DM_OK, "%s", err.detail);
+    for (int i = 2; i < 50; i += (i < 10 ? 1 : 5)) {
+        double r = (i + 0.5) * dr, model = model_r(&p, li, r);
+        printf("r %.2f mm: model %.5f MC %.5f ± %.5f (ratio %.3f)\n", r, model, rd[i], se[i], model / rd[i]);
+        double tol = r < 1.0 ? 0.5 : 0.15;
+        cr_assert(fabs(model - rd[i]) < tol * rd[i] + 4.0 * se[i], "r %.2f: %.5f vs %.5f", r, model, rd[i]);
     }
 }
