@@ -44,6 +44,7 @@ enum { DM_VIEWER_SKIN_TIMES = 256 };
  * loaded profile's variances, and the scale the renderer applies (also after a rebuild). */
 typedef struct dm_viewer_skin {
     bool available, from_pack, changed;
+    char off_reason[256];    /* why not available */
     dm_skin_params start, now;
     double start_total[3];   /* Σ weights of the starting skin's live fit */
     double scale_rgb[3];     /* now's total over start's, per channel */

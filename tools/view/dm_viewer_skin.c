@@ -1,6 +1,7 @@
 /* dm_viewer_skin.c — the live physical skin sliders (dm_viewer_skin.h). */
 #include "dm_viewer_skin.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -39,6 +40,7 @@ void dm_viewer_skin_init(dm_viewer *v)
     dm_profile w;
     if (dm_skin_weights_plan_init(&k->plan, v->profile.variance_mm2, v->profile.count, NULL, &err) != DM_OK ||
         dm_skin_weights_fit(&k->plan, &k->start, NULL, &w, &err) != DM_OK) {
+        snprintf(k->off_reason, sizeof k->off_reason, "%s", err.detail);
         dm_viewer_set_status(v, false, "skin sliders off: %s", err.detail);
         return;
     }
@@ -49,7 +51,7 @@ void dm_viewer_skin_init(dm_viewer *v)
 bool dm_viewer_skin_set(dm_viewer *v, const char *name, double value)
 {
     dm_viewer_skin *k = &v->skin;
-    if (!k->available) return dm_viewer_set_status(v, true, "%s: the skin sliders are off (%s)", name, v->status), false;
+    if (!k->available) return dm_viewer_set_status(v, true, "%s: the skin sliders are off: %s", name, k->off_reason), false;
     dm_skin_params p = k->now;
     if (!strcmp(name, "melanin")) p.melanin_fraction = value;
     else if (!strcmp(name, "blood")) p.blood_fraction = value;
