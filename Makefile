@@ -73,7 +73,8 @@ BAKE_LIB   := $(BUILD)/lib/libdermis_bake.a
 RENDER_LIB := $(BUILD)/lib/libdermis_render.a
 HOST_LIB   := $(BUILD)/lib/libdermis_host_osmesa.a
 
-# Runtime tools never link the offline side (DESIGN.md): they are listed by name.
+# Runtime tools never link the offline side's third-party libraries (DESIGN.md): they are
+# listed by name.
 RUNTIME_TOOLS := dermis-render dermis-view
 # Offline tools that also drive the renderer headless (the ground truth reads the
 # renderer's own irradiance): both sides, like the render tests.
@@ -170,7 +171,10 @@ $(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LI
 $(BOTH_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
-$(VIEW_BIN): $(VIEW_OBJ) $(RENDER_LIB) $(CORE_LIB)
+# The viewer takes the physical skin model from the offline archive (its live sliders,
+# bake/dm_skin_weights.h): plain C over core, so no offline third-party library is linked or
+# loaded (check-layers.sh's link rule reads the binary).
+$(VIEW_BIN): $(VIEW_OBJ) $(RENDER_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(IMGUI_LIBS) $(GLFW_LIBS) $(CORE_LIBS) -lz -o $@
 $(VIEW_TESTS): $(BUILD)/tests/view/%: $(BUILD)/obj/tests/view/%.c.o $(CORE_LIB) | $(VIEW_BIN) $(RENDER_BINS) $(BAKE_BINS) $(BOTH_BINS)

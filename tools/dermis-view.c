@@ -491,6 +491,9 @@ int main(int argc, char **argv)
     if (a->scripted && !o.v.quiet)
         printf("script %s: %d events, %d frames, %d failed, %d GL errors\n", o.script, a->script.next,
                a->v.frames, a->v.failures, a->v.gl_errors);
+    if (a->scripted && !o.v.quiet && a->v.skin.ms_count)
+        printf("skin: %d changes, refit + hand-over median %.2f ms\n", a->v.skin.ms_count,
+               dm_viewer_skin_median_ms(&a->v));
     if (a->v.gl_errors || (a->scripted && a->v.failures > a->save_failures)) rc = DM_EXIT_PROCESS;
     else if (a->scripted && a->save_failures) rc = DM_EXIT_SAVE;
     dm_viewer_free(&a->v);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bake/dm_lsq.h"
+#include "bake/dm_skin_freq.h"
 #include "bake/dm_skin_layers.h"
 #include "bake/dm_skin_rgb.h"
 #include "core/dm_diffusion.h"
@@ -15,39 +16,10 @@
 const double DM_SKIN_GEMS3_VARIANCES_MM2[6] = {0.0064, 0.0484, 0.187, 0.567, 1.99, 7.41};
 
 enum { M = DM_SKIN_FREQ_NODES, L = DM_SKIN_LAMBDA_COUNT, ND = DM_SKIN_DENSE_GAUSSIANS };
-#define S_LO_PER_MM 1e-3
-#define S_HI_PER_MM 3e3
+#define S_LO_PER_MM DM_SKIN_FREQ_S_LO_PER_MM
+#define S_HI_PER_MM DM_SKIN_FREQ_S_HI_PER_MM
 #define DENSE_SIGMA_LO_MM 0.004
 #define DENSE_SIGMA_HI_MM 16.0
-
-/* The nodes s_i (ln-spaced) and √ of their weights s_i² · Simpson(Δ ln s). */
-static void nodes(double *s, double *sq)
-{
-    double u0 = log(S_LO_PER_MM), h = (log(S_HI_PER_MM) - u0) / (M - 1);
-    for (int i = 0; i < M; ++i) {
-        s[i] = exp(u0 + i * h);
-        double simpson = (i == 0 || i == M - 1 ? 1.0 : i % 2 ? 4.0 : 2.0) * h / 3.0;
-        sq[i] = sqrt(simpson) * s[i];
-    }
-}
-
-/* The weighted design matrix a (M × n): √q_i exp(−v_k s_i²/2). */
-static void design(const double *s, const double *sq, const double *variance, int n, double *a)
-{
-    for (int k = 0; k < n; ++k)
-        for (int i = 0; i < M; ++i) a[(size_t)k * M + i] = sq[i] * exp(-0.5 * variance[k] * s[i] * s[i]);
-}
-
-/* y[λ][i] = √q_i R̃_λ(s_i) for every wavelength row (M × L, column-major). */
-static void spectral_targets(const dm_skin_params *p, int pairs, const double *s, const double *sq, double *y)
-{
-    for (int l = 0; l < L; ++l)
-        for (int i = 0; i < M; ++i) {
-            dm_skin_dual r;
-            dm_skin_reflectance_at(p, l, pairs, s[i], &r, NULL);
-            y[(size_t)l * M + i] = sq[i] * r.v;
-        }
-}
 
 /* ‖a w − y‖² / ‖y‖² for one right-hand side (0 when y is 0). */
 static double relative_residual(const double *a, int n, const double *w, const double *y)
@@ -112,23 +84,15 @@ dm_result dm_skin_profile_fit(const dm_skin_params *p, const dm_skin_profile_opt
     int n, pairs;
     const double *variance;
     if (res != DM_OK || (res = check_options(opt, &n, &variance, &pairs, err)) != DM_OK) return res;
-    /* s, √q, the design (M × n), lsq scratch (M × (n + 1)), spectral targets (M × L), channel
-     * targets (M × 3) */
-    double *buf = malloc(sizeof(double) * (size_t)M * (2 + 2 * n + 1 + L + 3));
+    /* s, √q, the design (M × n), lsq scratch (M × (n + 1)), channel targets (M × 3) */
+    double *buf = malloc(sizeof(double) * (size_t)M * (2 + 2 * n + 1 + 3));
     if (!buf) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "skin profile");
-    double *s = buf, *sq = s + M, *a = sq + M, *scratch = a + (size_t)M * n, *y = scratch + (size_t)M * (n + 1);
-    double *yc = y + (size_t)M * L;
+    double *s = buf, *sq = s + M, *a = sq + M, *scratch = a + (size_t)M * n, *yc = scratch + (size_t)M * (n + 1);
     double w[L][3], wk[3 * DM_PROFILE_MAX_GAUSSIANS]; /* channel c's weights at wk + c·n */
     dm_skin_rgb_weights(w);
-    nodes(s, sq);
-    design(s, sq, variance, n, a);
-    spectral_targets(p, pairs, s, sq, y);
-    for (int c = 0; c < 3; ++c)
-        for (int i = 0; i < M; ++i) {
-            double v = 0.0;
-            for (int l = 0; l < L; ++l) v += w[l][c] * y[(size_t)l * M + i];
-            yc[(size_t)c * M + i] = v;
-        }
+    dm_skin_freq_nodes(S_LO_PER_MM, S_HI_PER_MM, M, s, sq);
+    dm_skin_freq_design(s, sq, M, variance, n, a);
+    dm_skin_freq_channels(p, pairs, s, sq, M, (const double(*)[3])w, yc);
     dm_lsq_nnls_shared(a, M, n, yc, 3, scratch, wk);
     memset(out, 0, sizeof *out);
     snprintf(out->name, sizeof out->name, "%s", name ? name : "");
@@ -165,9 +129,9 @@ dm_result dm_skin_dense_profile(const dm_skin_params *p, int pair_count, dm_skin
         out->variance_mm2[k] = sigma * sigma;
     }
     dm_skin_rgb_weights(w);
-    nodes(s, sq);
-    design(s, sq, out->variance_mm2, ND, a);
-    spectral_targets(p, pair_count, s, sq, y);
+    dm_skin_freq_nodes(S_LO_PER_MM, S_HI_PER_MM, M, s, sq);
+    dm_skin_freq_design(s, sq, M, out->variance_mm2, ND, a);
+    dm_skin_freq_spectral(p, pair_count, s, sq, M, y);
     dm_lsq_nnls_shared(a, M, ND, y, L, scratch, wl);
     out->error_relative_max = 0.0;
     memset(out->weight, 0, sizeof out->weight);

@@ -17,6 +17,7 @@ static dm_result resolve(dmr_frame *f, const dm_render_assets *a, const dm_rende
 {
     f->scene = *a->scene;
     f->profile = a->profile ? *a->profile : a->scene->profile;
+    f->level_scale[0] = f->level_scale[1] = f->level_scale[2] = 1.0;
     f->desc = *desc;
     if (desc->shader_dir) snprintf(f->shader_dir, sizeof f->shader_dir, "%s", desc->shader_dir);
     f->desc.shader_dir = NULL;
@@ -95,7 +96,7 @@ static dm_result walk_create(dm_renderer *r, const dm_render_assets *a, dm_error
         if (rc == DM_OK) rc = rows[i].targets(f, dmr_pass_state(r, &rows[i]), err);
     }
     if (rc == DM_OK && !screen) rc = dmr_frame_targets(f, err);
-    dmr_level_weights(&f->profile, f->level_weight);
+    dmr_level_weights(&f->profile, f->level_scale, f->level_weight);
     for (int i = 0; i < n && rc == DM_OK; ++i)
         if (rows[i].setup) rc = rows[i].setup(f, dmr_pass_state(r, &rows[i]), a, err);
     return rc;
@@ -236,5 +237,37 @@ dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *s, dm_error *err
     r->ts_valid = false; /* lights, material, environment: texture space is stale */
     r->tsd.gbuf_valid = false;
     r->f.scene.profile = r->f.profile;
+    return DM_OK;
+}
+
+dm_result dm_renderer_set_profile_weights(dm_renderer *r, const dm_profile *p, const double scale_rgb[3], dm_error *err)
+{
+    dmr_frame *f = &r->f;
+    dm_result rc = dm_profile_validate(p, "renderer: profile weights", err);
+    if (rc != DM_OK) return rc;
+    if (p->count != f->profile.count)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "renderer: the new profile has %d Gaussians, the renderer's %d: recreate the renderer", p->count,
+                       f->profile.count);
+    for (int k = 0; k < p->count; ++k)
+        if (p->variance_mm2[k] != f->profile.variance_mm2[k])
+            return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                           "renderer: the new profile's variance_mm2[%d] = %.17g, the renderer's %.17g (the blur chain "
+                           "depends on it): recreate the renderer",
+                           k, p->variance_mm2[k], f->profile.variance_mm2[k]);
+    for (int c = 0; scale_rgb && c < 3; ++c)
+        if (!(scale_rgb[c] >= 0.0 && scale_rgb[c] <= DM_PROFILE_SCALE_MAX))
+            return dm_fail(err, DM_ERR_RANGE, "renderer: scale_rgb[%d] = %g, expected a value in [0, %g]", c,
+                           scale_rgb[c], DM_PROFILE_SCALE_MAX);
+    if (f->scene.effects[DM_EFFECT_SUBSURFACE] && f->scene.sss_technique != DM_SSS_TEXTURE_SPACE)
+        return dm_fail(err, DM_ERR_INVALID_ARGUMENT,
+                       "renderer: the %s technique made its %s from the profile at create: recreate the renderer",
+                       f->scene.sss_technique == DM_SSS_SCREEN_SPACE ? "screen-space" : "pre-integrated",
+                       f->scene.sss_technique == DM_SSS_SCREEN_SPACE ? "kernel" : "table");
+    memcpy(f->profile.weight, p->weight, sizeof f->profile.weight);
+    f->scene.profile = f->profile;
+    for (int c = 0; c < 3; ++c) f->level_scale[c] = scale_rgb ? scale_rgb[c] : 1.0;
+    dmr_level_weights(&f->profile, f->level_scale, f->level_weight);
+    r->ts_valid = false; /* the diffusion pass sums the levels with these weights */
     return DM_OK;
 }

@@ -225,6 +225,24 @@ bool dm_renderer_blur_on_cpu(const dm_renderer *r);
  * type or shadow casting, environment background, blur taps): recreate the renderer then. */
 dm_result dm_renderer_set_scene(dm_renderer *r, const dm_scene *scene, dm_error *err);
 
+/* The largest scale_rgb of dm_renderer_set_profile_weights. */
+#define DM_PROFILE_SCALE_MAX 100.0
+
+/* Replaces the profile's weights and keeps its variances: the blur chain and the stretch maps
+ * depend on the variances only, so nothing is re-created or uploaded again (the viewer's
+ * live skin sliders over bake/dm_skin_weights.h). p must pass dm_profile_validate
+ * (DM_ERR_RANGE) and have the renderer's Gaussian count and variances, bit for bit
+ * (DM_ERR_INVALID_ARGUMENT naming the first that differs: recreate the renderer then). As at
+ * create, each channel's weights are divided by their sum (the colour comes from the albedo
+ * map); scale_rgb (NULL: 1, 1, 1; each in [0, DM_PROFILE_SCALE_MAX]) then multiplies channel
+ * c's diffused light: a caller whose new skin is darker or lighter than the one the albedo
+ * map shows passes the ratio of their totals. The texture-space levels and translucency's
+ * T(d) take the weights at the next frame; the screen-space kernel and the pre-integrated
+ * table are made from the profile at create (or packed), so with subsurface on in those
+ * techniques it is refused (DM_ERR_INVALID_ARGUMENT). The create profile with NULL gives
+ * the create frame, byte for byte. */
+dm_result dm_renderer_set_profile_weights(dm_renderer *r, const dm_profile *p, const double scale_rgb[3], dm_error *err);
+
 /* Per-frame options; zero means the final picture. */
 typedef struct dm_frame_options {
     dm_view view;

@@ -237,6 +237,66 @@ Test(render, neutral_scales_and_same_scene_give_identical_frames)
     close_fixture(&f);
 }
 
+/* Mean of channel c over the covered pixels (alpha > 0) of a linear read-back. */
+static double mean_channel(const float *px, size_t n, int c)
+{
+    double sum = 0;
+    size_t k = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (px[4 * i + 3] > 0) sum += px[4 * i + c], ++k;
+    return k ? sum / k : 0;
+}
+
+/* Live weights (dm_renderer_set_profile_weights, the viewer's skin sliders): the create
+ * profile with no scale is the same frame, byte for byte; other weights change it; a scale
+ * of 1/2 on green and blue halves their diffuse light (the lit sphere's mean falls, red's
+ * stays within the specular's share); a variance or count that differs is refused. */
+Test(render, profile_weights_change_live)
+{
+    fixture f;
+    open_synth(&f, (dm_synth_options){.shape = DM_SYNTH_SPHERE, .sphere_segments = 32, .sphere_rings = 24});
+    open_renderer(&f, 64, 48, 64);
+    size_t n = 64 * 48;
+    float *a = malloc(n * 4 * sizeof *a), *b = malloc(n * 4 * sizeof *b);
+    dm_error err = {0};
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, a, &err), DM_OK, "%s", err.detail);
+    dm_profile p = f.synth->assets.profile ? *f.synth->assets.profile : f.synth->scene.profile;
+    cr_assert_eq(dm_renderer_set_profile_weights(f.r, &p, NULL, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_FINAL, 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_eq(memcmp(a, b, n * 4 * sizeof *a), 0, "the create profile again changed the frame");
+    double half[3] = {1.0, 0.5, 0.5};
+    cr_assert_eq(dm_renderer_set_profile_weights(f.r, &p, half, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_DIFFUSE, 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_set_profile_weights(f.r, &p, NULL, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_DIFFUSE, 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, a, &err), DM_OK, "%s", err.detail);
+    for (int c = 0; c < 3; ++c) { /* the diffuse view is linear in the level weights: exact to float rounding */
+        double ratio = mean_channel(b, n, c) / mean_channel(a, n, c);
+        cr_expect(fabs(ratio - half[c]) < 1e-4, "channel %d: diffuse ratio %g, expected %g", c, ratio, half[c]);
+    }
+    dm_profile wide = p; /* every channel's light in the widest Gaussian: a different picture */
+    for (int k = 0; k < wide.count; ++k)
+        for (int c = 0; c < 3; ++c) wide.weight[k][c] = k == wide.count - 1 ? 1.0 : 0.0;
+    cr_assert_eq(dm_renderer_set_profile_weights(f.r, &wide, NULL, &err), DM_OK, "%s", err.detail);
+    frame(&f, DM_VIEW_DIFFUSE, 0);
+    cr_assert_eq(dm_renderer_read_linear(f.r, b, &err), DM_OK, "%s", err.detail);
+    cr_expect_neq(memcmp(a, b, n * 4 * sizeof *a), 0, "other weights changed nothing");
+    dm_profile moved = p;
+    moved.variance_mm2[2] *= 1.01;
+    cr_expect_eq(dm_renderer_set_profile_weights(f.r, &moved, NULL, &err), DM_ERR_INVALID_ARGUMENT);
+    cr_expect(strstr(err.detail, "variance_mm2[2]") != NULL, "%s", err.detail);
+    moved = p, moved.count = p.count - 1;
+    cr_expect_eq(dm_renderer_set_profile_weights(f.r, &moved, NULL, &err), DM_ERR_INVALID_ARGUMENT);
+    double bad[3] = {1, -1, 1};
+    cr_expect_eq(dm_renderer_set_profile_weights(f.r, &p, bad, &err), DM_ERR_RANGE);
+    cr_expect(strstr(err.detail, "scale_rgb[1]") != NULL, "%s", err.detail);
+    free(a), free(b);
+    close_fixture(&f);
+}
+
 Test(render, set_scene_moves_the_camera_and_refuses_structural_changes)
 {
     fixture f;

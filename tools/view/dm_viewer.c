@@ -9,6 +9,7 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
 
+#include "bake/dm_skin_spec.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_math.h"
@@ -84,6 +85,7 @@ dm_result dm_viewer_load(dm_viewer *v, const dm_viewer_options *opt, dm_error *e
     v->scene = v->loaded;
     v->assets.scene = &v->scene;
     dm_viewer_camera_from_scene(v);
+    dm_viewer_skin_init(v);
     v->view = opt->view;
     v->view_index = opt->view_index;
     v->view_scale = opt->view_scale > 0 ? opt->view_scale : 1;
@@ -337,6 +339,8 @@ bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *x, int cou
     }
     if (count != 1) return dm_viewer_set_status(v, true, "%s takes one value", name), false;
     float a = x[0];
+    if (!strcmp(name, "melanin") || !strcmp(name, "blood") || !strcmp(name, "epidermis"))
+        return dm_viewer_skin_set(v, name, a);
     if (!strcmp(name, "exposure")) {
         if (!in_range(v, name, a, -20, 20)) return false;
         v->scene.exposure = a;
@@ -409,6 +413,16 @@ void dm_viewer_provenance(const dm_viewer *v, dm_provenance *p)
     dm_prov_add_double(p, "env_rotation_deg", s->env_rotation_deg);
     dm_prov_add_int(p, "env_background", s->env_background);
     dm_prov_add_int(p, "env_index", v->env);
+    if (v->skin.changed) { /* the live skin: its parameters and the colour scale it applies */
+        char spec[512];
+        dm_skin_spec_format(&v->skin.now, 17, spec, sizeof spec);
+        dm_prov_add_string(p, "skin", spec);
+        for (int c = 0; c < 3; ++c) {
+            char key[16];
+            snprintf(key, sizeof key, "skin_scale_%c", "rgb"[c]);
+            dm_prov_add_double(p, key, v->skin.scale_rgb[c]);
+        }
+    }
     dm_prov_add_double(p, "glow_threshold", s->glow_threshold);
     dm_prov_add_double(p, "glow_intensity", s->glow_intensity);
     for (int i = 0; i < s->light_count && i < 8; ++i) {
@@ -494,6 +508,7 @@ void dm_viewer_watch(dm_viewer *v, double now_ms)
     v->assets = assets;
     v->assets.profile = &v->profile;
     v->assets.scene = &v->scene;
+    dm_viewer_skin_init(v); /* the new pack's skin and variances */
     v->env_count = dm_render_env_count(&v->pack);
     int env = v->env;
     v->env = 0;

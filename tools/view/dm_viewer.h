@@ -24,6 +24,7 @@
 #include "dm_viewer_camera.h"
 #include "dm_viewer_compare.h"
 #include "dm_viewer_session.h"
+#include "dm_viewer_skin.h"
 #include "dm_viewer_technique.h"
 
 #ifdef __cplusplus
@@ -55,7 +56,7 @@ bool dm_viewer_set_view(dm_viewer *v, const char *name);
 bool dm_viewer_cycle_view(dm_viewer *v, int step);
 /* "exposure", "mix", "blur_scale", "roughness_scale", "view_scale", "env_intensity",
  * "env_rotation", "light_intensity", "light_rotation", "rotate", "light", "split" [0, 1],
- * "error_scale" (0, 100]: one value;
+ * "error_scale" (0, 100], the skin's "melanin", "blood", "epidermis" (dm_viewer_skin.h): one value;
  * "light_color": three. Ranges as in the panel; out of range is refused. */
 bool dm_viewer_set_param(dm_viewer *v, const char *name, const float *values, int count);
 /* Screenshot of the rendered image with provenance (view, scene, every parameter). */

@@ -49,6 +49,9 @@ dm_result dm_viewer_create_renderer(dm_viewer *v, dm_error *err)
                         .irradiance_size = v->irradiance_size, .timings = true, .reuse_texture_space = true};
     v->assets.scene = &v->scene;
     dm_result rc = dm_renderer_create(&v->assets, &d, &v->r, err);
+    /* the live skin's weights are in v->profile already; its colour scale is not a create
+     * input (refused, and left at 1, by the techniques that cannot take it) */
+    if (rc == DM_OK && v->skin.changed) dm_renderer_set_profile_weights(v->r, &v->profile, v->skin.scale_rgb, NULL);
     if (rc == DM_OK) list_views(v);
     v->dirty = true;
     return rc;

@@ -10,6 +10,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "bake/dm_skin_weights.h"
 #include "pack/dm_pack.h"
 #include "core/dm_scene.h"
 #include "render/dm_render.h"
@@ -36,6 +37,21 @@ typedef struct dm_viewer_compare {
     bool has_stats;
     char text[1024]; /* dm_refcmp_stats_text of the last frame */
 } dm_viewer_compare;
+
+enum { DM_VIEWER_SKIN_TIMES = 256 };
+
+/* The live physical skin (dm_viewer_skin.c): the sliders' parameters, the plan of the
+ * loaded profile's variances, and the scale the renderer applies (also after a rebuild). */
+typedef struct dm_viewer_skin {
+    bool available, from_pack, changed;
+    char off_reason[256];    /* why not available */
+    dm_skin_params start, now;
+    double start_total[3];   /* Σ weights of the starting skin's live fit */
+    double scale_rgb[3];     /* now's total over start's, per channel */
+    dm_skin_weights_plan plan;
+    double ms[DM_VIEWER_SKIN_TIMES]; /* refit + hand-over per change, ring */
+    int ms_count;
+} dm_viewer_skin;
 
 typedef struct dm_viewer_options {
     const char *pack;       /* PACK path, or NULL with synthetic */
@@ -89,6 +105,7 @@ typedef struct dm_viewer {
     char status[DM_VIEWER_STATUS_SIZE]; /* the last message, shown in the panel */
     int shot_count;
     dm_viewer_compare cmp;
+    dm_viewer_skin skin;
     /* technique split (dm_viewer_technique.c): the other subsurface technique rendered by a
      * second renderer beside this one, through the comparison's split/side/error machinery */
     bool tsplit;

@@ -60,6 +60,24 @@ static void section_light(dm_viewer *v)
     if (ImGui::SliderFloat("azimuth", &v->light_rotation_deg, -360.0f, 360.0f, "%.1f deg")) v->dirty = true;
 }
 
+/* The live physical skin (dm_viewer_skin.h): the weights refitted per change. */
+static void section_skin(dm_viewer *v)
+{
+    if (!v->skin.available) return;
+    ImGui::Separator();
+    ImGui::TextUnformatted(v->skin.from_pack ? "skin (the pack's)" : "skin (from the Caucasian exemplar)");
+    float m = (float)v->skin.now.melanin_fraction, b = (float)v->skin.now.blood_fraction,
+          e = (float)v->skin.now.epidermis_mm;
+    if (ImGui::SliderFloat("melanin", &m, 0.0f, 0.5f, "%.4f", ImGuiSliderFlags_Logarithmic))
+        dm_viewer_skin_set(v, "melanin", m);
+    if (ImGui::SliderFloat("blood", &b, 0.0f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic))
+        dm_viewer_skin_set(v, "blood", b);
+    if (ImGui::SliderFloat("epidermis", &e, 0.001f, 2.0f, "%.3f mm", ImGuiSliderFlags_Logarithmic))
+        dm_viewer_skin_set(v, "epidermis", e);
+    if (v->skin.ms_count)
+        ImGui::Text("refit + hand-over: median %.2f ms over %d changes", dm_viewer_skin_median_ms(v), v->skin.ms_count);
+}
+
 static void section_effects(dm_viewer *v)
 {
     for (int e = 0; e < DM_EFFECT_COUNT; ++e) {
@@ -101,6 +119,7 @@ static void section_effects(dm_viewer *v)
         }
         ImGui::EndCombo();
     }
+    section_skin(v);
 }
 
 static void section_view(dm_viewer *v)

@@ -100,7 +100,9 @@ struct dmr_frame {
 
     /* numbers the passes share */
     dmr_blur_kernel kernel;                          /* the levels' blur at this frame's scale */
-    float level_weight[DM_PROFILE_MAX_GAUSSIANS][3]; /* profile weights / their sum per channel */
+    float level_weight[DM_PROFILE_MAX_GAUSSIANS][3]; /* profile weights / their sum per channel
+                                                      * × level_scale */
+    double level_scale[3]; /* dm_renderer_set_profile_weights' scale_rgb; 1 at create */
     int ss_taps;                                     /* the screen-space kernel's taps (a define) */
 
     /* this frame: lights (turned by the light rotation) and camera */

@@ -72,5 +72,5 @@ void dmr_frame_camera(dmr_frame *f)
 void dmr_frame_blur(dmr_frame *f, float scale)
 {
     dmr_blur_kernel_make(&f->profile, f->taps, scale, &f->kernel);
-    dmr_level_weights(&f->profile, f->level_weight);
+    dmr_level_weights(&f->profile, f->level_scale, f->level_weight);
 }

@@ -43,12 +43,13 @@ void dmr_blur_kernel_make(const dm_profile *prof, int taps, float scale, dmr_blu
     }
 }
 
-void dmr_level_weights(const dm_profile *prof, float weight[DM_PROFILE_MAX_GAUSSIANS][3])
+void dmr_level_weights(const dm_profile *prof, const double scale[3], float weight[DM_PROFILE_MAX_GAUSSIANS][3])
 {
     for (int c = 0; c < 3; ++c) {
         double sum = 0;
         for (int k = 0; k < prof->count; ++k) sum += prof->weight[k][c];
-        for (int k = 0; k < prof->count; ++k) weight[k][c] = sum > 0 ? (float)(prof->weight[k][c] / sum) : 0.0f;
+        for (int k = 0; k < prof->count; ++k)
+            weight[k][c] = sum > 0 ? (float)(prof->weight[k][c] / sum * scale[c]) : 0.0f;
     }
 }
 

@@ -20,8 +20,9 @@ typedef struct dmr_blur_kernel {
 /* Fills k for taps (odd, 3..DM_BLUR_TAPS_MAX) and scale > 0: the discrete kernel's variance
  * is exactly each level's. */
 void dmr_blur_kernel_make(const dm_profile *prof, int taps, float scale, dmr_blur_kernel *k);
-/* The profile's weights divided by their sum per channel (TSD levels, translucency's T(d)). */
-void dmr_level_weights(const dm_profile *prof, float weight[DM_PROFILE_MAX_GAUSSIANS][3]);
+/* The profile's weights divided by their sum per channel (TSD levels, translucency's T(d)),
+ * times scale[c] (dm_renderer_set_profile_weights; 1 at create: the quotient exactly). */
+void dmr_level_weights(const dm_profile *prof, const double scale[3], float weight[DM_PROFILE_MAX_GAUSSIANS][3]);
 /* Value i of a stretch level (RG32F or RG16F texels), as float. */
 float dmr_stretch_value(const dm_texture *t, size_t i);
 /* The automatic blur resolution (dm_render_desc.blur_auto_resolution, without blur_reduce_from):

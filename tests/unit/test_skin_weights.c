@@ -1,0 +1,167 @@
+/* Live weights for fixed variances (bake/dm_skin_weights.h): against the offline fit of the
+ * same variances (dm_skin_profile_fit, 401 nodes, 20 pairs), against a free fit's own
+ * weights at its own variances (dm_profile_fit), non-negative and finite over the range,
+ * the colour moving the physical way, and the refusals. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "bake/dm_profile_fit.h"
+#include "bake/dm_skin_profile.h"
+#include "bake/dm_skin_weights.h"
+
+
+static dm_skin_params preset(const char *name)
+{
+    dm_skin_params p;
+    cr_assert_eq(dm_skin_preset(name, &p, NULL), DM_OK);
+    return p;
+}
+
+static dm_skin_weights_plan plan; /* ~40 KB: not on the test's stack */
+
+static void make_plan(const double *variance, int count)
+{
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, variance, count, NULL, &err), DM_OK, "%s", err.detail);
+}
+
+static double max_weight_difference(const dm_profile *a, const dm_profile *b)
+{
+    double d = 0.0;
+    for (int k = 0; k < a->count; ++k)
+        for (int c = 0; c < 3; ++c) d = fmax(d, fabs(a->weight[k][c] - b->weight[k][c]));
+    return d;
+}
+
+/* The live path drops the nodes above the narrowest Gaussian's band (exact to the cut,
+ * 1e-9), and takes 81 nodes and 8 pairs instead of 401 and 20: measured 5.7e-7 at most over
+ * these skins (weights are 0.01–0.3); 1e-5 is twenty times that and still a thousandth of
+ * the smallest weight that shows in a picture (8-bit: 1/255). */
+Test(skin_weights, offline_fit_of_the_same_variances)
+{
+    make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
+    const char *names[] = {"caucasian", "asian", "african", "fitzpatrick-1", "fitzpatrick-3", "fitzpatrick-5"};
+    for (int e = 0; e < 2; ++e)
+        for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+            dm_skin_params p = preset(names[i]);
+            if (e) p.epidermis_mm = 0.05;
+            dm_profile live, offline;
+            cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
+            cr_assert_eq(dm_skin_profile_fit(&p, NULL, "offline", &offline, NULL, NULL), DM_OK);
+            double d = max_weight_difference(&live, &offline);
+            printf("%s, epidermis %g mm: live − offline weights %.2e\n", names[i], p.epidermis_mm, d);
+            cr_assert(d <= 1e-5, "%s epidermis %g: %g", names[i], p.epidermis_mm, d);
+            cr_assert_str_eq(live.name, "live");
+            for (int k = 0; k < 6; ++k) cr_assert_eq(live.variance_mm2[k], DM_SKIN_GEMS3_VARIANCES_MM2[k]);
+        }
+}
+
+/* A free fit (variances searched, r-domain quadrature on the dense profile) and the live
+ * weights at the free fit's variances minimise the same error (Parseval: dm_skin_freq.h) on
+ * different quadratures, so they agree to the quadratures' and the dense profile's
+ * accuracy; their errors agree as well, the free one the smaller (it is the optimum of its
+ * own measure). Tolerances: measured (printed), with a margin of about 3. */
+Test(skin_weights, free_fit_reproduced_at_its_variances, .timeout = 120)
+{
+    const char *names[] = {"caucasian", "fitzpatrick-3"};
+    for (size_t i = 0; i < 2; ++i) {
+        dm_skin_params p = preset(names[i]);
+        dm_profile_source src;
+        dm_fit_result fr;
+        cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
+        cr_assert_eq(dm_profile_fit(&src, NULL, "free", &fr, NULL), DM_OK);
+        make_plan(fr.profile.variance_mm2, fr.profile.count);
+        dm_profile live;
+        cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
+        double e[3], d = max_weight_difference(&live, &fr.profile), de = 0.0;
+        cr_assert_eq(dm_profile_fit_error(&src, &live, NULL, e, NULL), DM_OK);
+        for (int c = 0; c < 3; ++c) de = fmax(de, e[c] - fr.error_relative[c]);
+        printf("%s: free-fit variances, live − free weights %.2e, error live − free %.2e (free max %.4f)\n",
+               names[i], d, de, fr.error_relative_max);
+        cr_assert(d <= 3e-6, "%s: %g", names[i], d); /* measured 7.1e-7, 1.0e-6 */
+        cr_assert(de <= 1e-9 && de >= -1e-9, "%s: %g", names[i], de); /* measured 6e-11, 2.4e-10 */
+    }
+}
+
+/* Over the sliders' range (melanin 0–0.5, blood 0–0.1, epidermis 0.001–2 mm, ends included):
+ * every weight finite and ≥ 0, and the profile one the renderer takes (dm_profile_validate:
+ * weights ≤ 1, sums ≤ 1.001). */
+Test(skin_weights, non_negative_and_finite_over_the_range, .timeout = 120)
+{
+    make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
+    const double melanin[] = {0.0, 0.005, 0.05, 0.2, 0.5}, blood[] = {0.0, 0.005, 0.03, 0.1},
+                 epidermis[] = {0.001, 0.05, 0.25, 2.0};
+    for (int a = 0; a < 5; ++a)
+        for (int b = 0; b < 4; ++b)
+            for (int e = 0; e < 4; ++e) {
+                dm_skin_params p = dm_skin_params_default();
+                p.melanin_fraction = melanin[a], p.blood_fraction = blood[b], p.epidermis_mm = epidermis[e];
+                dm_profile w;
+                dm_error err = {0};
+                cr_assert_eq(dm_skin_weights_fit(&plan, &p, "sweep", &w, &err), DM_OK, "%s", err.detail);
+                for (int k = 0; k < 6; ++k)
+                    for (int c = 0; c < 3; ++c)
+                        cr_assert(isfinite(w.weight[k][c]) && w.weight[k][c] >= 0.0, "Cm %g Ch %g d %g: w[%d][%d] %g",
+                                  melanin[a], blood[b], epidermis[e], k, c, w.weight[k][c]);
+                cr_assert_eq(dm_profile_validate(&w, "sweep", &err), DM_OK, "Cm %g Ch %g d %g: %s", melanin[a],
+                             blood[b], epidermis[e], err.detail);
+            }
+}
+
+/* The colour the sliders show (the weight sums, what the viewer tints by): more melanin is
+ * darker in every channel; more blood takes green more than red (hemoglobin absorbs ~100×
+ * more at 550 nm than at 650, SKIN-MODEL.md), so R/G grows — over Ch 0.002–0.032; past
+ * ~0.045 red is absorbed too and R/G falls again (measured: 1.372 at 0.04, 1.364 at 0.05),
+ * and R/B falls throughout (the red channel's negative lobe below 550 nm loses with the
+ * blue), as docs/skin-model.md says. */
+Test(skin_weights, colour_moves_the_physical_way)
+{
+    make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
+    dm_skin_params p = dm_skin_params_default();
+    double prev[3] = {0}, sum[3];
+    for (int i = 0; i < 5; ++i) {
+        p.melanin_fraction = 0.005 + 0.05 * i;
+        dm_profile w;
+        cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, NULL), DM_OK);
+        dm_profile_channel_sums(&w, sum);
+        for (int c = 0; i && c < 3; ++c) cr_assert(sum[c] < prev[c], "Cm %g channel %d: %g !< %g", p.melanin_fraction, c, sum[c], prev[c]);
+        memcpy(prev, sum, sizeof prev);
+    }
+    p = dm_skin_params_default();
+    double rg_prev = 0;
+    for (int i = 0; i < 4; ++i) {
+        p.blood_fraction = 0.002 + 0.01 * i;
+        dm_profile w;
+        cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, NULL), DM_OK);
+        dm_profile_channel_sums(&w, sum);
+        double rg = sum[0] / sum[1];
+        if (i) cr_assert(rg > rg_prev, "Ch %g: R/G %g !> %g", p.blood_fraction, rg, rg_prev);
+        rg_prev = rg;
+    }
+}
+
+Test(skin_weights, refusals_name_the_value)
+{
+    dm_error err = {0};
+    double v[2] = {1.0, 0.5};
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, v, 2, NULL, &err), DM_ERR_RANGE);
+    cr_assert(strstr(err.detail, "variance"), "%s", err.detail);
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, DM_SKIN_GEMS3_VARIANCES_MM2, 0, NULL, &err), DM_ERR_RANGE);
+    dm_skin_weights_options o = {.node_count = 80};
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, DM_SKIN_GEMS3_VARIANCES_MM2, 6, &o, &err), DM_ERR_RANGE);
+    cr_assert(strstr(err.detail, "node_count = 80"), "%s", err.detail);
+    o = (dm_skin_weights_options){.pair_count = -1};
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, DM_SKIN_GEMS3_VARIANCES_MM2, 6, &o, &err), DM_ERR_RANGE);
+    make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
+    cr_assert_eq(plan.node_count, DM_SKIN_WEIGHTS_NODES_DEFAULT);
+    cr_assert_eq(plan.pair_count, DM_SKIN_WEIGHTS_PAIRS_DEFAULT);
+    /* the top node: the narrowest Gaussian's transform is DM_SKIN_WEIGHTS_CUT there */
+    cr_assert_float_eq(exp(-0.5 * 0.0064 * plan.s_hi_per_mm * plan.s_hi_per_mm), DM_SKIN_WEIGHTS_CUT, 1e-15);
+    dm_skin_params p = dm_skin_params_default();
+    p.melanin_fraction = 0.6;
+    dm_profile w;
+    cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, &err), DM_ERR_RANGE);
+    cr_assert(strstr(err.detail, "melanin_fraction"), "%s", err.detail);
+}
