@@ -46,6 +46,7 @@ static const frame frames[] = {
     {"T-a1024-s2-p1c", "--atlas 1024 --atlas-samples 2 --pixel-samples 1", true, false},
     {"T-a1024-s8-p1c", "--atlas 1024 --atlas-samples 8 --pixel-samples 1", true, false},
     {"T-a4096-s1-p1c", "--atlas 4096 --atlas-samples 1 --pixel-samples 1", true, false},
+    {"T-a8192-s1-p1c", "--atlas 8192 --atlas-samples 1 --pixel-samples 1", true, false},
     {"T-a1024-s4-p1c-q", "--atlas 1024 --atlas-samples 4 --pixel-samples 1 --cut 6 --spacing 0.15", true, false},
     {"T-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", true, false},
     {"T-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", true, false},
@@ -57,7 +58,6 @@ static const frame frames[] = {
     {"F-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", false, false},
     {"TS-256", "", false, true},
     {"TS-256-q", "--cut 6 --spacing 0.15", false, true},
-    {"TS-256-w1", "--wide-texels 1", false, true},
 };
 enum { NF = sizeof frames / sizeof frames[0] };
 static dm_refcmp_ref refs[NF];
@@ -73,6 +73,7 @@ static const step steps[] = {
     {"T-a2048-s4-p1c", "T-a4096-s2-p1c", "transport: atlas 2048 → 4096 (both 8192² irradiance points)"},
     {"T-a1024-s2-p1c", "T-a1024-s4-p1c", "transport: atlas 1024, samples 2² → 4²"},
     {"T-a1024-s4-p1c", "T-a1024-s8-p1c", "transport: atlas 1024, samples 4² → 8²"},
+    {"T-a4096-s1-p1c", "T-a8192-s1-p1c", "transport: atlas 4096 → 8192 (one sample a texel)"},
     {"T-a4096-s1-p1c", "T-a4096-s2-p1c", "transport: atlas 4096, samples 1 → 2²"},
     {"T-a1024-s4-p1c", "T-a1024-s4-p1c-q", "transport: quadrature cut 4 σ, spacing 0.3 σ → 6 σ, 0.15 σ"},
     {"T-a4096-s2-p3c", "T-a4096-s2-p3p", "transport: 3² rays, diffusion at the centre → at each ray"},
@@ -81,7 +82,6 @@ static const step steps[] = {
     {"F-a4096-s2-p3c", "F-a4096-s2-p4c", "full: 3² → 4² sub-pixel rays (diffusion at the centre)"},
     {"F-a4096-s2-p3c", "F-a4096-s2-p3p", "full: 3² rays, diffusion at the centre → at each ray"},
     {"TS-256", "TS-256-q", "texture space 256: quadrature cut 4 σ, spacing 0.3 σ → 6 σ, 0.15 σ"},
-    {"TS-256-w1", "TS-256", "texture space 256: I constant per texel (texel elements) → bilinear"},
 };
 enum { NS = sizeof steps / sizeof steps[0] };
 

@@ -71,6 +71,8 @@ static void usage(FILE *f)
             "  --skin-preset NAME   a named skin (dermis-fit-profile --list-presets)\n"
             "  --radial-gaussians N Gaussians representing --dipole/--multipole/--burley/--skin, default 12;\n"
             "                       2..32 (the residual error is printed)\n"
+    );
+    fprintf(f,
             "  --tile I/N           compute only slice I of N (1-based) of the texels; merge with --merge\n"
             "  --merge FILES        join tiles of one run into the file the one-shot run writes\n"
             "  --cut S              Gaussians cut at S sigma (the mass beyond is restored), default 4; 2..8\n"

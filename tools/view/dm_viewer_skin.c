@@ -40,7 +40,7 @@ void dm_viewer_skin_init(dm_viewer *v)
     dm_profile w;
     if (dm_skin_weights_plan_init(&k->plan, v->profile.variance_mm2, v->profile.count, NULL, &err) != DM_OK ||
         dm_skin_weights_fit(&k->plan, &k->start, NULL, &w, &err) != DM_OK) {
-        snprintf(k->off_reason, sizeof k->off_reason, "%s", err.detail);
+        snprintf(k->off_reason, sizeof k->off_reason, "%.255s", err.detail);
         dm_viewer_set_status(v, false, "skin sliders off: %s", err.detail);
         return;
     }
