@@ -42,4 +42,24 @@ static inline double test_expect_tool(const char *dir, int timeout_s, const char
     return (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
 }
 
+/* A usage error and what it must say: `tool ARGS -o dir/x.json` (no -o where `says` names
+ * -o itself) exits 1 printing "error:" and `says`. */
+typedef struct test_usage_case {
+    const char *args, *says;
+} test_usage_case;
+
+static inline void test_expect_usage_errors(const char *tool, const char *dir, const test_usage_case *bad, size_t n)
+{
+    char cmd[2048], log[320];
+    snprintf(log, sizeof log, "%s/log", dir);
+    for (size_t k = 0; k < n; ++k) {
+        if (strstr(bad[k].says, "-o")) snprintf(cmd, sizeof cmd, "%s %s", tool, bad[k].args);
+        else snprintf(cmd, sizeof cmd, "%s %s -o %s/x.json", tool, bad[k].args, dir);
+        cr_expect_eq(test_run(cmd, log), 1, "'%s' should be a usage error", bad[k].args);
+        char *out = test_slurp(log);
+        cr_expect(out && strstr(out, "error:") && strstr(out, bad[k].says), "'%s' printed: %s", bad[k].args, out);
+        free(out);
+    }
+}
+
 #endif

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/expect_tool.h"
 #include "../common/tmpdir.h"
 #include "bake/dm_profile_fit.h"
 #include "bake/dm_skin_spec.h"
@@ -104,12 +105,10 @@ Test(fit_profile_skin, table_error_does_not_rise_with_n, .timeout = 60)
 
 Test(fit_profile_skin, bad_parameters_are_usage_errors_naming_the_parameter)
 {
-    char dir[64], log[256], cmd[1024];
+    char dir[64], log[256];
     cr_assert(test_tmpdir(dir, sizeof dir));
     snprintf(log, sizeof log, "%s/log", dir);
-    struct {
-        const char *args, *says;
-    } bad[] = {
+    const test_usage_case bad[] = {
         {"--skin melanin=0.6,eumelanin=0.7,blood=0.01", "melanin_fraction (melanin, Cm) = 0.6, expected a value in [0, 0.5]"},
         {"--skin melanin=0.1,eumelanin=1.5,blood=0.01", "eumelanin_blend (eumelanin, betam) = 1.5, expected a value in [0, 1]"},
         {"--skin melanin=0.1,eumelanin=0.5,blood=-0.01", "blood_fraction (blood, Ch) = -0.01, expected a value in [0, 0.1]"},
@@ -127,13 +126,7 @@ Test(fit_profile_skin, bad_parameters_are_usage_errors_naming_the_parameter)
         {"--skin-preset caucasian --dipole skin1", "exclude"},
         {"--list-presets --skin-preset caucasian", "--list-presets"},
     };
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
-        snprintf(cmd, sizeof cmd, BIN " %s -o %s/x.json", bad[k].args, dir);
-        cr_expect_eq(test_run(cmd, log), 1, "'%s' should be a usage error", bad[k].args);
-        char *out = test_slurp(log);
-        cr_expect(out && strstr(out, "error:") && strstr(out, bad[k].says), "'%s' printed: %s", bad[k].args, out);
-        free(out);
-    }
+    test_expect_usage_errors(BIN, dir, bad, sizeof bad / sizeof bad[0]);
     cr_expect_eq(test_count_files(dir, "x.json"), 0, "an output was written despite the error");
 }
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/expect_tool.h"
 #include "../common/tmpdir.h"
 #include "image/dm_exr.h"
 #include "core/dm_profile.h"
@@ -83,12 +84,10 @@ Test(fit_profile_tool, table_lists_every_n_with_its_passes)
 
 Test(fit_profile_tool, invalid_parameters_are_usage_errors_with_a_message)
 {
-    char dir[64], log[256], cmd[1024];
+    char dir[64], log[256];
     cr_assert(test_tmpdir(dir, sizeof dir));
     snprintf(log, sizeof log, "%s/log", dir);
-    struct {
-        const char *args, *says;
-    } bad[] = {
+    const test_usage_case bad[] = {
         {"--dipole -0.1,1,1.3", "sigma_a_per_mm[R] = -0.1"},
         {"--dipole nan,1,1.3", "sigma_a_per_mm[R] = nan"},
         {"--dipole 0.1,0,1.3", "sigma_s_prime_per_mm[R] = 0"},
@@ -106,14 +105,7 @@ Test(fit_profile_tool, invalid_parameters_are_usage_errors_with_a_message)
         {"--dipole skin1", "-o"},
         {"--dipole skin1 --bogus", "unknown option"},
     };
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
-        snprintf(cmd, sizeof cmd, BIN " %s -o %s/x.json", bad[k].args, dir);
-        if (strstr(bad[k].says, "-o")) snprintf(cmd, sizeof cmd, BIN " %s", bad[k].args);
-        cr_expect_eq(test_run(cmd, log), 1, "'%s' should be a usage error", bad[k].args);
-        char *out = test_slurp(log);
-        cr_expect(out && strstr(out, "error:") && strstr(out, bad[k].says), "'%s' printed: %s", bad[k].args, out);
-        free(out);
-    }
+    test_expect_usage_errors(BIN, dir, bad, sizeof bad / sizeof bad[0]);
     cr_expect_eq(test_count_files(dir, "x.json"), 0, "an output was written despite the error");
     cr_expect_eq(test_run(BIN " --help", NULL), 0);
 }

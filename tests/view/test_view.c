@@ -14,23 +14,11 @@
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
+#include "../common/view_test.h"
 #include "core/dm_scene.h"
 
 #define VIEW DERMIS_BIN "/dermis-view"
 #define SIZE "--size 192x108 --irradiance 128"
-
-static void need_display(void)
-{
-    if (!getenv("DISPLAY")) cr_skip_test("no DISPLAY: run under xvfb-run -a (make test does)");
-}
-
-static void write_text(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    cr_assert(f, "cannot write %s", path);
-    fputs(text, f);
-    fclose(f);
-}
 
 /* The PNG decodes, has the expected size and is not one flat colour. */
 static void expect_picture(const char *path, int w, int h)

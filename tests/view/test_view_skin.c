@@ -13,22 +13,10 @@
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
+#include "../common/view_test.h"
 
 #define VIEW DERMIS_BIN "/dermis-view"
 #define SIZE "--size 192x108 --irradiance 128"
-
-static void need_display(void)
-{
-    if (!getenv("DISPLAY")) cr_skip_test("no DISPLAY: run under xvfb-run -a (make test does)");
-}
-
-static void write_text(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    cr_assert(f, "cannot write %s", path);
-    fputs(text, f);
-    fclose(f);
-}
 
 /* Whether the file holds the bytes of `needle` (a PNG's text chunk). */
 static bool file_contains(const char *path, const char *needle)

@@ -9,14 +9,10 @@
 
 #include "../common/png_inflate.h"
 #include "../common/tmpdir.h"
+#include "../common/view_test.h"
 
 #define VIEW DERMIS_BIN "/dermis-view"
 #define SIZE "--size 192x108 --irradiance 128"
-
-static void need_display(void)
-{
-    if (!getenv("DISPLAY")) cr_skip_test("no DISPLAY: run under xvfb-run -a (make test does)");
-}
 
 static int run_script(const char *dir, const char *source, const char *script, char **out)
 {
