@@ -92,8 +92,7 @@ static void pixel_dir_at(const camera *cam, int x, int y, double fx, double fy, 
 
 static void pixel_dir(const camera *cam, int x, int y, int width, int height, double dir[3])
 {
-    double nx = 2.0 * (x + 0.5) / width - 1.0, ny = 2.0 * (y + 0.5) / height - 1.0;
-    for (int c = 0; c < 3; ++c) dir[c] = cam->fwd[c] + nx * cam->right[c] + ny * cam->up[c];
+    pixel_dir_at(cam, x, y, 0.5, 0.5, width, height, dir);
 }
 
 typedef struct frame_job {
