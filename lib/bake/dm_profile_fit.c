@@ -200,8 +200,46 @@ typedef struct fitter {
     int n;
     double x_lo, x_hi, gap;
     double *qrbuf, *ybuf, *jbuf; /* m × NMAX, m, m × NMAX scratch */
+    double cap[3];               /* the most each channel's weights may sum to: 1 (cap_channel) */
+    double *capbuf;              /* (m + 1) × (2 NMAX + 2) scratch of cap_channel */
+    int capping;                 /* evaluate holds the sums to cap[] */
     int evaluations, iterations;
 } fitter;
+
+/* A fit returns at most the light it receives: where a channel's weights sum to more than 1
+ * (the shape fit alone can overshoot a source whose total is 1: gems3-skin with 3 Gaussians
+ * summed 1.036 in green, over dm_profile_validate's limit; a source of less total, such as a
+ * dipole's, is left as the shape fit makes it, which the tools normalise), the weights are
+ * solved again with Σ_k w_kc = cap: NNLS with the sum as one more row weighted 1e4 times the
+ * largest column, then scaled onto the cap exactly (the row leaves it ~1e-8 off). The search
+ * runs free first (the Kaufman Jacobian is the free projection's, and a cap met at the optimum
+ * would slow it there: gems3-skin's own six Gaussians sum to exactly 1); only when its best
+ * overshoots is it polished again with the cap inside evaluate, so the variances are found
+ * for the capped weights. */
+static void cap_channel(fitter *ft, state *st, int c)
+{
+    int m = ft->g->m, n = ft->n, rows = m + 1;
+    double sum = 0.0, cap = ft->cap[c];
+    for (int k = 0; k < n; ++k) sum += st->w[c][k];
+    if (!(sum > cap * (1.0 + 1e-9)) || !(cap > 0.0)) return;
+    double *a = ft->capbuf, *y = a + (size_t)rows * NMAX, *scratch = y + rows, norm = 0.0;
+    for (int k = 0; k < n; ++k) {
+        double q = 0.0;
+        for (int i = 0; i < m; ++i) q += st->a[(size_t)k * m + i] * st->a[(size_t)k * m + i];
+        norm = fmax(norm, sqrt(q));
+    }
+    double lambda = 1e4 * norm;
+    for (int k = 0; k < n; ++k) {
+        memcpy(a + (size_t)k * rows, st->a + (size_t)k * m, sizeof(double) * (size_t)m);
+        a[(size_t)k * rows + m] = lambda;
+    }
+    memcpy(y, ft->g->b[c], sizeof(double) * (size_t)m);
+    y[m] = lambda * cap;
+    dm_lsq_nnls_shared(a, rows, n, y, 1, scratch, st->w[c]);
+    sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += st->w[c][k];
+    for (int k = 0; k < n && sum > 0.0; ++k) st->w[c][k] *= cap / sum;
+}
 
 static void evaluate(fitter *ft, state *st)
 {
@@ -229,6 +267,7 @@ static void evaluate(fitter *ft, state *st)
         memcpy(ft->ybuf, g->b[c], sizeof(double) * (size_t)m);
         dm_lsq_qr_apply(ft->qrbuf, m, n, beta, ft->ybuf);
         dm_lsq_nnls(rm, n, ft->ybuf, st->w[c]);
+        if (ft->capping) cap_channel(ft, st, c);
         double e = 0.0;
         for (int i = 0; i < m; ++i) {
             double s = -g->b[c][i];
@@ -417,7 +456,8 @@ dm_result dm_profile_fit(const dm_profile_source *s, const dm_fit_options *opt, 
     ft.x_hi = log(g.r_max * g.r_max / 16.0);
     ft.gap = log(DM_FIT_MIN_RATIO);
     size_t per_state = (size_t)(3 * m + 2 * m * NMAX);
-    double *mem = malloc(sizeof(double) * (per_state * 4 + (size_t)m * NMAX * 2 + (size_t)m));
+    size_t cap_size = (size_t)(m + 1) * (2 * NMAX + 2);
+    double *mem = malloc(sizeof(double) * (per_state * 4 + (size_t)m * NMAX * 2 + (size_t)m + cap_size));
     if (!mem) {
         grid_free(&g);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "profile fit: %d nodes x %d Gaussians", m, n);
@@ -431,6 +471,8 @@ dm_result dm_profile_fit(const dm_profile_source *s, const dm_fit_options *opt, 
     ft.qrbuf = p;
     ft.ybuf = p + (size_t)m * NMAX;
     ft.jbuf = ft.ybuf + m;
+    ft.capbuf = ft.jbuf + (size_t)m * NMAX;
+    for (int c = 0; c < 3; ++c) ft.cap[c] = 1.0;
 
     /* Continuation in the count: the best fit with k − 1 Gaussians plus one new Gaussian
      * tried in every gap and beyond either end; the best of those seeds k. At k = n the
@@ -468,6 +510,15 @@ dm_result dm_profile_fit(const dm_profile_source *s, const dm_fit_options *opt, 
             levenberg_marquardt(&ft, &best, &trial, iters);
         }
         memcpy(prev, level.x, sizeof prev);
+    }
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0;
+        for (int k = 0; k < n; ++k) sum += best.w[c][k];
+        if (sum > ft.cap[c] * (1.0 + 1e-9)) ft.capping = 1;
+    }
+    if (ft.capping) {
+        evaluate(&ft, &best);
+        levenberg_marquardt(&ft, &best, &trial, iters);
     }
 
     dm_profile *pf = &out->profile;
