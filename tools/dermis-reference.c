@@ -53,6 +53,9 @@ static void usage(FILE *f)
             "                       atlas x K > 8192 (2 at 4096); 1..8\n"
             "  --pixel-samples K    frame: KxK sub-pixel rays per skin pixel (the surface terms and the\n"
             "                       diffusion at each ray's hit), default 3; 1..8\n"
+"  --refine K           frame: pixels whose rays' radiance spreads by more than 2 %% of their\n"
+            "                       mean (eyelids, lips, nostrils, ears) shaded again from KxK rays;\n"
+            "                       default off; more than the pixel samples, at most 16\n"
             "  --diffusion-at-centre  frame: the diffusion at the pixel centre's hit only (cheaper; the\n"
             "                       behaviour before issue #27, for convergence studies)\n"
             "  --without LIST       frame: leave terms out, comma-separated: albedo (white), normal-map\n"
@@ -98,7 +101,7 @@ typedef struct args {
     int pairs, radial_gaussians;
     const char *merge[MERGE_MAX];
     int merge_count;
-    int size, width, height, atlas, tile_index, tile_count, threads, atlas_samples, pixel_samples;
+    int size, width, height, atlas, tile_index, tile_count, threads, atlas_samples, pixel_samples, refine;
     bool frame, levels, verbose, quiet, at_centre;
     bool no_albedo, no_normal_map, no_shadows, no_subsurface; /* --without */
     const char *without;
@@ -138,6 +141,9 @@ static int parse(int argc, char **argv, args *a)
             if (!(a->irradiance = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--frame")) {
             a->frame = true;
+        } else if (!strcmp(s, "--refine")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(s, v, 2, 16, &n)) return DM_EXIT_USAGE;
+            a->refine = (int)n;
         } else if (!strcmp(s, "--diffusion-at-centre")) {
             a->at_centre = true;
         } else if (!strcmp(s, "--without")) {
@@ -238,8 +244,10 @@ static int parse(int argc, char **argv, args *a)
                       : a->frame && (a->irradiance || a->levels || a->tile_count > 1)
                           ? "--irradiance, --levels and --tile are texture-space options"
                       : !a->frame && (a->width || a->atlas || a->atlas_samples || a->pixel_samples || a->at_centre ||
-                                      a->without)
-                          ? "--size, --atlas, the samples, --diffusion-at-centre and --without are --frame options"
+                                      a->without || a->refine)
+                          ? "--size, --atlas, the samples, --refine, --diffusion-at-centre and --without are --frame options"
+                      : a->refine && a->refine <= (a->pixel_samples ? a->pixel_samples : 3)
+                          ? "--refine K takes more rays than --pixel-samples"
                       : a->quiet && a->verbose             ? "--quiet conflicts with -v"
                                                            : NULL;
     if (!bad && a->multipole && !(a->thickness_mm > 0.0)) bad = "--multipole needs --thickness MM";
@@ -584,7 +592,7 @@ static int frame(const args *a, const dm_pack *pack)
     dm_ref_frame_stats st = {0};
     dm_ref_frame_options fo = {.width = W, .height = H, .atlas_size = a->atlas, .thread_count = a->threads,
                                .atlas_samples = a->atlas_samples, .pixel_samples = a->pixel_samples,
-                               .diffusion_at_centre = a->at_centre, .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
+                               .diffusion_at_centre = a->at_centre, .refine_samples = a->refine, .reference = &a->ropt, .kernel = &kernel, .progress = on_stage, .progress_user = &bar,
                                .stats = &st};
     dm_result r = dm_ref_frame_render_desc(&desc, &fo, rgba, &err);
     dm_progress_end(&bar);
@@ -608,6 +616,7 @@ static int frame(const args *a, const dm_pack *pack)
         dm_prov_add_int(&prov, "atlas_samples", dm_ref_frame_atlas_samples(atlas, a->atlas_samples));
         dm_prov_add_int(&prov, "pixel_samples", a->pixel_samples ? a->pixel_samples : 3);
         dm_prov_add_string(&prov, "diffusion", a->at_centre ? "centre" : "pixel");
+        if (a->refine) dm_prov_add_int(&prov, "refine_samples", a->refine);
         dm_prov_add_string(&prov, "without", a->without ? a->without : "");
         dm_prov_add_double(&prov, "mm_per_unit", scene.mm_per_unit);
         dm_prov_add_string(&prov, "profile", kernel_name);
@@ -623,8 +632,9 @@ static int frame(const args *a, const dm_pack *pack)
             fprintf(stderr, "error: %s\n", err.detail);
             code = DM_EXIT_SAVE;
         } else if (planes && !a->quiet) {
-            printf("%s, %s: %dx%d ground-truth frame, %lld skin pixels, atlas %d, %lld covered texels\n", a->out, png, W,
-                   H, (long long)st.skin_pixels, atlas, (long long)st.covered_texels);
+            printf("%s, %s: %dx%d ground-truth frame, %lld skin pixels (%lld refined), atlas %d, %lld covered texels\n",
+                   a->out, png, W, H, (long long)st.skin_pixels, (long long)st.refined_pixels, atlas,
+                   (long long)st.covered_texels);
             printf("  setup %.0f ms, irradiance %.0f ms, elements %.0f ms, rays %.0f ms, convolution %.1f s, shading %.0f ms;"
                    " total %.1f s\n",
                    st.setup_ms, st.atlas_ms, st.reference_ms, st.rays_ms, st.convolution_ms / 1e3, st.compose_ms,
@@ -680,7 +690,7 @@ int main(int argc, char **argv)
     dm_reference_memory_options mo = {.texture_space = a.frame ? 0 : a.size, .irradiance_render_size = rm.total_size,
                                       .level_count = a.levels ? (a.medium ? a.radial_gaussians : DM_PROFILE_MAX_GAUSSIANS) : 0,
                                       .width = a.width, .height = a.height, .atlas_size = a.atlas, .atlas_samples = a.atlas_samples,
-                                      .pixel_samples = a.pixel_samples};
+                                      .pixel_samples = a.pixel_samples, .refine_samples = a.refine};
     if (dm_reference_memory_check(&pack, &mo, &err) != DM_OK) {
         fprintf(stderr, "error: %s\n", err.detail);
         dm_pack_close(&pack);

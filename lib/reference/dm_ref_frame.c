@@ -15,7 +15,7 @@
 
 enum {
     BAND_ROWS = 16, SIZE_MAX_PX = 16384, ATLAS_DEFAULT = DM_REF_FRAME_ATLAS_DEFAULT, ATLAS_MIN = 16, ATLAS_MAX = 8192,
-    ATLAS_SAMPLES_DEFAULT = 4, PIXEL_SAMPLES_DEFAULT = 3, SAMPLES_MAX = 8
+    ATLAS_SAMPLES_DEFAULT = 4, PIXEL_SAMPLES_DEFAULT = 3, SAMPLES_MAX = 8, REFINE_MAX = 16
 };
 
 static double now_ms(void)
@@ -107,6 +107,7 @@ typedef struct frame_job {
     dm_reference_target *sub;  /* per skin pixel, its k² sub-pixel rays' hits (k > 1) */
     int64_t *sub_D;            /* per sub-pixel ray: index into D, or −1 (the centre's D) */
     const int64_t *skin_at;    /* per skin index: the pixel */
+    float *spread;             /* per skin index: its rays' radiance spread (may be NULL) */
 } frame_job;
 
 static void ray_rows(void *ctx, size_t begin, size_t end)
@@ -218,6 +219,13 @@ static void shade_pixel(const frame_job *j, size_t at, float *o)
         n = 1;
     }
     for (int c = 0; c < 3; ++c) o[c] = finite_out(sum[c] / n);
+    if (j->spread) { /* how far the pixel's mean is from its centre's value: what the rays resolve */
+        double centre[3], dev = 0.0;
+        shade_hit(j, t, D, centre);
+        for (int c = 0; c < 3; ++c)
+            if (sum[c] > 0.0) dev = fmax(dev, fabs(sum[c] / n - centre[c]) / (sum[c] / n));
+        j->spread[skin] = (float)fmin(dev, 1e30);
+    }
     o[3] = 1.0f;
 }
 
@@ -263,7 +271,8 @@ typedef struct frame_state {
     dm_reference_target *hit, *targets, *sub;
     int64_t *target_of, *skin_at, *sub_D;
     size_t skin;
-    float *D;
+    float *D, *spread;
+    stage_progress convolution; /* the reference's progress forwarded under this stage */
 } frame_state;
 
 static void free_state(frame_state *st)
@@ -275,7 +284,7 @@ static void free_state(frame_state *st)
     free(st->targets);
     free(st->target_of);
     free(st->sub), free(st->skin_at), free(st->sub_D);
-    free(st->D);
+    free(st->D), free(st->spread);
 }
 
 /* The atlas texel as the mean irradiance over its area: k × k sub-texels shaded, those a
@@ -309,6 +318,29 @@ int dm_ref_frame_atlas_samples(int atlas_size, int atlas_samples)
     return k;
 }
 
+/* The convolution at n pixels' centres (hit[pixel_of[i]], in that order) and then at their k²
+ * sub-pixel rays' hits (sub, k² per pixel; none with at_centre): sub_D receives each sub-ray's
+ * index into D (−1: a miss; for odd k the middle ray is the centre's and takes its D).
+ * *targets and *D are malloc'd. */
+static dm_result diffuse_hits(const dm_reference *ref, const dm_reference_target *hit, const int64_t *pixel_of, size_t n,
+                              const dm_reference_target *sub, int k, bool at_centre, int64_t *sub_D,
+                              dm_reference_target **targets, float **D, size_t *count, dm_error *err)
+{
+    size_t kk = k > 1 ? (size_t)k * (size_t)k : 0, subs = at_centre ? 0 : n * kk;
+    *targets = malloc((n + subs + 1) * sizeof **targets);
+    if (!*targets) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the targets");
+    *count = 0;
+    for (size_t i = 0; i < n; ++i) (*targets)[(*count)++] = hit[pixel_of[i]];
+    for (size_t i = 0; i < subs; ++i) {
+        bool middle = k % 2 == 1 && i % kk == kk / 2;
+        sub_D[i] = sub[i].triangle < 0 ? -1 : middle ? (int64_t)(i / kk) : (int64_t)*count;
+        if (sub[i].triangle >= 0 && !middle) (*targets)[(*count)++] = sub[i];
+    }
+    *D = malloc((*count ? *count : 1) * 3 * sizeof **D);
+    if (!*D) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate %zu results", *count);
+    return *count ? dm_reference_eval(ref, *targets, *count, *D, NULL, err) : DM_OK;
+}
+
 /* Stages 2 and 4: the atlas, the convolution at every hit (the skin pixels' centres, then
  * their sub-pixel rays' hits unless o->diffusion_at_centre; for odd k the middle sub-pixel
  * ray is the centre's and takes its D). */
@@ -339,30 +371,67 @@ static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, i
     dm_reference_options ro = {0};
     if (o->reference) ro = *o->reference;
     ro.thread_count = o->thread_count;
-    stage_progress ep = {o, "convolution"};
+    st->convolution = (stage_progress){o, "convolution"}; /* the reference reports through it, later the refine too */
     ro.progress = forward_progress;
-    ro.progress_user = &ep;
+    ro.progress_user = &st->convolution;
     dm_reference_atlas atlas = {atlas_size, atlas_size, st->atlas};
     t0 = now_ms();
     r = dm_reference_create(&st->s->mesh, st->s->mm_per_unit, &atlas, &kernel, &ro, &st->ref, err);
     if (r != DM_OK) return r;
     stats->reference_ms = now_ms() - t0;
-    /* the centres in pixel order, then the sub-pixel rays' hits */
-    size_t kk = pk > 1 ? (size_t)pk * (size_t)pk : 0, subs = o->diffusion_at_centre ? 0 : st->skin * kk;
-    st->targets = malloc((st->skin + subs + 1) * sizeof *st->targets);
-    if (!st->targets) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate the targets");
-    *count = 0;
-    for (size_t i = 0; i < st->skin; ++i) st->targets[(*count)++] = st->hit[st->skin_at[i]];
-    for (size_t i = 0; i < subs; ++i) {
-        bool middle = pk % 2 == 1 && i % kk == kk / 2;
-        st->sub_D[i] = st->sub[i].triangle < 0 ? -1 : middle ? (int64_t)(i / kk) : (int64_t)*count;
-        if (st->sub[i].triangle >= 0 && !middle) st->targets[(*count)++] = st->sub[i];
-    }
-    st->D = malloc((*count ? *count : 1) * 3 * sizeof *st->D);
-    if (!st->D) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot allocate %zu results", *count);
     t0 = now_ms();
-    if (*count) r = dm_reference_eval(st->ref, st->targets, *count, st->D, NULL, err);
+    r = diffuse_hits(st->ref, st->hit, st->skin_at, st->skin, st->sub, pk, o->diffusion_at_centre, st->sub_D,
+                     &st->targets, &st->D, count, err);
     stats->convolution_ms = now_ms() - t0;
+    return r;
+}
+
+/* Stage 6 (refine_samples): the pixels whose rays spread (j->spread) shaded again from
+ * K² rays, D at each, in skin order; the rest of the frame stays as stage 5 left it. */
+static void shade_list(void *ctx, size_t begin, size_t end)
+{
+    frame_job *j = ctx;
+    for (size_t i = begin; i < end; ++i) shade_pixel(j, (size_t)j->skin_at[i], j->rgba + (size_t)j->skin_at[i] * 4);
+}
+
+static dm_result refine_stage(frame_state *st, const frame_job *j, const dm_ref_frame_options *o, size_t npx,
+                              dm_ref_frame_stats *stats, dm_error *err)
+{
+    int K = o->refine_samples;
+    size_t R = 0, kk = (size_t)K * (size_t)K;
+    for (size_t i = 0; i < st->skin; ++i) R += j->spread[i] > DM_REF_FRAME_REFINE_DEVIATION;
+    int64_t *pix = malloc((R + 1) * sizeof *pix), *map = malloc(npx * sizeof *map), *sub_D = malloc((R * kk + 1) * sizeof *sub_D);
+    dm_reference_target *sub = malloc((R * kk + 1) * sizeof *sub), *targets = NULL;
+    float *D = NULL;
+    dm_result r = pix && map && sub && sub_D ? DM_OK : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: cannot refine %zu pixels", R);
+    if (r == DM_OK) {
+        for (size_t at = 0; at < npx; ++at) map[at] = -1;
+        for (size_t i = 0, n = 0; i < st->skin; ++i)
+            if (j->spread[i] > DM_REF_FRAME_REFINE_DEVIATION) {
+                map[st->skin_at[i]] = (int64_t)n;
+                pix[n++] = st->skin_at[i];
+            }
+        for (size_t i = 0; i < R * kk; ++i) sub_D[i] = -1;
+        frame_job j2 = *j;
+        j2.samples = K, j2.sub = sub, j2.sub_D = sub_D, j2.skin_at = pix, j2.target_of = map, j2.spread = NULL;
+        double t0 = now_ms();
+        dm_parallel_for(R, 16, o->thread_count, sub_rays, &j2);
+        stats->rays_ms += now_ms() - t0;
+        size_t count = 0;
+        t0 = now_ms();
+        st->convolution.stage = "refine";
+        if (st->s->terms.subsurface)
+            r = diffuse_hits(st->ref, st->hit, pix, R, sub, K, o->diffusion_at_centre, sub_D, &targets, &D, &count, err);
+        stats->convolution_ms += now_ms() - t0;
+        if (r == DM_OK) {
+            j2.D = D;
+            t0 = now_ms();
+            dm_parallel_for(R, 16, o->thread_count, shade_list, &j2);
+            stats->compose_ms += now_ms() - t0;
+            stats->refined_pixels = (int64_t)R;
+        }
+    }
+    free(pix), free(map), free(sub), free(sub_D), free(targets), free(D);
     return r;
 }
 
@@ -392,6 +461,10 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     if (o->pixel_samples < 0 || o->pixel_samples > SAMPLES_MAX || o->atlas_samples < 0 || o->atlas_samples > SAMPLES_MAX)
         return dm_fail(err, DM_ERR_RANGE, "reference frame: %d pixel and %d atlas samples per axis, expected 1..%d",
                        o->pixel_samples, o->atlas_samples, SAMPLES_MAX);
+    int pk = o->pixel_samples ? o->pixel_samples : PIXEL_SAMPLES_DEFAULT;
+    if (o->refine_samples && (o->refine_samples <= pk || o->refine_samples > REFINE_MAX))
+        return dm_fail(err, DM_ERR_RANGE, "reference frame: refine to %d rays per axis, expected more than the %d pixel "
+                       "samples and at most %d", o->refine_samples, pk, REFINE_MAX);
     if (atlas_size < ATLAS_MIN || atlas_size > ATLAS_MAX)
         return dm_fail(err, DM_ERR_RANGE, "reference frame: atlas size %d, expected %d..%d", atlas_size, ATLAS_MIN,
                        ATLAS_MAX);
@@ -432,11 +505,19 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     }
     size_t count = 0;
     if (r == DM_OK && st.s->terms.subsurface) r = diffuse_stage(&st, o, atlas_size, j.samples, &count, &stats, err);
+    if (r == DM_OK && o->refine_samples && !(st.spread = malloc((st.skin + 1) * sizeof *st.spread)))
+        r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: out of memory");
     if (r == DM_OK) {
         j.D = st.D;
+        j.spread = st.spread;
         double t0 = now_ms();
         by_bands(&j, shade_rows, o->thread_count, o, "shading");
         stats.compose_ms = now_ms() - t0;
+    }
+    if (r == DM_OK && o->refine_samples) {
+        if (o->progress) o->progress(o->progress_user, "refine", 0.0);
+        r = refine_stage(&st, &j, o, npx, &stats, err);
+        if (o->progress) o->progress(o->progress_user, "refine", 1.0);
     }
     if (r == DM_OK && o->atlas) {
         *o->atlas = st.atlas;

@@ -56,6 +56,7 @@ extern "C" {
 
 typedef struct dm_ref_frame_stats {
     int64_t skin_pixels;     /* pixels whose ray hit the head */
+    int64_t refined_pixels;  /* of those, shaded again from refine_samples² rays */
     int64_t covered_texels;  /* atlas texels the mesh covers */
     double setup_ms;         /* surface, BVH, ρdt table */
     double atlas_ms;         /* CPU irradiance atlas */
@@ -81,6 +82,12 @@ typedef struct dm_ref_frame_options {
      * (issue #27); true: at the centre's hit only (cheaper by ~k², the behaviour before #27:
      * kept for the convergence table in docs/dermis-reference.md). */
     bool diffusion_at_centre;
+    /* Adaptive: a skin pixel whose sub-pixel rays' mean deviates from its centre ray's value
+     * by more than DM_REF_FRAME_REFINE_DEVIATION in a channel (eyelids, lips, nostrils, ears:
+     * surfaces of another depth or facing in one pixel; terminators) is shaded again from
+     * refine_samples² rays, D at each (0 = off; more than pixel_samples, at most 16). The
+     * pixel_samples² rays decide; deterministic. */
+    int refine_samples;
     /* quadrature of the convolution (cut, spacing, wide_texels); NULL = its defaults.
      * Its thread_count and progress are replaced by these options'. */
     const dm_reference_options *reference;
@@ -88,7 +95,7 @@ typedef struct dm_ref_frame_options {
      * else e.g. a dipole's dense representation (dm_reference_kernel_from_source) */
     const dm_reference_kernel *kernel;
     /* Called now and then from the calling thread: stage ("setup", "irradiance", "elements",
-     * "rays", "convolution", "shading") and the fraction of that stage done. May be NULL. */
+     * "rays", "convolution", "shading", "refine") and the fraction of that stage done. May be NULL. */
     void (*progress)(void *user, const char *stage, double fraction);
     void *progress_user;
     /* Optional outputs: stats (may be NULL); atlas (may be NULL) receives the irradiance
@@ -100,6 +107,14 @@ typedef struct dm_ref_frame_options {
 /* The converged default atlas (docs/dermis-reference.md, Convergence: on the head at
  * 1280×720 the transport signal moves 8 % from 1024 to 2048 and 2.5 % from 2048 to 4096). */
 #define DM_REF_FRAME_ATLAS_DEFAULT 4096
+
+/* The deviation (|mean of a pixel's rays − its centre ray's value| over the mean, in any
+ * channel) above which a pixel is refined. A regular k × k grid's error is about that
+ * deviation / k² where the radiance is smooth in the pixel (the midpoint rule's h²/24 ∇²f
+ * against the centre's h²/24 ∇²f · k²), and the deviation is large where it is not (depth
+ * edges, folds): 0.2 % keeps 3² rays' error near 0.02 % of the value, a hundredth of the
+ * 2 % signal threshold of the transport comparison (dm_ref_frame_compare.h). */
+#define DM_REF_FRAME_REFINE_DEVIATION 0.002
 
 /* The atlas samples per axis a run takes: atlas_samples (0 = 4), reduced until
  * atlas_size × it ≤ 8192 (4096: 2). */

@@ -163,7 +163,9 @@ dm_result dm_reference_atlas_targets(const dm_mesh *mesh, const dm_reference_atl
  *   frame          base + the larger of: the CPU irradiance, A² x 16 + F² x 20 (the fine atlas
  *                  and its triangle per texel); and the convolution, A² x (16 + 16 + 48
  *                  elements); + W x H x 80 (hits, targets, results, the image, its planes, the
- *                  display)
+ *                  display) + W x H x 44 P² (P the pixel samples: each sub-pixel ray's hit,
+ *                  index, target and result) [+ W x H x (12 + 44 R²) with refine R: every
+ *                  pixel counted, though the head at 1280x720 refines a fraction]
  * Every texel is counted as covered (the head covers about half its atlas): the estimate is
  * high by up to a third where the convolution dominates. Measured (docs/dermis-reference.md):
  * within 0.9..1.3 of the peak RSS. */
@@ -178,6 +180,7 @@ typedef struct dm_reference_memory_options {
     int atlas_size;      /* frame; 0 = 1024 */
     int atlas_samples;   /* frame; 0 = 4 */
     int pixel_samples;   /* frame; 0 = 3 */
+    int refine_samples;  /* frame; 0 = off */
 } dm_reference_memory_options;
 
 typedef struct dm_reference_memory {

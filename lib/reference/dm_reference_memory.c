@@ -39,7 +39,8 @@ void dm_reference_memory_estimate(const dm_pack *pack, const dm_reference_memory
     /* per pixel 80 bytes; per skin pixel (every pixel, at most) and sub-pixel ray its hit,
      * index, convolution target and result: 44 bytes */
     uint64_t ps = (uint64_t)(o->pixel_samples > 0 ? o->pixel_samples : 3);
-    m->pixels_size = (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0) * (80 + 44 * ps * ps);
+    uint64_t rs = (uint64_t)(o->refine_samples > 0 ? o->refine_samples : 0);
+    m->pixels_size = (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0) * (80 + 44 * ps * ps + (rs ? 12 + 44 * rs * rs : 0));
     m->total_size = m->base_size + max_u64(m->irradiance_size, m->convolution_size) + m->pixels_size;
 }
 

@@ -348,3 +348,47 @@ Test(ref_frame, pixel_samples_average_sub_pixel_points)
     free(aa);
     free(fine);
 }
+
+/* --refine: the pixels whose 2² rays' radiance spreads by more than 2 % (the sphere's
+ * terminator and silhouette, with subsurface on) are shaded again from 5² rays, D at each:
+ * bit for bit the 5² frame there, the 2² frame elsewhere, on any thread count; refine not
+ * above the pixel samples is refused. */
+Test(ref_frame, refine_reshades_the_pixels_that_spread)
+{
+    synth sy;
+    synth_init(&sy);
+    synth_sphere(&sy, (double[3]){0, 0, 0}, 20, 48, 24, (double[4]){0, 0, 1, 1});
+    synth_light(&sy, 1.0, 0.2, 0.3, 1.0, false);
+    dm_ref_surface_desc d;
+    synth_desc(&sy, &d);
+    size_t n = (size_t)W * H * 4;
+    float *f[4];
+    int ps[4] = {2, 5, 2, 2}, refine[4] = {0, 0, 5, 5}, threads[4] = {0, 0, 1, 3};
+    dm_ref_frame_stats st[4];
+    for (int i = 0; i < 4; ++i) {
+        f[i] = malloc(n * sizeof *f[i]);
+        dm_ref_frame_options o = {.width = W, .height = H, .atlas_size = 64, .pixel_samples = ps[i], .atlas_samples = 1,
+                                  .refine_samples = refine[i], .thread_count = threads[i], .stats = &st[i]};
+        dm_error err = {0};
+        cr_assert_eq(dm_ref_frame_render_desc(&d, &o, f[i], &err), DM_OK, "%s", err.detail);
+    }
+    cr_assert_eq(memcmp(f[2], f[3], n * sizeof *f[2]), 0, "1 and 3 threads differ");
+    int64_t refined = 0, coarse = 0;
+    for (size_t p = 0; p < n / 4; ++p) {
+        const float *r = f[2] + 4 * p;
+        if (!memcmp(r, f[1] + 4 * p, 4 * sizeof *r) && memcmp(r, f[0] + 4 * p, 4 * sizeof *r)) ++refined;
+        else if (!memcmp(r, f[0] + 4 * p, 4 * sizeof *r)) ++coarse;
+        else cr_assert(0, "pixel %zu is neither the 2² nor the 5² frame's", p);
+    }
+    cr_log_info("refine: %lld of %lld skin pixels refined", (long long)st[2].refined_pixels, (long long)st[2].skin_pixels);
+    cr_expect(st[2].refined_pixels > 20 && st[2].refined_pixels < st[2].skin_pixels, "%lld of %lld refined",
+              (long long)st[2].refined_pixels, (long long)st[2].skin_pixels);
+    cr_expect(refined > 10 && refined <= st[2].refined_pixels, "%lld pixels differ from 2² and match 5²", (long long)refined);
+    float *x = malloc(n * sizeof *x);
+    dm_ref_frame_options bad = {.width = W, .height = H, .atlas_size = 64, .pixel_samples = 3, .refine_samples = 3};
+    dm_error err = {0};
+    cr_expect_eq(dm_ref_frame_render_desc(&d, &bad, x, &err), DM_ERR_RANGE, "refine 3 over 3 pixel samples");
+    free(x);
+    for (int i = 0; i < 4; ++i) free(f[i]);
+    synth_free(&sy);
+}

@@ -131,6 +131,14 @@ Test(reference_tool, frame, .init = setup, .timeout = 240)
     dm_exr_free(&img);
     snprintf(x, sizeof x, "test -s %s/frame.png", dir);
     cr_expect_eq(test_run(x, NULL), 0, "the PNG beside the EXR");
+    /* --refine: named in the provenance */
+    snprintf(a, sizeof a, "%s --frame --size 64x36 --atlas 64 --pixel-samples 2 --refine 4 -o %s/refined.exr --quiet", pack, dir);
+    cr_assert_eq(run(a), 0);
+    snprintf(x, sizeof x, "%s/refined.exr", dir);
+    cr_assert_eq(dm_exr_read(x, &img, &err), DM_OK, "%s", err.detail);
+    const dm_param *rp = dm_prov_find(&img.prov, "refine_samples");
+    cr_expect(rp && rp->i == 4, "provenance refine_samples");
+    dm_exr_free(&img);
 }
 
 /* --without: the decomposed comparison's runs (bench/accuracy). Albedo and normal map out,
@@ -190,6 +198,12 @@ Test(reference_tool, errors, .init = setup)
     cr_expect_eq(run(a), 1, "unknown medium");
     snprintf(a, sizeof a, "%s --texture-space 32 --radial-gaussians 8 -o %s/x.exr", pack, dir);
     cr_expect_eq(run(a), 1, "--radial-gaussians without a medium");
+    snprintf(a, sizeof a, "%s --texture-space 32 --refine 4 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--refine is a frame option");
+    snprintf(a, sizeof a, "%s --frame --size 64x36 --refine 3 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--refine 3 over the 3 default pixel samples");
+    snprintf(a, sizeof a, "%s --frame --size 64x36 --refine 17 -o %s/x.exr", pack, dir);
+    cr_expect_eq(run(a), 1, "--refine above 16");
     snprintf(a, sizeof a, "%s/missing.dpk --texture-space 32 -o %s/x.exr", dir, dir);
     cr_expect_eq(run(a), 2, "no pack");
     snprintf(a, sizeof a, "%s --texture-space 32 --irradiance %s/missing.exr -o %s/x.exr", pack, dir, dir);
