@@ -6,7 +6,9 @@
  * Factors, one at a time from a base: the irradiance atlas (512, 1024, 2048 texels a side),
  * its samples per texel (2², 4², 8²), the convolution's quadrature (--cut 4 --spacing 0.3
  * against --cut 6 --spacing 0.15), the sub-pixel rays (1², 2², 3², 4² for the surface terms)
- * and where the diffusion is taken (the pixel centre against each sub-pixel ray's hit). Each
+ * and where the diffusion is taken (the pixel centre against each sub-pixel ray's hit); at
+ * 640x360 (cheaper) the rays with D at each, 2², 3², 6², and 3² refined to 6² where a pixel
+ * needs it (--refine 6) against 6² everywhere. Each
  * step is reported in the unit the accuracy bench uses for that run: the transport run as
  * Σ|a − b| / Σ|no-subsurface − b| over the signal pixels (dm_ref_frame_compare.h; so it reads
  * directly against the bench's normalised column), the full run as the mean relative
@@ -27,7 +29,7 @@
 #include "pack/dm_pack.h"
 #include "render/dm_render_refcmp.h"
 
-enum { FW = 1280, FH = 720, TS = 256 };
+enum { FW = 1280, FH = 720, QW = 640, QH = 360, TS = 256 };
 static const char *SCENE = "assets/scenes/lps-sss.json";
 static const char *TRANSPORT = "--without albedo,normal-map,shadows";
 
@@ -35,30 +37,36 @@ typedef struct frame {
     const char *name, *options; /* options after --frame --size, or after --texture-space TS */
     bool transport;
     bool texture_space;
+    bool quarter; /* at QW x QH (the rays' convergence, cheaper) */
 } frame;
 
 static const frame frames[] = {
-    {"T-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, false},
-    {"T-a512-s4-p1c", "--atlas 512 --atlas-samples 4 --pixel-samples 1", true, false},
-    {"T-a1024-s4-p1c", "--atlas 1024 --atlas-samples 4 --pixel-samples 1", true, false},
-    {"T-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", true, false},
-    {"T-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", true, false},
-    {"T-a1024-s2-p1c", "--atlas 1024 --atlas-samples 2 --pixel-samples 1", true, false},
-    {"T-a1024-s8-p1c", "--atlas 1024 --atlas-samples 8 --pixel-samples 1", true, false},
-    {"T-a4096-s1-p1c", "--atlas 4096 --atlas-samples 1 --pixel-samples 1", true, false},
-    {"T-a8192-s1-p1c", "--atlas 8192 --atlas-samples 1 --pixel-samples 1", true, false},
-    {"T-a1024-s4-p1c-q", "--atlas 1024 --atlas-samples 4 --pixel-samples 1 --cut 6 --spacing 0.15", true, false},
-    {"T-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", true, false},
-    {"T-a4096-s2-p2p", "--atlas 4096 --atlas-samples 2 --pixel-samples 2", true, false},
-    {"T-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", true, false},
-    {"F-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", false, false},
-    {"F-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", false, false},
-    {"F-a4096-s2-p2c", "--atlas 4096 --atlas-samples 2 --pixel-samples 2 --diffusion-at-centre", false, false},
-    {"F-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", false, false},
-    {"F-a4096-s2-p4c", "--atlas 4096 --atlas-samples 2 --pixel-samples 4 --diffusion-at-centre", false, false},
-    {"F-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", false, false},
-    {"TS-256", "", false, true},
-    {"TS-256-q", "--cut 6 --spacing 0.15", false, true},
+    {"T-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, false, false},
+    {"T-a512-s4-p1c", "--atlas 512 --atlas-samples 4 --pixel-samples 1", true, false, false},
+    {"T-a1024-s4-p1c", "--atlas 1024 --atlas-samples 4 --pixel-samples 1", true, false, false},
+    {"T-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", true, false, false},
+    {"T-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", true, false, false},
+    {"T-a1024-s2-p1c", "--atlas 1024 --atlas-samples 2 --pixel-samples 1", true, false, false},
+    {"T-a1024-s8-p1c", "--atlas 1024 --atlas-samples 8 --pixel-samples 1", true, false, false},
+    {"T-a4096-s1-p1c", "--atlas 4096 --atlas-samples 1 --pixel-samples 1", true, false, false},
+    {"T-a8192-s1-p1c", "--atlas 8192 --atlas-samples 1 --pixel-samples 1", true, false, false},
+    {"T-a1024-s4-p1c-q", "--atlas 1024 --atlas-samples 4 --pixel-samples 1 --cut 6 --spacing 0.15", true, false, false},
+    {"T-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", true, false, false},
+    {"T-a4096-s2-p2p", "--atlas 4096 --atlas-samples 2 --pixel-samples 2", true, false, false},
+    {"T-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", true, false, false},
+    {"F-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", false, false, false},
+    {"F-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", false, false, false},
+    {"F-a4096-s2-p2c", "--atlas 4096 --atlas-samples 2 --pixel-samples 2 --diffusion-at-centre", false, false, false},
+    {"F-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", false, false, false},
+    {"F-a4096-s2-p4c", "--atlas 4096 --atlas-samples 2 --pixel-samples 4 --diffusion-at-centre", false, false, false},
+    {"F-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", false, false, false},
+    {"Q-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, false, true},
+    {"Q-a1024-s2-p2p", "--atlas 1024 --atlas-samples 2 --pixel-samples 2", true, false, true},
+    {"Q-a1024-s2-p3p", "--atlas 1024 --atlas-samples 2 --pixel-samples 3", true, false, true},
+    {"Q-a1024-s2-p6p", "--atlas 1024 --atlas-samples 2 --pixel-samples 6", true, false, true},
+    {"Q-a1024-s2-p3r6", "--atlas 1024 --atlas-samples 2 --pixel-samples 3 --refine 6", true, false, true},
+    {"TS-256", "", false, true, false},
+    {"TS-256-q", "--cut 6 --spacing 0.15", false, true, false},
 };
 enum { NF = sizeof frames / sizeof frames[0] };
 static dm_refcmp_ref refs[NF];
@@ -79,6 +87,9 @@ static const step steps[] = {
     {"T-a1024-s4-p1c", "T-a1024-s4-p1c-q", "transport: quadrature cut 4 σ, spacing 0.3 σ → 6 σ, 0.15 σ"},
     {"T-a4096-s2-p3c", "T-a4096-s2-p3p", "transport: 3² rays, diffusion at the centre → at each ray"},
     {"T-a4096-s2-p2p", "T-a4096-s2-p3p", "transport: 2² → 3² rays, diffusion at each"},
+    {"Q-a1024-s2-p2p", "Q-a1024-s2-p3p", "transport at 640x360, atlas 1024: 2² → 3² rays"},
+    {"Q-a1024-s2-p3p", "Q-a1024-s2-p6p", "transport at 640x360, atlas 1024: 3² → 6² rays"},
+    {"Q-a1024-s2-p3r6", "Q-a1024-s2-p6p", "transport at 640x360, atlas 1024: 3² with `--refine 6` → 6² everywhere"},
     {"F-a2048-s4-p1c", "F-a4096-s2-p1c", "full: atlas 2048 → 4096"},
     {"F-a4096-s2-p2c", "F-a4096-s2-p3c", "full: 2² → 3² sub-pixel rays (diffusion at the centre)"},
     {"F-a4096-s2-p3c", "F-a4096-s2-p4c", "full: 3² → 4² sub-pixel rays (diffusion at the centre)"},
@@ -101,8 +112,9 @@ static bool load(const char *bin, const char *dir, const char *pack, const char 
     snprintf(path, sizeof path, "%s/%s.exr", dir, f->name);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
+        int w = f->texture_space ? TS : f->quarter ? QW : FW, h = f->texture_space ? TS : f->quarter ? QH : FH;
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance && !strcmp(ref->prov.input_hash, hash) &&
-            ref->width == (f->texture_space ? TS : FW) && ref->height == (f->texture_space ? TS : FH)) {
+            ref->width == w && ref->height == h) {
             fprintf(stderr, "ref_convergence: %s (%s)\n", path, attempt ? "computed" : "cached");
             return true;
         }
@@ -112,8 +124,8 @@ static bool load(const char *bin, const char *dir, const char *pack, const char 
             snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d %s -o %s --quiet", bin, pack, TS,
                      f->options, path);
         else
-            snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d %s %s -o %s --quiet", bin, pack,
-                     FW, FH, f->transport && strcmp(f->name, "T-flat") ? TRANSPORT : "", f->options, path);
+            snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d %s %s -o %s --quiet", bin, pack, w,
+                     h, f->transport && !strstr(f->name, "-flat") ? TRANSPORT : "", f->options, path);
         fprintf(stderr, "ref_convergence: %s\n", cmd);
         if (system(cmd) != 0) break;
     }
@@ -202,13 +214,14 @@ int main(int argc, char **argv)
                 "| refinement | normalised, all %% | normalised or mean %% R / G / B | signal (red) or interior pixels |\n"
                 "|---|---:|---:|---:|\n",
             SCENE, FW, FH);
-    size_t n = (size_t)FW * FH;
-    float *w = malloc(sizeof *w * n);
-    const dm_refcmp_ref *flat = &refs[named("T-flat")];
+    float *w = malloc(sizeof *w * (size_t)FW * FH);
     for (int s = 0; w && s < NS; ++s) {
         const dm_refcmp_ref *a = &refs[named(steps[s].coarse)], *b = &refs[named(steps[s].fine)];
-        if (frames[named(steps[s].fine)].texture_space || !a->rgba || !b->rgba) continue;
-        dm_ref_frame_interior(b->rgba, a->rgba, FW, FH, w);
+        bool quarter = frames[named(steps[s].fine)].quarter;
+        const dm_refcmp_ref *flat = &refs[named(quarter ? "Q-flat" : "T-flat")];
+        size_t n = quarter ? (size_t)QW * QH : (size_t)FW * FH;
+        if (frames[named(steps[s].fine)].texture_space || !a->rgba || !b->rgba || !flat->rgba) continue;
+        dm_ref_frame_interior(b->rgba, a->rgba, quarter ? QW : FW, quarter ? QH : FH, w);
         double v[3], all = -1;
         long count;
         if (frames[named(steps[s].fine)].transport) {

@@ -177,7 +177,7 @@ typedef struct dm_reference_memory_options {
     uint64_t irradiance_render_size; /* texture space: the renderer's estimate for I at N, 0 when
                                       * I comes from a file */
     int width, height;   /* frame; 0 = the scene's */
-    int atlas_size;      /* frame; 0 = 1024 */
+    int atlas_size;      /* frame; 0 = DM_REF_FRAME_ATLAS_DEFAULT (4096) */
     int atlas_samples;   /* frame; 0 = 4 */
     int pixel_samples;   /* frame; 0 = 3 */
     int refine_samples;  /* frame; 0 = off */

@@ -58,7 +58,7 @@ dm_result dm_reference_memory_check(const dm_pack *pack, const dm_reference_memo
         snprintf(detail, sizeof detail, "the irradiance pass %s with the renderer; the convolution %s, and %s for the pack and libraries",
                  irr, conv, base);
     } else {
-        snprintf(what, sizeof what, "the frame (atlas %d)", o->atlas_size > 0 ? o->atlas_size : 1024);
+        snprintf(what, sizeof what, "the frame (atlas %d)", o->atlas_size > 0 ? o->atlas_size : DM_REF_FRAME_ATLAS_DEFAULT);
         snprintf(detail, sizeof detail, "irradiance atlas %s, convolution %s, pixels %s, pack and libraries %s", irr,
                  conv, px, base);
     }
