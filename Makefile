@@ -171,6 +171,8 @@ $(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LI
 $(BOTH_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
+# dermis-reference's command line lives beside it (tools/ref/), linked before the libraries
+$(BUILD)/bin/dermis-reference: $(call obj,$(sort $(wildcard tools/ref/*.c)))
 # The viewer takes the physical skin model from the offline archive (its live sliders,
 # bake/dm_skin_weights.h): plain C over core, so no offline third-party library is linked or
 # loaded (check-layers.sh's link rule reads the binary).
