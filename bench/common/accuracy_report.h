@@ -25,6 +25,11 @@
  * FRAME_PS² sub-pixel rays a pixel with the diffusion at each (the converged defaults of
  * dermis-reference --frame: docs/dermis-reference.md, Convergence). */
 enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3 };
+/* The frame reference's own error bar in the transport run's normalised unit at these
+ * settings (3² rays, no --refine): all channels, red (docs/dermis-reference.md, Convergence:
+ * the 2² → 3² step at 1280x720 and the 3² → 6² step at 640x360, extrapolated as 1/k²). */
+#define FRAME_ERROR_BAR_RGB 0.08
+#define FRAME_ERROR_BAR_RED 0.035
 enum { MAX_FRAMES = 64, MAX_ROWS = 44, MAX_G = 8 };
 enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
@@ -165,12 +170,16 @@ static void frame_rankings(FILE *md, const row *rows)
 {
     const row *flat = row_named(rows, "no subsurface");
     int bad = 0, checked = 0;
-    fprintf(md, "\n**Rankings** (transport run, normalised over all channels):\n\n");
+    fprintf(md, "\n**Rankings** (transport run, normalised over all channels). The reference's own error bar in this "
+                "unit at these settings is about %.0f %% of the signal (red %.1f %%: `docs/dermis-reference.md`, "
+                "Convergence; %dx%d rays, no `--refine`): a margin below it is marked *not resolved*.\n\n",
+            100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS);
     for (int c = 0; flat && c < nrows; ++c) {
         if (&rows[c] == flat || !rows[c].fok) continue;
         double e = frame_norm3(&rows[c].fr.tr[REG_ALL]), f = frame_norm3(&flat->fr.tr[REG_ALL]);
         ++checked;
         if (!(e < f)) fprintf(md, "- **violated**: %s scores %.2f %%, not below no subsurface's %.2f %%\n", rows[c].s.name, 100 * e, 100 * f), ++bad;
+        else if (f - e < FRAME_ERROR_BAR_RGB) fprintf(md, "- %s scores %.2f %% against no subsurface's %.2f %%: *not resolved*\n", rows[c].s.name, 100 * e, 100 * f);
     }
     if (flat) fprintf(md, "- no subsurface (%.2f %%) scores worse than each of the %d other rows%s\n",
                       100 * frame_norm3(&flat->fr.tr[REG_ALL]), checked, bad ? ": NOT ALL (above)" : "");
@@ -182,7 +191,7 @@ static void frame_rankings(FILE *md, const row *rows)
         for (int B = 256; B <= 1024 && !r; B *= 2) snprintf(a, sizeof a, "%d G%d", B, g), r = row_named(rows, a);
         if (!r) continue;
         double e = frame_norm3(&r->fr.tr[REG_ALL]);
-        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: %s (%.2f %%) scores worse than fewer Gaussians (%.2f %%)\n", a, 100 * e, 100 * prev), ++g_bad;
+        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: %s (%.2f %%) scores worse than fewer Gaussians (%.2f %%)%s\n", a, 100 * e, 100 * prev, e - prev < FRAME_ERROR_BAR_RGB ? ", *not resolved*" : ""), ++g_bad;
         prev = fmin(prev, e), ++g_n;
     }
     if (g_n) fprintf(md, "- more Gaussians never score worse than fewer (%d rows)%s\n", g_n, g_bad ? ": NOT SO (above)" : "");
@@ -194,7 +203,8 @@ static void frame_rankings(FILE *md, const row *rows)
         if (!r) continue;
         double e = frame_norm3(&r->fr.tr[REG_ALL]);
         fprintf(md, "- TSD irradiance %d: %.2f %%\n", N, 100 * e);
-        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: TSD %d scores worse than the size below it\n", N), ++t_bad;
+        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: TSD %d scores worse than the size below it%s\n", N, e - prev < FRAME_ERROR_BAR_RGB ? " (*not resolved*)" : ""), ++t_bad;
+        else if (prev < INFINITY && prev - e < FRAME_ERROR_BAR_RGB) fprintf(md, "- TSD %d against the size below it: *not resolved* (%.2f points)\n", N, 100 * (prev - e));
         prev = e, ++t_n;
     }
     if (t_n > 1) fprintf(md, "- texture space: a larger irradiance never scores worse%s\n", t_bad ? ": NOT SO (above)" : "");
