@@ -107,7 +107,7 @@ typedef struct frame_job {
     dm_reference_target *sub;  /* per skin pixel, its k² sub-pixel rays' hits (k > 1) */
     int64_t *sub_D;            /* per sub-pixel ray: index into D, or −1 (the centre's D) */
     const int64_t *skin_at;    /* per skin index: the pixel */
-    float *spread;             /* per skin index: its rays' radiance spread (may be NULL) */
+    float *deviation;             /* per skin index: its rays' mean against its centre ray (may be NULL) */
 } frame_job;
 
 static void ray_rows(void *ctx, size_t begin, size_t end)
@@ -219,12 +219,12 @@ static void shade_pixel(const frame_job *j, size_t at, float *o)
         n = 1;
     }
     for (int c = 0; c < 3; ++c) o[c] = finite_out(sum[c] / n);
-    if (j->spread) { /* how far the pixel's mean is from its centre's value: what the rays resolve */
+    if (j->deviation) { /* how far the pixel's mean is from its centre's value: what the rays resolve */
         double centre[3], dev = 0.0;
         shade_hit(j, t, D, centre);
         for (int c = 0; c < 3; ++c)
             if (sum[c] > 0.0) dev = fmax(dev, fabs(sum[c] / n - centre[c]) / (sum[c] / n));
-        j->spread[skin] = (float)fmin(dev, 1e30);
+        j->deviation[skin] = (float)fmin(dev, 1e30);
     }
     o[3] = 1.0f;
 }
@@ -271,7 +271,7 @@ typedef struct frame_state {
     dm_reference_target *hit, *targets, *sub;
     int64_t *target_of, *skin_at, *sub_D;
     size_t skin;
-    float *D, *spread;
+    float *D, *deviation;
     stage_progress convolution; /* the reference's progress forwarded under this stage */
 } frame_state;
 
@@ -284,7 +284,7 @@ static void free_state(frame_state *st)
     free(st->targets);
     free(st->target_of);
     free(st->sub), free(st->skin_at), free(st->sub_D);
-    free(st->D), free(st->spread);
+    free(st->D), free(st->deviation);
 }
 
 /* The atlas texel as the mean irradiance over its area: k × k sub-texels shaded, those a
@@ -386,7 +386,7 @@ static dm_result diffuse_stage(frame_state *st, const dm_ref_frame_options *o, i
     return r;
 }
 
-/* Stage 6 (refine_samples): the pixels whose rays spread (j->spread) shaded again from
+/* Stage 6 (refine_samples): the pixels whose rays' mean leaves the centre (j->deviation) shaded again from
  * K² rays, D at each, in skin order; the rest of the frame stays as stage 5 left it. */
 static void shade_list(void *ctx, size_t begin, size_t end)
 {
@@ -399,7 +399,7 @@ static dm_result refine_stage(frame_state *st, const frame_job *j, const dm_ref_
 {
     int K = o->refine_samples;
     size_t R = 0, kk = (size_t)K * (size_t)K;
-    for (size_t i = 0; i < st->skin; ++i) R += j->spread[i] > DM_REF_FRAME_REFINE_DEVIATION;
+    for (size_t i = 0; i < st->skin; ++i) R += j->deviation[i] > DM_REF_FRAME_REFINE_DEVIATION;
     int64_t *pix = malloc((R + 1) * sizeof *pix), *map = malloc(npx * sizeof *map), *sub_D = malloc((R * kk + 1) * sizeof *sub_D);
     dm_reference_target *sub = malloc((R * kk + 1) * sizeof *sub), *targets = NULL;
     float *D = NULL;
@@ -407,13 +407,13 @@ static dm_result refine_stage(frame_state *st, const frame_job *j, const dm_ref_
     if (r == DM_OK) {
         for (size_t at = 0; at < npx; ++at) map[at] = -1;
         for (size_t i = 0, n = 0; i < st->skin; ++i)
-            if (j->spread[i] > DM_REF_FRAME_REFINE_DEVIATION) {
+            if (j->deviation[i] > DM_REF_FRAME_REFINE_DEVIATION) {
                 map[st->skin_at[i]] = (int64_t)n;
                 pix[n++] = st->skin_at[i];
             }
         for (size_t i = 0; i < R * kk; ++i) sub_D[i] = -1;
         frame_job j2 = *j;
-        j2.samples = K, j2.sub = sub, j2.sub_D = sub_D, j2.skin_at = pix, j2.target_of = map, j2.spread = NULL;
+        j2.samples = K, j2.sub = sub, j2.sub_D = sub_D, j2.skin_at = pix, j2.target_of = map, j2.deviation = NULL;
         double t0 = now_ms();
         dm_parallel_for(R, 16, o->thread_count, sub_rays, &j2);
         stats->rays_ms += now_ms() - t0;
@@ -505,11 +505,11 @@ dm_result dm_ref_frame_render_desc(const dm_ref_surface_desc *desc, const dm_ref
     }
     size_t count = 0;
     if (r == DM_OK && st.s->terms.subsurface) r = diffuse_stage(&st, o, atlas_size, j.samples, &count, &stats, err);
-    if (r == DM_OK && o->refine_samples && !(st.spread = malloc((st.skin + 1) * sizeof *st.spread)))
+    if (r == DM_OK && o->refine_samples && !(st.deviation = malloc((st.skin + 1) * sizeof *st.deviation)))
         r = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "reference frame: out of memory");
     if (r == DM_OK) {
         j.D = st.D;
-        j.spread = st.spread;
+        j.deviation = st.deviation;
         double t0 = now_ms();
         by_bands(&j, shade_rows, o->thread_count, o, "shading");
         stats.compose_ms = now_ms() - t0;
