@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh/dm_seam_edges.h"
+
 /* A uniform grid of buckets over items' bounding boxes (cell edge `cell` mm, at most
  * GRID_CELLS_MAX cells: larger meshes get larger cells). */
 enum { GRID_CELLS_MAX = 1 << 22 };
@@ -117,73 +119,22 @@ static void tri_box(const void *u, size_t t, double *lo, double *hi)
     }
 }
 
-typedef struct edge {
-    uint32_t a, b; /* welded vertex ids, a < b */
-    int32_t tri;
-    float uva[2], uvb[2];
-} edge;
-
-static int edge_cmp(const void *x, const void *y)
-{
-    const edge *e = x, *f = y;
-    if (e->a != f->a) return e->a < f->a ? -1 : 1;
-    if (e->b != f->b) return e->b < f->b ? -1 : 1;
-    return (e->tri > f->tri) - (e->tri < f->tri);
-}
-
-typedef struct wkey {
-    float p[3];
-    uint32_t i;
-} wkey;
-
-static int wkey_cmp(const void *x, const void *y)
-{
-    const wkey *a = x, *b = y;
-    int c = memcmp(a->p, b->p, sizeof a->p);
-    return c ? c : (a->i > b->i) - (a->i < b->i);
-}
-
+/* The seam edges (mesh/dm_seam_edges.h) as segments in mm. */
 static bool build_seams(dm_ref_regions *r)
 {
-    const dm_mesh *m = r->mesh;
-    size_t nv = (size_t)m->vertex_count, ec = 3 * (size_t)m->triangle_count;
-    wkey *order = malloc(sizeof *order * (nv + 1));
-    uint32_t *weld = malloc(sizeof *weld * (nv + 1));
-    edge *e = malloc(sizeof *e * (ec + 1));
-    r->segs = malloc(sizeof *r->segs * (ec + 1));
-    if (!order || !weld || !e || !r->segs) return free(order), free(weld), free(e), false;
-    for (size_t i = 0; i < nv; ++i) memcpy(order[i].p, m->positions + 3 * i, sizeof order[i].p), order[i].i = (uint32_t)i;
-    qsort(order, nv, sizeof *order, wkey_cmp);
-    for (size_t i = 0; i < nv; ++i)
-        weld[order[i].i] = i && !memcmp(order[i].p, order[i - 1].p, sizeof order[i].p) ? weld[order[i - 1].i] : order[i].i;
-    for (size_t t = 0; t < (size_t)m->triangle_count; ++t)
-        for (int c = 0; c < 3; ++c) {
-            int c2 = (c + 1) % 3;
-            uint32_t a = weld[m->indices[3 * t + c]], b = weld[m->indices[3 * t + c2]];
-            const float *ua = m->uvs + (3 * t + c) * 2, *ub = m->uvs + (3 * t + c2) * 2;
-            if (a > b) {
-                uint32_t k = a;
-                const float *u = ua;
-                a = b, b = k, ua = ub, ub = u;
-            }
-            e[3 * t + c] = (edge){a, b, (int32_t)t, {ua[0], ua[1]}, {ub[0], ub[1]}};
-        }
-    qsort(e, ec, sizeof *e, edge_cmp);
-    for (size_t i = 0; i < ec;) {
-        size_t j = i + 1;
-        while (j < ec && e[j].a == e[i].a && e[j].b == e[i].b) ++j;
-        bool seam = j - i != 2 || memcmp(e[i].uva, e[i + 1].uva, sizeof e[i].uva) ||
-                    memcmp(e[i].uvb, e[i + 1].uvb, sizeof e[i].uvb);
-        if (j - i == 1) ++r->info.boundary_edges;
-        if (seam && e[i].a != e[i].b) {
-            for (int c = 0; c < 3; ++c)
-                r->segs[r->seg_count].a[c] = r->pos[3 * (size_t)e[i].a + c], r->segs[r->seg_count].b[c] = r->pos[3 * (size_t)e[i].b + c];
-            ++r->seg_count;
-        }
-        i = j;
+    dm_seam_edges se;
+    dm_error e2;
+    if (dm_seam_edges_find(r->mesh, &se, &e2) != DM_OK) return false;
+    r->segs = malloc(sizeof *r->segs * (se.count + 1));
+    if (!r->segs) return dm_seam_edges_free(&se), false;
+    for (size_t i = 0; i < se.count; ++i) {
+        for (int c = 0; c < 3; ++c)
+            r->segs[i].a[c] = r->pos[3 * (size_t)se.edges[i].a + c], r->segs[i].b[c] = r->pos[3 * (size_t)se.edges[i].b + c];
     }
-    r->info.seam_edges = (int64_t)r->seg_count;
-    free(order), free(weld), free(e);
+    r->seg_count = se.count;
+    r->info.seam_edges = (int64_t)se.count;
+    r->info.boundary_edges = se.boundary_edges;
+    dm_seam_edges_free(&se);
     return true;
 }
 
