@@ -22,6 +22,8 @@
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
+ * DERMIS_BENCH_TEXTURE_ONLY=1: the texture-space columns only (no frame reference is computed
+ * or read; the frame columns say –), to measure a texture-space change quickly.
  * DERMIS_BENCH_ROWS=a,b,...: only the rows of those short names (the region table's first
  * column, e.g. "1024,1024 reduce5"), to measure a change quickly; write to another OUTDIR.
  * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot), accuracy-frame.png
@@ -48,6 +50,8 @@
 
 #include "common/accuracy_report.h"
 #include "common/atlas_regions.h"
+
+static bool texture_only; /* DERMIS_BENCH_TEXTURE_ONLY=1: no frame references, no frame error */
 
 static setting *add(int size, int taps, int g, bool flat, dm_render_desc knobs, const char *name, const char *what)
 {
@@ -99,6 +103,11 @@ static void add_rows(bool quick, bool large, int B)
         if (dipole) snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to the %s dipole", B, g, g > 1 ? "s" : "", dipole);
         else snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", B, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
         add(B, 0, g, false, (dm_render_desc){0}, n, w);
+    }
+    /* the seam map left out (issue #29 point 1): the blurs stop at every UV seam */
+    for (int N = 512; N <= 1024 && !quick; N *= 2) {
+        snprintf(n, sizeof n, "%d no seams", N), snprintf(w, sizeof w, "%d, without the seam map (blurs stop at UV seams)", N);
+        add(N, 0, 0, false, (dm_render_desc){0}, n, w)->no_seam = true;
     }
     snprintf(n, sizeof n, "%d no stretch", B), snprintf(w, sizeof w, "%d, stretch correction off (one median s_u, s_v)", B);
     add(B, 0, 0, true, (dm_render_desc){0}, n, w);
@@ -327,6 +336,7 @@ int main(int argc, char **argv)
     const char *bin = getenv("BUILD") ? getenv("BUILD") : "build/release";
     bool quick = getenv("DERMIS_BENCH_QUICK") && !strcmp(getenv("DERMIS_BENCH_QUICK"), "1");
     bool large = getenv("DERMIS_BENCH_LARGE") && !strcmp(getenv("DERMIS_BENCH_LARGE"), "1");
+    texture_only = getenv("DERMIS_BENCH_TEXTURE_ONLY") && !strcmp(getenv("DERMIS_BENCH_TEXTURE_ONLY"), "1");
     int frames = getenv("DERMIS_BENCH_FRAMES") ? atoi(getenv("DERMIS_BENCH_FRAMES")) : quick ? 5 : 7;
     frames = frames < 5 ? 5 : frames > MAX_FRAMES ? MAX_FRAMES : frames;
     int B = quick ? 256 : 512;
@@ -394,7 +404,7 @@ int main(int argc, char **argv)
     /* the frame's truths: the scene's profile in every run, the dipole (Gaussian-count rows)
      * in the transport run; each with its flat (no-subsurface) transport frame */
     static frame_truth ft[2];
-    for (int t = 0; t < 1 + (dipole != NULL); ++t) {
+    for (int t = 0; t < (texture_only ? 0 : 1 + (dipole != NULL)); ++t) {
         const char *truth = t ? dipole : NULL;
         for (int v = 0; v < (t ? 1 : FV_COUNT); ++v) {
             if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[v], &ft[t].ref[v])) return 3;
@@ -403,7 +413,7 @@ int main(int argc, char **argv)
         if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, &ft[t].flat)) return 3;
     }
     uint8_t *plabel = malloc((size_t)FW * FH);
-    if (!plabel || dm_ref_frame_labels(surf, rg, FW, FH, 0, plabel, &err) != DM_OK) {
+    if (!plabel || (!texture_only && dm_ref_frame_labels(surf, rg, FW, FH, 0, plabel, &err) != DM_OK)) {
         fprintf(stderr, "error: frame labels: %s\n", err.detail);
         return 3;
     }
@@ -432,9 +442,10 @@ int main(int argc, char **argv)
         rows[c].scene.sss_technique = s->technique;
         if (s->no_subsurface) rows[c].scene.effects[DM_EFFECT_SUBSURFACE] = false;
         if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
-        rows[c].ft = s->burley ? NULL : &ft[s->gaussians && dipole]; /* Burley: texture space only */
+        rows[c].ft = s->burley || texture_only ? NULL : &ft[s->gaussians && dipole]; /* Burley: texture space only */
         as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
+        if (s->no_seam) as[c].seam = (dm_texture){0};
         if (s->flat_stretch) {
             as[c].stretch_level_count = 1;
             as[c].stretch[0] = (dm_texture){DM_TEX_RG32F, as[c].stretch[0].width, as[c].stretch[0].height, flat};

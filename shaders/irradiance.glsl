@@ -2,7 +2,8 @@
 // surface, pre-scatter albedo applied. Alpha is chart coverage (1 where a triangle covers the
 // texel centre, cleared to 0 in gutters): the blurs treat rgb as premultiplied by it, so taps
 // in gutters drop out and the kernel renormalises over the chart (seams do not darken).
-// Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse), DM_TRANSLUCENCY (light through thin parts).
+// Defines: DM_ENERGY (1 - rho_s rho_dt), DM_ENV (SH diffuse), DM_TRANSLUCENCY (light through thin parts),
+// DM_SEAM (gutter texels within a blur's reach of a UV seam lit where the surface continues).
 // Every texel is lit at its point lifted to the smooth surface (dm_smooth_point, common.glsl).
 // DM_GBUFFER (the ts_gbuffer pass, once): the surface per texel (that position, geometric and
 // shading normal, rho_s, roughness before the frame's scale, albedo) into four float targets,
@@ -28,6 +29,9 @@ in float v_pn;
 out vec4 o_color;
 #endif
 uniform sampler2D u_rho_dt;
+#ifdef DM_SEAM
+uniform sampler2D u_seam;
+#endif
 uniform vec3 u_sh[9];
 uniform float u_env_intensity;
 uniform float u_env_rotation;
@@ -36,6 +40,18 @@ void main()
 {
 #ifdef DM_DEFERRED
     ivec2 q = ivec2(gl_FragCoord.xy);
+#ifdef DM_SEAM
+    // A gutter texel the seam map continues (seam_mark.glsl gave it the coverage depth) is lit
+    // at the texel where the surface goes on across the UV seam (bake/dm_seam_map.h); should
+    // that texel be one this raster left uncovered, coverage 0 drops it out as a gutter. No
+    // `discard`: with one llvmpipe shades every texel before its depth test (2x this pass).
+    float cover = 1.0;
+    if (texelFetch(u_gbuf0, q, 0).w == 0.0) {
+        vec2 edge = vec2(textureSize(u_gbuf0, 0));
+        q = ivec2(floor(texture(u_seam, (vec2(q) + 0.5) / edge).xy * edge));
+        cover = texelFetch(u_gbuf0, q, 0).w;
+    }
+#endif
     vec4 g1 = texelFetch(u_gbuf1, q, 0), g2 = texelFetch(u_gbuf2, q, 0);
     vec3 P = texelFetch(u_gbuf0, q, 0).xyz, Ng = g1.xyz, N = g2.xyz, albedo = texelFetch(u_gbuf3, q, 0).rgb;
     float m0 = g1.w, rho_s = g2.w;
@@ -70,7 +86,11 @@ void main()
 #ifdef DM_ENV
     e += u_env_intensity * dm_sh_irradiance(u_sh, dm_env_rotate(N, u_env_rotation)) / DM_PI;
 #endif
+#ifdef DM_SEAM
+    o_color = vec4(e * pow(max(albedo, vec3(0.0)), vec3(u_mix)) * cover, cover);
+#else
     o_color = vec4(e * pow(max(albedo, vec3(0.0)), vec3(u_mix)), 1.0);
+#endif
 #endif
 }
 #endif

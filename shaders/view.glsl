@@ -16,6 +16,7 @@ uniform sampler2D u_src;
 uniform sampler2D u_mask;
 uniform bool u_has_mask;
 uniform sampler2D u_depth;
+uniform sampler2D u_cover; // modes 0, 3: the texture-space G-buffer's positions (w: coverage)
 uniform float u_lo, u_hi; // mode 6: the colour scale's ends
 uniform bool u_stretch;   // mode 6: u_src holds the stretch (u, v), not a scalar
 // Turbo colour map (Mikhailov 2019, polynomial fit), t in [0, 1]; the same polynomial as the
@@ -33,11 +34,12 @@ vec3 turbo(float t)
 #ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
 out vec4 o_color;
-// Chart coverage at this texel: the irradiance alpha (0 or 1, rasterised) of the fine texel
-// under this texel's centre.
+// Chart coverage at this texel: whether a triangle covers the fine texel under this texel's
+// centre (the texture-space G-buffer's w, 0 or 1, rasterised; not the irradiance alpha, which
+// the seam map makes 1 beyond the charts too).
 float coverage(ivec2 ij)
 {
-    return texelFetch(u_level[0], (ij << u_cov_shift) + ((1 << u_cov_shift) >> 1), 0).a;
+    return texelFetch(u_cover, (ij << u_cov_shift) + ((1 << u_cov_shift) >> 1), 0).w;
 }
 void main()
 {

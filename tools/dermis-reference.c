@@ -68,7 +68,11 @@ static int irradiance_atlas(const ref_args *a, const dm_pack *pack, float *rgba,
     dm_render_assets assets;
     int code = DM_EXIT_PROCESS;
     dm_render_desc desc = {.width = 64, .height = 64, .irradiance_size = N};
-    if (dm_render_assets_from_pack(pack, &scene, &profile, &assets, &err) != DM_OK) code = DM_EXIT_LOAD;
+    dm_result loaded = dm_render_assets_from_pack(pack, &scene, &profile, &assets, &err);
+    /* the charts' own light only: the seam map would light the gutters beyond them too (the
+     * runtime's continuation), and the truth carries light across seams by its own 3-D sum */
+    assets.seam = (dm_texture){0};
+    if (loaded != DM_OK) code = DM_EXIT_LOAD;
     else if (!scene.effects[DM_EFFECT_SUBSURFACE])
         dm_fail(&err, DM_ERR_MISMATCH, "%.900s: the scene's subsurface effect is off: no irradiance to diffuse", pack->what);
     else if (dm_osmesa_create(&gl, &err) == DM_OK && dm_renderer_create(&assets, &desc, &r, &err) == DM_OK &&

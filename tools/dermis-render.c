@@ -83,6 +83,9 @@ static void usage(FILE *f)
             "  --diffusion-per-pixel  the final pass samples and sums every blur level per pixel\n"
             "                       instead of the diffusion pass's per-texel sum (slower; differs\n"
             "                       in the texel ring along chart edges)\n"
+            "  --no-seam-map        leave the pack's seam map out: the blurs stop at UV seams, as\n"
+            "                       before dermis baked one (to see what it changes)\n"
+
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
             "  -v                   more detail on stderr\n"
@@ -105,7 +108,7 @@ typedef struct options {
     dm_view view;
     double view_scale, light_azimuth;
     bool view_scale_given;
-    bool timings, explain, verbose, quiet, compare_exact;
+    bool timings, explain, verbose, quiet, compare_exact, no_seam_map;
     dm_render_desc speed; /* the speed/accuracy fields only */
 } options;
 
@@ -162,6 +165,8 @@ static int parse(int argc, char **argv, options *o)
             o->speed.blur_half_float = true;
         } else if (!strcmp(a, "--diffusion-per-pixel")) {
             o->speed.diffusion_per_pixel = true;
+        } else if (!strcmp(a, "--no-seam-map")) {
+            o->no_seam_map = true;
         } else if (!strcmp(a, "--blur-on")) {
             static const char *paths[] = {"auto", "gl", "cpu"}; /* dm_blur_path's order */
             int k = 0;
@@ -297,6 +302,7 @@ static int load(const options *o, source *src, dm_error *err)
         if (dm_hash_file_hex(o->pack, src->hash, err) != DM_OK ||
             dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
             return DM_EXIT_LOAD;
+        if (o->no_seam_map) src->pack_assets.seam = (dm_texture){0};
         src->assets = &src->pack_assets;
         src->s = &src->scene;
         if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
@@ -474,7 +480,10 @@ int main(int argc, char **argv)
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);
         if (plan.blur_levels > 1) /* docs/render-quality.md, The blur on the CPU */
-            printf("blur passes: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL");
+            printf("blur passes: %s\nseam map: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL",
+                   dm_renderer_seam_map(r) ? "the pack's: the irradiance pass also lights the gutter texels a blur reaches, "
+                                             "where the surface continues across the UV seam"
+                                           : "none in the pack: the blurs stop at UV seams");
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

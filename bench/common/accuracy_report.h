@@ -39,6 +39,7 @@ typedef struct setting {
     char name[40], what[160];
     int size, taps, gaussians; /* irradiance size; blur taps (0: the scene's); 0: the pack's profile */
     bool flat_stretch;
+    bool no_seam;       /* the pack's seam map left out: blurs stop at UV seams (before #29) */
     dm_sss_technique technique; /* texture-space (0), screen-space or pre-integrated (its own pack:
                                  * the table and curvature map, PACK_PREINT) */
     int screen_taps;            /* screen-space kernel taps */

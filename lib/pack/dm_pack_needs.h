@@ -45,6 +45,8 @@ typedef struct dm_pack_need {
     unsigned effects;    /* DM_FX bits: needed when any is on; 0 = needed by the base shading */
     dm_need_when when;
     const char *why;     /* one line for --explain */
+    bool optional;       /* dermis-pack makes it when it applies, but a pack without it is read (a
+                          * newer map: without it the runtime does what it did before it) */
 } dm_pack_need;
 
 /* The table; *count receives its length. */

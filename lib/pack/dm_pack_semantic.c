@@ -154,6 +154,17 @@ static dm_result stretch(const ctx *c)
                                                  "span a nanometre"});
 }
 
+/* u', v' in [0, 1], the flag 0 or 1 (checked as [0, 1]), the distance beyond the edge in mm */
+static dm_result seam(const ctx *c)
+{
+    dm_result r = single(c);
+    const range comp[4] = {{0.0, 1.0, false, "a UV where the surface continues"},
+                           {0.0, 1.0, false, "a UV where the surface continues"},
+                           {0.0, 1.0, false, "1 continued, 0 not"},
+                           {0.0, 1e6, false, "mm beyond the chart's edge"}};
+    return r != DM_OK ? r : texels_in(c, comp);
+}
+
 static dm_result kernel(const ctx *c)
 {
     const dm_pack_entry *e = c->e;
@@ -242,7 +253,7 @@ static const struct rule {
     {"mesh.vertices", vertices},       {"albedo", single},           {"normal", single},
     {"specular", single},              {"roughness", single},        {"lut.beckmann", single},
     {"lut.rho_dt", directional},       {"lut.env_brdf", directional}, {"stretch", stretch},
-    {"stretch.mask", single},          {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
+    {"stretch.mask", single},          {"seam", seam},          {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
     {"sss.curvature", single},         {"env.sh", sh},               {"env.specular", specular},
     {"env.background", background},
 };

@@ -178,7 +178,7 @@ static dm_result check_required(dm_pack *pack, dm_error *err)
             char name[DM_PACK_NAME_SIZE];
             const dm_pack_entry *e = dm_pack_find(pack, dm_pack_need_entry_name(nd, copy, name));
             if (!e) { /* the kind and format of those present: dm_pack_check_values */
-                if (!dm_pack_need_applies(nd, s)) continue;
+                if (!dm_pack_need_applies(nd, s) || nd->optional) continue;
                 char by[256] = "";
                 size_t m = 0;
                 for (int fx = 0; fx < DM_EFFECT_COUNT; ++fx)

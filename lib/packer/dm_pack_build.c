@@ -34,6 +34,7 @@ static const step steps[] = {
     {"directional LUTs", {"lut.rho_dt", "lut.env_brdf"}, dmpb_step_directional},
     {"profile", {"profile"}, dmpb_step_profile},
     {"stretch", {"stretch", "stretch.mask"}, dmpb_step_stretch},
+    {"seam map", {"seam"}, dmpb_step_seam},
     {"screen-space kernel", {"sss.kernel"}, dmpb_step_ss_kernel},
     {"pre-integrated table", {"sss.preintegrated"}, dmpb_step_preintegrated},
     {"curvature", {"sss.curvature"}, dmpb_step_curvature},

@@ -99,6 +99,10 @@ typedef struct dm_render_assets {
     int stretch_level_count; /* 1..DM_PROFILE_MAX_GAUSSIANS */
     dm_texture stretch[DM_PROFILE_MAX_GAUSSIANS];
     dm_texture stretch_mask; /* R8 chart coverage; optional (coverage is also rasterized) */
+    /* the seam map (bake/dm_seam_map.h): RGBA32F, per gutter texel the UV where the surface
+     * continues beyond the chart (u', v', 1, mm beyond the edge), else 0; optional. With it the
+     * irradiance pass lights those texels at that point, so the blurs cross UV seams. */
+    dm_texture seam;
     const dm_profile *profile; /* NULL: scene->profile */
 
     /* screen-space subsurface: the separable kernel dermis-pack fitted to the profile
@@ -215,6 +219,9 @@ void dm_renderer_destroy(dm_renderer *r);
 
 /* Whether the texture-space blur passes run on the CPU (dm_render_desc.blur_path). */
 bool dm_renderer_blur_on_cpu(const dm_renderer *r);
+/* Whether texture space reads the pack's seam map (its irradiance pass lights the gutter
+ * texels a blur reaches where the surface continues across a UV seam). */
+bool dm_renderer_seam_map(const dm_renderer *r);
 
 /* Replaces the scene's values that no pass, target or upload depends on: camera, light
  * directions, positions, colours and intensities, material constants, environment

@@ -44,3 +44,8 @@ bool dm_renderer_blur_on_cpu(const dm_renderer *r)
 {
     return r && r->f.blur_cpu;
 }
+
+bool dm_renderer_seam_map(const dm_renderer *r)
+{
+    return r && r->f.tex_seam && r->f.plan.texture_space;
+}

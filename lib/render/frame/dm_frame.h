@@ -40,7 +40,11 @@ enum {
     UNIT_TDEPTH0 = UNIT_SRC, /* UNIT_SRC, UNIT_STRETCH, UNIT_MASK, UNIT_DEPTH */
     /* the pre-integrated technique has no blur levels: its table and curvature take the last two */
     UNIT_PREINT = UNIT_LEVEL0 + 6,
-    UNIT_CURVATURE = UNIT_LEVEL0 + 7
+    UNIT_CURVATURE = UNIT_LEVEL0 + 7,
+    /* the irradiance pass's seam map: its G-buffer takes UNIT_LEVEL0..+3 */
+    UNIT_SEAM = UNIT_LEVEL0 + 4,
+    /* the texture views' chart coverage (the texture-space G-buffer's positions, w) */
+    UNIT_COVER = UNIT_BACKGROUND
 };
 
 /* The pre-integrated technique's inputs to the shading passes (its table and curvature map). */
@@ -94,6 +98,8 @@ struct dmr_frame {
     bool has_normal_map, has_roughness_map;
     bool spec_in_normal; /* the specular map is the normal map texture's alpha (DM_SPEC_IN_NORMAL) */
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask; /* texture space's stretch chain */
+    GLuint tex_seam; /* the seam map (0 without one): irradiance.glsl's DM_SEAM */
+    GLuint ts_cover_tex; /* texture space's G-buffer positions: w = 1 on the texels a triangle covers */
     int stretch_count;
     dmr_preint_inputs preint;
     GLuint tdepth_sampler; /* raw depth reads of the shadow maps (translucency) */

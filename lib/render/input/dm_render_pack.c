@@ -80,7 +80,8 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     assert(st->levels == 1 && st->layers >= 1 && st->layers <= DM_PROFILE_MAX_GAUSSIANS); /* one per Gaussian */
     for (int k = 0; k < st->layers; ++k) a->stretch[k] = layer(st, k);
     a->stretch_level_count = st->layers;
-    return texture(pack, "stretch.mask", &a->stretch_mask, err);
+    dm_result r = texture(pack, "stretch.mask", &a->stretch_mask, err);
+    return r == DM_OK ? texture(pack, "seam", &a->seam, err) : r;
 }
 
 static bool has_env(const dm_pack *pack, int env)

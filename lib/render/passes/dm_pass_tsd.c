@@ -24,6 +24,9 @@ dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error 
             rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: stretch level %d is %s, expected rg32f or rg16f", k,
                          dmr_format_name(a->stretch[k].format));
     }
+    if (rc == DM_OK && a->seam.texels && a->seam.format != DM_TEX_RGBA32F)
+        rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the seam map is %s, expected rgba32f",
+                     dmr_format_name(a->seam.format));
     int taps = a->scene->blur_taps;
     if (rc == DM_OK && (taps < 3 || taps > DM_BLUR_TAPS_MAX || taps % 2 == 0))
         rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, %d]", taps,
@@ -41,6 +44,9 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
         rc = dmr_upload(f, &a->stretch[k], "stretch", false, GL_LINEAR, &f->tex_stretch[k], err);
     if (rc == DM_OK && a->stretch_mask.texels)
         rc = dmr_upload(f, &a->stretch_mask, "stretch_mask", false, GL_LINEAR, &f->tex_mask, err);
+    /* the seam map, read at texel centres (nearest): the irradiance pass lights the gutter
+     * texels it continues (DM_SEAM; dm_renderer_seam_map) */
+    if (rc == DM_OK && a->seam.texels) rc = dmr_upload(f, &a->seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
     return rc;
 }
 
@@ -78,11 +84,21 @@ dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err)
      * shares it, and keeps its once-cleared gutters (frames write covered texels only) */
     t->depth = dmg_depth_buffer(&f->gpu, f->irr_edge, f->irr_edge);
     rc = dmg_gbuffer_targets(&f->gpu, "ts_gbuffer", f->irr_edge, f->irr_edge, t->depth, t->gbuf_tex, &t->gbuf_fbo, err);
+    f->ts_cover_tex = t->gbuf_tex[0]; /* the views' chart coverage: the level alphas are 1 on the seam band too */
     if (rc == DM_OK) rc = dmg_attach_depth(f->level_fbo[0], t->depth, "irradiance", err);
     if (rc != DM_OK) return rc;
     glClearColor(0, 0, 0, 0);
     glClear(GL_COLOR_BUFFER_BIT);
     return DM_OK;
+}
+
+/* With a seam map: the program that gives the texels it continues the coverage depth. */
+dm_result dmr_tsd_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
+{
+    (void)a;
+    dmr_tsd *t = st;
+    if (!f->plan.texture_space || !f->tex_seam) return DM_OK;
+    return dmr_frame_program(f, "seam_mark.glsl", NULL, &t->seam_mark, err);
 }
 
 /* The mesh unwrapped into the atlas (irradiance.glsl with DM_GBUFFER): what each texel's
@@ -100,8 +116,16 @@ bool dmr_ts_gbuffer_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_outpu
 void dmr_ts_gbuffer_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
+    dmr_tsd *t = st;
     dmr_draw_mesh(f);
-    ((dmr_tsd *)st)->gbuf_valid = true;
+    if (t->seam_mark) { /* the continued gutter texels take the coverage depth (seam_mark.glsl) */
+        glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        glUseProgram(t->seam_mark);
+        dmg_bind(UNIT_SEAM, GL_TEXTURE_2D, f->tex_seam);
+        dmr_draw_fullscreen(f);
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
+    t->gbuf_valid = true;
 }
 
 /* Each covered texel lit from the G-buffer (irradiance.glsl with DM_DEFERRED): the full-screen
@@ -117,6 +141,7 @@ void dmr_irradiance_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_fram
 {
     (void)ps, (void)opt;
     dmr_bind_gbuffer(f->prog[DM_PASS_IRRADIANCE], ((const dmr_tsd *)st)->gbuf_tex);
+    if (f->tex_seam) dmg_bind(UNIT_SEAM, GL_TEXTURE_2D, f->tex_seam);
     dmr_draw_fullscreen(f);
 }
 

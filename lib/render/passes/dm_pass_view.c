@@ -107,6 +107,7 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         bool stretch = pl->view == DM_VIEW_STRETCH;
         dmg_u1i(p, "u_mode", stretch ? 1 : pl->view == DM_VIEW_CURVATURE ? 5 : pl->view == DM_VIEW_DIFFUSION ? 3 : 0);
         dmg_bind(UNIT_SRC, GL_TEXTURE_2D, src);
+        dmg_bind(UNIT_COVER, GL_TEXTURE_2D, f->ts_cover_tex ? f->ts_cover_tex : f->tex_black);
         if (stretch) {
             dmg_bind(UNIT_MASK, GL_TEXTURE_2D, f->tex_mask ? f->tex_mask : f->tex_black);
             dmg_u1i(p, "u_has_mask", f->tex_mask != 0);
