@@ -1,8 +1,9 @@
-/* dm_bake_cli.h — what the mesh bake tools (dermis-bake-stretch, dermis-bake-curvature)
- * share on their command line: the operand MESH and the options -o, --size, --mm-per-unit,
- * --profile, --mesh, --threads, --report, -v, --quiet; their checks; the loading of the
- * profile and the mesh with their content hashes; and the provenance entries they both
- * write. Each tool keeps its own --help text and its own options. */
+/* dm_bake_cli.h — what the mesh bake tools (dermis-bake-stretch, dermis-bake-curvature,
+ * dermis-bake-seams) share on their command line: the operand MESH and the options -o,
+ * --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet; their checks;
+ * the loading of the profile and the mesh with their content hashes; and the provenance
+ * entries they all write. Each tool keeps its own --help text and its own options
+ * (dermis-bake-seams refuses --threads before this parser sees it: its bake is one pass). */
 #ifndef DM_BAKE_CLI_H
 #define DM_BAKE_CLI_H
 

@@ -42,7 +42,7 @@
 extern "C" {
 #endif
 
-enum { DM_SEAM_MAP_SIZE_MAX = 16384 };
+enum { DM_SEAM_MAP_SIZE_DEFAULT = 1024, DM_SEAM_MAP_SIZE_MAX = 16384 };
 
 typedef struct dm_seam_map_options {
     int size;            /* texels along u and v, 1..DM_SEAM_MAP_SIZE_MAX */

@@ -142,6 +142,12 @@ Test(signals, stretch_any_moment, .timeout = 300)
     sweep("dermis-bake-stretch", HEAD " -o s.exr --size 512 --quiet", at, 4);
 }
 
+Test(signals, seams_any_moment, .timeout = 300)
+{
+    const double at[] = {5, 100, 300, -1};
+    sweep("dermis-bake-seams", HEAD " -o s.exr --size 2048 --quiet", at, 4);
+}
+
 /* dermis-pack (its bakes, then the 76 MiB pack being written), then dermis-render and
  * dermis-reference on the pack it made, and dermis-check reading it. */
 Test(signals, pack_render_reference_check_any_moment, .timeout = 600)

@@ -1,0 +1,242 @@
+/* dermis-bake-seams — mesh → seam map (EXR): per gutter texel, the UV where the surface
+ * continues across the UV seam (bake/dm_seam_map.h), for texture-space diffusion to blur
+ * across seams (issue #29 point 1). Pipeline: parse → load → bake → write. */
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_bake_cli.h"
+#include "bake/dm_seam_map.h"
+#include "bake/dm_stretch.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_mesh.h"
+#include "mesh/dm_mesh_plausible.h"
+#include "core/dm_cli.h"
+#include "core/dm_hash.h"
+#include "core/dm_profile.h"
+#include "core/dm_prov.h"
+
+#define TOOL "dermis-bake-seams"
+#define REACH_MIN_MM 1e-3
+#define REACH_MAX_MM 1e3
+
+typedef struct args {
+    dm_bake_cli c;   /* the shared options (bake/dm_bake_cli.h) */
+    double reach_mm; /* < 0: from the profile */
+} args;
+
+static void usage(FILE *f)
+{
+    dm_profile gems3;
+    dm_profile_gems3_skin(&gems3);
+    double v = gems3.variance_mm2[gems3.count - 1];
+    fprintf(f,
+            "Usage: " TOOL " MESH -o OUT.exr [--size N] [--mm-per-unit MM] [--reach-mm MM | --profile FILE]\n"
+            "                         [--mesh NAME] [--report] [-v | --quiet]\n"
+            "Bakes the seam map of MESH (OBJ, PLY, OFF, STL, OM, glTF 2.0 .gltf/.glb; with UVs): for every\n"
+            "gutter texel within reach of a UV chart, the point of the surface it stands for, found by\n"
+            "extending the chart across its nearest seam edge and unfolding onto the triangle on the other\n"
+            "side, looked up in that triangle's UVs; texture-space diffusion reads there so light crosses\n"
+            "UV seams. Beyond a boundary edge the surface ends and the texel stays empty. One float EXR\n"
+            "with channels seam.u, seam.v (the continued UV), seam.continued (1, or 0: empty) and seam.mm\n"
+            "(distance beyond the edge in mm); chart texels and empty ones are all 0.\n"
+            "\n"
+            "Options:\n"
+            "  -o, --output FILE    output EXR (required)\n"
+            "  --size N             texture width and height in texels (default %d, range 16..%d)\n"
+            "  --mm-per-unit MM     millimetres per mesh unit (default %g, the Lee Perry-Smith head;\n"
+            "                       range 1e-6..1e6)\n"
+            "  --reach-mm MM        how far beyond an edge to continue the surface (default: 3 sigma of the\n"
+            "                       profile's widest Gaussian, %.3g for gems3-skin; range %g..%g)\n"
+            "  --profile FILE       profile JSON whose widest Gaussian sets --reach-mm (default built-in\n"
+            "                       gems3-skin, widest variance %g mm^2)\n"
+            "  --mesh NAME          glTF: bake only the meshes of this name (default: every mesh of\n"
+            "                       the default scene, merged, node transforms applied)\n"
+            "  --report             print seam edges, degenerate sides, continued / lost / ended gutter\n"
+            "                       texels, the farthest continuation and timings on stdout\n"
+            "  -v, --verbose        stage timings on stderr\n"
+            "  --quiet              print nothing but errors (conflicts with -v and --report)\n"
+            "  -h, --help           this text\n"
+            "\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load the mesh or profile,\n"
+            "            3 processing failed, 4 cannot save the output.\n"
+            "Example: " TOOL " LeePerrySmith.obj -o seams.exr --size 1024 --report\n",
+            DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, DM_STRETCH_MM_PER_UNIT_DEFAULT, dm_seam_map_reach_mm(v),
+            REACH_MIN_MM, REACH_MAX_MM, v);
+}
+
+/* Returns -1 to go on, else the exit code. */
+static int parse(int argc, char **argv, args *a)
+{
+    /* mm per unit as the stretch map's: the two are baked for the same scene */
+    *a = (args){.c = {.size = DM_SEAM_MAP_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT}, .reach_mm = -1.0};
+    for (int i = 1; i < argc; ++i) {
+        const char *s = argv[i], *v;
+        if (dm_cli_version(s, TOOL)) exit(0);
+        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
+            usage(stdout);
+            return DM_EXIT_OK;
+        } else if (!strcmp(s, "--reach-mm")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, REACH_MIN_MM, REACH_MAX_MM, &a->reach_mm))
+                return DM_EXIT_USAGE;
+        } else if (!strcmp(s, "--threads")) { /* shared by the other bakers; this bake is one pass */
+            fprintf(stderr, "error: --threads: " TOOL " bakes on one thread (see --help)\n");
+            return DM_EXIT_USAGE;
+        } else if (!dm_bake_cli_option(argc, argv, &i, DM_SEAM_MAP_SIZE_MAX, &a->c)) {
+            return DM_EXIT_USAGE;
+        }
+    }
+    const char *why = dm_bake_cli_check(&a->c);
+    if (!why && a->c.profile && a->reach_mm >= 0.0) why = "--reach-mm and --profile exclude each other";
+    if (why) {
+        fprintf(stderr, "error: %s\n", why);
+        usage(stderr);
+        return DM_EXIT_USAGE;
+    }
+    return -1;
+}
+
+typedef struct timings {
+    double load_ms, bake_ms, write_ms;
+} timings;
+
+static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_map *map, const dm_seam_map_stats *s,
+                         double reach_mm, const char *reach_from, const timings *t)
+{
+    printf("mesh            %s: %d vertices, %d triangles (%lld faces in the file)\n", mesh_path, m->vertex_count,
+           m->triangle_count, (long long)m->polygon_count);
+    printf("size            %dx%d\n", map->size, map->size);
+    printf("reach           %.3f mm beyond an edge (%s)\n", reach_mm, reach_from);
+    printf("seam edges      %lld: %lld cut (two sides), %lld boundary, %lld non-manifold\n", (long long)s->seam_edges,
+           (long long)s->cut_edges, (long long)s->boundary_edges, (long long)s->nonmanifold_edges);
+    printf("degenerate      %lld edge sides of zero UV area (theirs or across): no continuation from them\n",
+           (long long)s->degenerate_sides);
+    printf("gutter texels   %lld continued, %lld lost (landed outside every chart), %lld ended (the surface "
+           "ends: boundary)\n",
+           (long long)s->continued_texels, (long long)s->lost_texels, (long long)s->ended_texels);
+    printf("max distance    %.3f mm beyond the edge\n", s->max_distance_mm);
+    printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
+}
+
+/* The interleaved texels as four planes, in EXR channel order. false: out of memory. */
+static bool planes_of(const dm_seam_map *map, float *planes[4])
+{
+    size_t n = (size_t)map->size * (size_t)map->size;
+    float *all = malloc(4 * n * sizeof *all);
+    if (!all) return false;
+    for (int c = 0; c < 4; ++c) planes[c] = all + (size_t)c * n;
+    for (size_t x = 0; x < n; ++x)
+        for (int c = 0; c < 4; ++c) planes[c][x] = map->texels[4 * x + (size_t)c];
+    return true;
+}
+
+static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
+                     double reach_mm, const dm_seam_map *map, const dm_seam_map_stats *s)
+{
+    dm_error err = {0};
+    const bool from_profile = a->reach_mm < 0.0;
+    dm_provenance prov;
+    dm_bake_cli_prov(&a->c, TOOL, mesh_hash, &prov);
+    dm_prov_add_double(&prov, "reach_mm", reach_mm);
+    dm_prov_add_string(&prov, "profile", from_profile ? profile->name : "");
+    dm_prov_add_string(&prov, "profile_hash", from_profile ? profile_hash : "");
+    if (from_profile) dm_prov_add_double(&prov, "largest_variance_mm2", profile->variance_mm2[profile->count - 1]);
+    dm_prov_add_string(&prov, "method", "nearest seam edge, chart extended and unfolded onto the other side");
+    dm_prov_add_string(&prov, "units", "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond "
+                                       "the edge");
+    dm_prov_add_int(&prov, "seam_edges", s->seam_edges);
+    dm_prov_add_int(&prov, "cut_edges", s->cut_edges);
+    dm_prov_add_int(&prov, "boundary_edges", s->boundary_edges);
+    dm_prov_add_int(&prov, "nonmanifold_edges", s->nonmanifold_edges);
+    dm_prov_add_int(&prov, "degenerate_sides", s->degenerate_sides);
+    dm_prov_add_int(&prov, "continued_texels", s->continued_texels);
+    dm_prov_add_int(&prov, "lost_texels", s->lost_texels);
+    dm_prov_add_int(&prov, "ended_texels", s->ended_texels);
+    dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
+
+    float *planes[4];
+    if (!planes_of(map, planes)) {
+        fprintf(stderr, "error: %s: out of memory for the %dx%d planes\n", a->c.output, map->size, map->size);
+        return DM_EXIT_SAVE;
+    }
+    dm_exr_channel ch[4] = {{"seam.u", planes[0], DM_EXR_FLOAT},
+                            {"seam.v", planes[1], DM_EXR_FLOAT},
+                            {"seam.continued", planes[2], DM_EXR_HALF}, /* 0 and 1 are exact in half */
+                            {"seam.mm", planes[3], DM_EXR_FLOAT}};
+    int rc = DM_EXIT_OK;
+    if (dm_exr_write(a->c.output, map->size, map->size, ch, 4, &prov, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        rc = DM_EXIT_SAVE;
+    }
+    free(planes[0]);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    args a;
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+    if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
+
+    /* Load. */
+    timings t = {0};
+    double t0 = dm_now_ms();
+    dm_profile profile;
+    char profile_hash[DM_HASH_HEX_SIZE];
+    if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
+    double reach_mm = a.reach_mm >= 0.0 ? a.reach_mm : dm_seam_map_reach_mm(profile.variance_mm2[profile.count - 1]);
+    char reach_from[128];
+    if (a.reach_mm >= 0.0) snprintf(reach_from, sizeof reach_from, "--reach-mm");
+    else
+        snprintf(reach_from, sizeof reach_from, "3 sigma of %s's widest Gaussian, %g mm^2", profile.name,
+                 profile.variance_mm2[profile.count - 1]);
+    char mesh_hash[DM_HASH_HEX_SIZE];
+    dm_mesh mesh;
+    if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;
+    t.load_ms = dm_now_ms() - t0;
+    char plausible[1024];
+    if (dm_mesh_plausible(&mesh, a.c.mm_per_unit, a.c.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
+    if (a.c.verbose)
+        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.c.mesh, mesh.triangle_count, t.load_ms);
+
+    /* Process. */
+    dm_error err = {0};
+    t0 = dm_now_ms();
+    dm_seam_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm};
+    dm_seam_map map;
+    dm_seam_map_stats s;
+    if (dm_seam_map_bake(&mesh, &opt, &map, &s, &err) != DM_OK) {
+        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
+        dm_mesh_free(&mesh);
+        return DM_EXIT_PROCESS;
+    }
+    t.bake_ms = dm_now_ms() - t0;
+    if (!dm_cli_finite(map.texels, 4 * (size_t)map.size * (size_t)map.size, "seam map")) {
+        dm_seam_map_free(&map);
+        dm_mesh_free(&mesh);
+        return DM_EXIT_PROCESS;
+    }
+    if (a.c.verbose)
+        fprintf(stderr, "baked %dx%d, reach %.3f mm: %lld seam edges, %lld texels continued in %.1f ms\n", map.size,
+                map.size, reach_mm, (long long)s.seam_edges, (long long)s.continued_texels, t.bake_ms);
+    if (!a.c.quiet && s.degenerate_sides > 0)
+        fprintf(stderr, "warning: %s: %lld seam edge sides touch a triangle of zero UV area: no continuation from them\n",
+                a.c.mesh, (long long)s.degenerate_sides);
+
+    /* Write. */
+    t0 = dm_now_ms();
+    rc = write_map(&a, mesh_hash, &profile, profile_hash, reach_mm, &map, &s);
+    t.write_ms = dm_now_ms() - t0;
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, &mesh, &map, &s, reach_mm, reach_from, &t);
+    else if (rc == DM_EXIT_OK && !a.c.quiet)
+        printf("%s: %dx%d, reach %.3f mm, %lld seam edges (%lld cut, %lld boundary), %lld gutter texels continued, "
+               "%lld lost, %lld ended, farthest %.3f mm\n",
+               a.c.output, map.size, map.size, reach_mm, (long long)s.seam_edges, (long long)s.cut_edges,
+               (long long)s.boundary_edges, (long long)s.continued_texels, (long long)s.lost_texels,
+               (long long)s.ended_texels, s.max_distance_mm);
+    dm_seam_map_free(&map);
+    dm_mesh_free(&mesh);
+    return rc;
+}
