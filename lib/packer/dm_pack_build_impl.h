@@ -19,6 +19,12 @@ void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
  * white), put in the scene as an inline profile (dm_pack_build_skin.c). Nothing to do when
  * the scene names no skin. */
 dm_result dmpb_fit_skin(dm_pack_build *j, dm_error *err);
+/* material.albedo_from "skin": the albedo map's texels (w × h RGBA8, sRGB, rows bottom-up)
+ * become the skin's total reflectance times their luminance detail (bake/dm_albedo_skin.h),
+ * in place, weighted by the scene mesh's skin area; the parameters and what came out go into
+ * the entry's provenance p and its report line src (dm_pack_build_skin.c). */
+dm_result dmpb_albedo_from_skin(dm_pack_build *j, uint8_t *rgba, int w, int h, dm_provenance *p, char *src,
+                                size_t src_size, dm_error *err);
 
 /* The steps (dm_pack_build.c runs them from its table). */
 dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err);
