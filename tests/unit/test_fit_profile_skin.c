@@ -182,3 +182,35 @@ Test(fit_profile_skin, sweep_whole_range, .timeout = 240)
             }
     cr_assert_eq(count, 27);
 }
+
+/* The source's total is the exact colorimetric one, R̃_c(0) summed over the wavelengths, for
+ * every preset: what dm_skin_profile_fit reports, to the bit. The dense representation's weight
+ * sums are not, where the epidermis takes the closed form (its unspread light, a flat
+ * transform, makes them overshoot): Fitzpatrick 6's are about twice the total. The colour
+ * from the skin (material.albedo_from) and every printed total take the exact one. */
+Test(fit_profile_skin, source_total_is_the_exact_colorimetric_total, .timeout = 60)
+{
+    for (int i = 0; dm_skin_preset_name(i); ++i) {
+        const char *name = dm_skin_preset_name(i);
+        dm_skin_params p;
+        dm_error err = {0};
+        cr_assert_eq(dm_skin_preset(name, &p, &err), DM_OK);
+        dm_profile_source src;
+        cr_assert_eq(dm_profile_source_skin(&p, &src, &err), DM_OK, "%s", err.detail);
+        dm_skin_report rep, phys;
+        dm_profile fitted;
+        cr_assert_eq(dm_skin_profile_fit(&p, NULL, name, &fitted, &rep, &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_skin_physics_report(&p, 0, &phys, &err), DM_OK, "%s", err.detail);
+        double total[3], dense[3];
+        dm_profile_source_total(&src, total);
+        dm_skin_dense_total(&src.skin_dense, dense);
+        for (int c = 0; c < 3; ++c) {
+            cr_assert_eq(total[c], rep.total_rgb[c], "%s channel %d: %.17g vs %.17g", name, c, total[c], rep.total_rgb[c]);
+            cr_assert_eq(phys.total_rgb[c], rep.total_rgb[c], "%s channel %d", name, c);
+            if (!strcmp(name, "fitzpatrick-6"))
+                cr_expect(dense[c] > 1.5 * total[c], "%s channel %d: dense sums %.4f, total %.4f", name, c, dense[c], total[c]);
+            if (!strcmp(name, "caucasian"))
+                cr_expect(fabs(dense[c] - total[c]) < 1e-5, "%s channel %d: %.7f vs %.7f", name, c, dense[c], total[c]);
+        }
+    }
+}
