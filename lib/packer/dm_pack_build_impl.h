@@ -10,7 +10,8 @@
 dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
                    const char *source, dm_error *err);
 const char *dmpb_base_name(const char *path);
-/* The scene's mesh, loaded once (the mesh and stretch steps share it). */
+/* The scene's mesh, loaded once (the mesh, stretch and curvature steps and the albedo from the
+ * skin share it; dm_pack_build_job.c). */
 dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err);
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
 

@@ -12,7 +12,6 @@
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
 #include "mesh/dm_mesh.h"
-#include "mesh/dm_mesh_plausible.h"
 #include "core/dm_brdf.h"
 #include "core/dm_input.h"
 #include "core/dm_ssss_kernel.h"
@@ -300,20 +299,6 @@ dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
              100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
     dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
     return dmpb_add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);
-}
-
-dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err)
-{
-    if (j->mesh_loaded) return DM_OK;
-    dm_result r = dm_hash_file_hex(j->scene.mesh, j->mesh_hash, err);
-    dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
-    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
-    j->mesh_loaded = r == DM_OK;
-    j->input_failed = r != DM_OK;
-    char plausible[1024];
-    if (r == DM_OK && dm_mesh_plausible(&j->mesh, j->scene.mm_per_unit, j->scene.mesh, plausible, sizeof plausible))
-        fputs(plausible, stderr);
-    return r;
 }
 
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what)
