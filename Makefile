@@ -101,7 +101,7 @@ BENCHES      := $(patsubst bench/%.c,$(BUILD)/bench/%,$(wildcard bench/*.c))
 # tests/view/: Criterion binaries that drive dermis-view under xvfb-run (scripts/run-tests.sh)
 VIEW_TESTS   := $(if $(VIEW_BIN),$(patsubst tests/view/%.c,$(BUILD)/tests/view/%,$(wildcard tests/view/*.c)))
 
-.PHONY: all test run-tests bench demo reference deps clean fuzz tools docs install install-files uninstall
+.PHONY: all test run-tests bench demo gallery reference deps clean fuzz tools docs install install-files uninstall
 all: tools docs $(UNIT_TESTS) $(RENDER_TESTS) $(VIEW_TESTS) $(BENCHES)
 tools: $(BAKE_BINS) $(RENDER_BINS) $(BOTH_BINS) $(VIEW_BIN)
 
@@ -302,6 +302,12 @@ bench: deps
 demo: deps
 	@$(MAKE) --no-print-directory -j$(NPROC) tools
 	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/demo.sh
+
+# The head at six skin parameter sets (albedo_from "skin") → docs/gallery.png, and the presets'
+# profiles and spectra plotted → docs/skin-profiles.png, docs/skin-spectra.png.
+gallery: deps
+	@$(MAKE) --no-print-directory -j$(NPROC) tools
+	@BUILD=$(BUILD) ASSETS=$(ASSETS) bash scripts/gallery.sh
 
 # The head's texture-space ground truth in tiles through GNU parallel (REF_SIZE, REF_TILES).
 reference: deps

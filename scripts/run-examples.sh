@@ -10,8 +10,8 @@
 #   - a block right after a line "<!-- examples: not run (REASON) -->";
 #   - a dermis-view command (interactive: it needs a display and a person; tests/view drives
 #     it under Xvfb with --script);
-#   - `make test` (this script is part of it); `make demo` runs as scripts/demo.sh, which is
-#     what make demo does once the tools are built;
+#   - `make test` (this script is part of it); `make demo` and `make gallery` run as
+#     scripts/demo.sh and scripts/gallery.sh, which is what they do once the tools are built;
 #   - `--texture-space 256` runs at 64 and `--atlas 256` at 128 (the ground truth at 256²
 #     takes ~1 min on 2 cores, the frame's atlas ~20 s; the same code paths, fewer texels).
 # In a block whose lines start with "$ " (a command followed by its output), only those
@@ -48,6 +48,7 @@ script="$work/examples.sh"
             if (c ~ /^[[:space:]]*$/ || c ~ /^[^#]*dermis-view /) continue
             if (c ~ /^make test/) continue
             sub(/^make demo/, "BUILD=build/release ASSETS=../shared/assets bash scripts/demo.sh", c)
+            sub(/^make gallery/, "BUILD=build/release ASSETS=../shared/assets bash scripts/gallery.sh", c)
             gsub(/--texture-space 256/, "--texture-space 64", c)
             gsub(/--atlas 256/, "--atlas 128", c)
             shown = c; gsub(Q, "", shown)

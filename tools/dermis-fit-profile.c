@@ -10,6 +10,7 @@
 
 #include "bake/dm_profile_fit.h"
 #include "bake/dm_profile_json.h"
+#include "bake/dm_profile_tsv.h"
 #include "bake/dm_skin_spec.h"
 #include "core/dm_cli.h"
 #include "core/dm_diffusion.h"
@@ -36,6 +37,8 @@ typedef struct options {
     bool normalize;
     bool table;
     const char *output;
+    const char *radial;    /* --radial FILE.tsv */
+    const char *spectrum;  /* --spectrum FILE.tsv (skin sources) */
     const char *name;
     bool verbose, quiet;
 } options;
@@ -44,7 +47,7 @@ static void usage(FILE *f)
 {
     fprintf(f, "Usage: " TOOL " (--preset gems3-skin | --dipole SPEC | --multipole SPEC --thickness MM |\n"
                "                          --burley --albedo R,G,B --mfp R,G,B | --skin SKIN | --skin-preset NAME)\n"
-               "                          [-n N] [--table] [-o profile.json] [options]\n");
+               "                          [-n N] [--table] [-o profile.json] [--radial R.tsv] [--spectrum S.tsv] [options]\n");
 }
 
 static void help(void)
@@ -90,7 +93,11 @@ static void help(void)
            "                         sum to 1 (white; the colour comes from the albedo map)\n"
            "  --table                print error, blur passes and fit time for N = 1..%d\n\n"
            "Output:\n"
-           "  -o, --output FILE      profile JSON (required unless --table)\n"
+           "  -o, --output FILE      profile JSON (required unless --table, --radial or --spectrum)\n"
+           "  --radial FILE.tsv      the source's R(r) and the fit's (before normalising) per channel,\n"
+           "                         1/mm^2, at %d radii log-spaced %g..%g mm, tab-separated (for plots)\n"
+           "  --spectrum FILE.tsv    --skin / --skin-preset only: the total diffuse reflectance per\n"
+           "                         wavelength, 400..700 nm every 10 nm, tab-separated\n"
            "  --name NAME            profile name (default: the source's, e.g. skin1-dipole)\n"
            "  -v                     also print the Gaussians\n"
            "  --quiet                print nothing but errors\n"
@@ -101,7 +108,8 @@ static void help(void)
            DM_MULTIPOLE_PAIRS_MAX, DM_MULTIPOLE_PAIRS_DEFAULT, DM_MFP_MAX_MM, DM_SKIN_MELANIN_MAX, DM_SKIN_BLOOD_MAX,
            DM_SKIN_EPIDERMIS_MIN_MM, DM_SKIN_EPIDERMIS_MAX_MM, DM_SKIN_DERMIS_MIN_MM, DM_SKIN_DERMIS_MAX_MM,
            DM_SKIN_ETA_MIN, DM_SKIN_ETA_MAX, DM_PROFILE_MAX_GAUSSIANS, DM_FIT_GAUSSIANS_DEFAULT,
-           DM_FIT_NODES_MIN, DM_FIT_NODES_MAX, DM_FIT_NODES_DEFAULT, DM_PROFILE_MAX_GAUSSIANS);
+           DM_FIT_NODES_MIN, DM_FIT_NODES_MAX, DM_FIT_NODES_DEFAULT, DM_PROFILE_MAX_GAUSSIANS,
+           DM_PROFILE_TSV_RADIAL_ROWS, DM_PROFILE_TSV_R_MIN_MM, DM_PROFILE_TSV_R_MAX_MM);
 }
 
 /* 0 = ok, otherwise the exit code. */
@@ -171,6 +179,10 @@ static int parse(int argc, char **argv, options *o)
             o->table = true;
         } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
             if (!(o->output = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--radial")) {
+            if (!(o->radial = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
+        } else if (!strcmp(a, "--spectrum")) {
+            if (!(o->spectrum = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "--name")) {
             if (!(o->name = dm_cli_value(argc, argv, &i))) return DM_EXIT_USAGE;
         } else if (!strcmp(a, "-v")) {
@@ -185,7 +197,8 @@ static int parse(int argc, char **argv, options *o)
     }
     const char *why = NULL;
     if (o->list_presets)
-        why = o->source_count || o->output || o->table ? "--list-presets takes no other option" : NULL;
+        why = o->source_count || o->output || o->table || o->radial || o->spectrum ? "--list-presets takes no other option"
+                                                                                  : NULL;
     else if (o->source_count == 0)
         why = "give a source: --preset, --dipole, --multipole, --burley, --skin or --skin-preset";
     else if (o->source_count > 1)
@@ -200,8 +213,10 @@ static int parse(int argc, char **argv, options *o)
         why = "--thickness applies to --multipole only";
     else if (!o->multipole && o->pairs)
         why = "--pairs applies to --multipole only";
-    else if (!o->output && !o->table)
-        why = "give -o FILE (or --table to only print the table)";
+    else if (o->spectrum && !o->skin && !o->skin_preset)
+        why = "--spectrum applies to --skin and --skin-preset only";
+    else if (!o->output && !o->table && !o->radial && !o->spectrum)
+        why = "give -o FILE (or --table to only print the table, --radial or --spectrum to only write those)";
     else if (o->verbose && o->quiet)
         why = "-v and --quiet exclude each other";
     if (why) {
@@ -301,6 +316,31 @@ static void print_table(const dm_profile_source *s, const options *o, const char
     }
 }
 
+/* --radial and --spectrum (bake/dm_profile_tsv.h); 0 or the exit code. */
+static int write_tsv(const options *o, const dm_profile_source *src, const char *name)
+{
+    dm_provenance prov;
+    provenance(o, src, &prov);
+    dm_error err = {0};
+    if (o->radial) {
+        dm_fit_options fo = {.gaussian_count = o->gaussians, .node_count = o->nodes};
+        dm_fit_result fr;
+        if (dm_profile_fit(src, &fo, name, &fr, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            return DM_EXIT_PROCESS;
+        }
+        if (dm_profile_tsv_radial(o->radial, src, &fr.profile, &prov, &err) != DM_OK) {
+            fprintf(stderr, "error: %s\n", err.detail);
+            return DM_EXIT_SAVE;
+        }
+    }
+    if (o->spectrum && dm_profile_tsv_spectrum(o->spectrum, &src->skin, &prov, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        return DM_EXIT_SAVE;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -312,6 +352,11 @@ int main(int argc, char **argv)
     }
     if (o.output && (rc = dm_output_check_cli("-o", o.output, (const char *const[]){".json", NULL}, NULL, 0, NULL)))
         return rc; /* before any work (core/dm_output.h) */
+    if (o.radial && (rc = dm_output_check_cli("--radial", o.radial, (const char *const[]){".tsv", NULL}, NULL, 0, NULL)))
+        return rc;
+    if (o.spectrum &&
+        (rc = dm_output_check_cli("--spectrum", o.spectrum, (const char *const[]){".tsv", NULL}, NULL, 0, NULL)))
+        return rc;
 
     /* Load: build the source. */
     dm_profile_source src;
@@ -357,6 +402,7 @@ int main(int argc, char **argv)
 
     /* Process. */
     if (o.table && !o.quiet) print_table(&src, &o, name);
+    if ((rc = write_tsv(&o, &src, name))) return rc;
     if (!o.output) return DM_EXIT_OK;
     dm_fit_options fo = {.gaussian_count = o.gaussians, .node_count = o.nodes};
     dm_fit_result fr;

@@ -29,7 +29,10 @@ dm_result dm_profile_source_skin(const dm_skin_params *p, dm_profile_source *out
     memset(out, 0, sizeof *out);
     out->kind = DM_SOURCE_SKIN;
     out->skin = *p;
-    return dm_skin_dense_profile(p, 0, &out->skin_dense, err);
+    dm_skin_report rep;
+    dm_result r = dm_skin_physics_report(p, 0, &rep, err);
+    if (r == DM_OK) memcpy(out->skin_total_rgb, rep.total_rgb, sizeof out->skin_total_rgb);
+    return r == DM_OK ? dm_skin_dense_profile(p, 0, &out->skin_dense, err) : r;
 }
 
 void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3])
@@ -51,7 +54,7 @@ void dm_profile_source_total(const dm_profile_source *s, double rgb[3])
     else if (s->kind == DM_SOURCE_BURLEY)
         dm_burley_total(&s->burley, rgb);
     else if (s->kind == DM_SOURCE_SKIN)
-        dm_skin_dense_total(&s->skin_dense, rgb);
+        memcpy(rgb, s->skin_total_rgb, sizeof s->skin_total_rgb);
     else
         dm_medium_total(&s->medium, rgb);
 }

@@ -65,6 +65,7 @@ typedef struct dm_profile_source {
     dm_burley burley;     /* DM_SOURCE_BURLEY */
     dm_skin_params skin;  /* DM_SOURCE_SKIN: the parameters … */
     dm_skin_dense skin_dense; /* … and their profile */
+    double skin_total_rgb[3]; /* … and their exact colorimetric total R̃_c(0) (dm_skin_physics_report) */
 } dm_profile_source;
 
 /* A DM_SOURCE_SKIN source of the parameters p (validated here: dm_skin_params_validate's
@@ -83,7 +84,8 @@ dm_result dm_profile_source_validate(const dm_profile_source *s, const char *wha
 /* R(r) of the source per channel, mm⁻². */
 void dm_profile_source_eval(const dm_profile_source *s, double r_mm, double rgb[3]);
 /* Its total diffuse reflectance ∫ 2πr R dr in closed form (weight sums, the dipole /
- * multipole formulas, Burley's albedo, or the skin's colorimetric total R̃_c(0)). */
+ * multipole formulas, Burley's albedo, or the skin's colorimetric total R̃_c(0), exact: not
+ * the dense representation's weight sums). */
 void dm_profile_source_total(const dm_profile_source *s, double rgb[3]);
 
 /* Zero-initialised = defaults. */

@@ -77,6 +77,20 @@ static void physics_report(const dm_skin_params *p, int pairs, const double (*w)
     }
 }
 
+dm_result dm_skin_physics_report(const dm_skin_params *p, int pair_count, dm_skin_report *rep, dm_error *err)
+{
+    dm_result res = dm_skin_params_validate(p, "skin", err);
+    if (res != DM_OK) return res;
+    if (pair_count < 0 || pair_count > DM_MULTIPOLE_PAIRS_MAX)
+        return dm_fail(err, DM_ERR_RANGE, "skin: pair_count = %d, expected 0 (default) or 1..%d", pair_count,
+                       DM_MULTIPOLE_PAIRS_MAX);
+    double w[L][3];
+    dm_skin_rgb_weights(w);
+    memset(rep, 0, sizeof *rep);
+    physics_report(p, pair_count, (const double (*)[3])w, rep);
+    return DM_OK;
+}
+
 dm_result dm_skin_profile_fit(const dm_skin_params *p, const dm_skin_profile_options *opt, const char *name,
                               dm_profile *out, dm_skin_report *rep, dm_error *err)
 {

@@ -62,6 +62,10 @@ typedef struct dm_skin_report {
 dm_result dm_skin_profile_fit(const dm_skin_params *p, const dm_skin_profile_options *opt, const char *name,
                               dm_profile *out, dm_skin_report *rep, dm_error *err);
 
+/* The report's physics alone, without a fit: total_rgb, rms_radius_mm, total_spectral, invalid
+ * and the counts, exact (closed form at s = 0); the fit fields are 0. p validated here;
+ * pair_count 0 = the default. Cheap: 31 wavelengths at one frequency. */
+dm_result dm_skin_physics_report(const dm_skin_params *p, int pair_count, dm_skin_report *rep, dm_error *err);
 /* The dense physical profile, for comparison: each wavelength's R_λ(r) represented by
  * DM_SKIN_DENSE_GAUSSIANS Gaussians (standard deviations log-spaced 0.004..16 mm, NNLS in
  * the frequency domain as above, weights ≥ 0 per wavelength), combined per channel with the
@@ -75,7 +79,10 @@ typedef struct dm_skin_dense {
 dm_result dm_skin_dense_profile(const dm_skin_params *p, int pair_count, dm_skin_dense *out, dm_error *err);
 /* R_c(r) of the dense profile, mm⁻², per channel (may be negative). */
 void dm_skin_dense_eval(const dm_skin_dense *d, double r_mm, double rgb[3]);
-/* Its total ∫ 2πr R_c dr per channel: the weight sums (the colorimetric totals to ~1e-6). */
+/* Its weight sums per channel: the colorimetric totals to ~1e-6 where every layer diffuses.
+ * Where the epidermis takes the closed form (dark skins at short wavelengths) its light has no
+ * lateral spread, a flat transform no Gaussian sum follows, and the sums overshoot the total
+ * (Fitzpatrick 6: twice it): dm_skin_physics_report has the exact totals. */
 void dm_skin_dense_total(const dm_skin_dense *d, double rgb[3]);
 
 #ifdef __cplusplus

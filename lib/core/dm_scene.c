@@ -57,10 +57,36 @@ static bool parse_mesh(ctx *c, const cJSON *root, dm_scene *s)
            dm_jread_double_opt(&c->j, m, "$.mesh", "mm_per_unit", 1e-6, 1e6, &s->mm_per_unit);
 }
 
+/* "albedo_from": "map" or "skin" (whether a skin profile backs it is checked once the effects
+ * are read: check_albedo_from). */
+static bool parse_albedo_from(ctx *c, const cJSON *m, dm_scene *s)
+{
+    const cJSON *v = dm_jread_get(m, "albedo_from");
+    if (!v) return true;
+    const char *want = "\"map\" or \"skin\"";
+    if (!cJSON_IsString(v)) return dm_jread_fail(&c->j, DM_ERR_FORMAT, "$.material.albedo_from", v, want);
+    if (strcmp(v->valuestring, "map") && strcmp(v->valuestring, "skin"))
+        return dm_jread_fail(&c->j, DM_ERR_RANGE, "$.material.albedo_from", v, want);
+    s->albedo_from = strcmp(v->valuestring, "skin") ? DM_ALBEDO_FROM_MAP : DM_ALBEDO_FROM_SKIN;
+    return true;
+}
+
+/* The colour from the skin needs a skin: the profile must be {"skin": {…}}. */
+static bool check_albedo_from(ctx *c, const dm_scene *s)
+{
+    if (s->albedo_from != DM_ALBEDO_FROM_SKIN || s->skin.given) return true;
+    c->j.r = dm_fail(c->j.err, DM_ERR_MISMATCH,
+                     "%s: $.material.albedo_from: \"skin\" takes the colour from a physical skin, but "
+                     "$.effects.subsurface.profile is %s, expected {\"skin\": {...}} there or albedo_from \"map\"",
+                     c->j.where, s->profile_source[0] && strcmp(s->profile_source, "inline") ? s->profile_source
+                                                                                           : "a Gaussian profile");
+    return false;
+}
+
 static bool parse_material(ctx *c, const cJSON *root, dm_scene *s)
 {
-    static const char *const keys[] = {"albedo", "normal_map", "specular_map", "roughness_map", "roughness", "rho_s",
-                                       NULL};
+    static const char *const keys[] = {"albedo",    "normal_map", "specular_map", "roughness_map",
+                                       "roughness", "rho_s",      "albedo_from",  NULL};
     bool ok;
     const cJSON *m = dm_jread_object(&c->j, root, "$", "material", false, &ok);
     if (!ok) return false;
@@ -70,7 +96,7 @@ static bool parse_material(ctx *c, const cJSON *root, dm_scene *s)
            get_path(c, m, "$.material", "specular_map", true, s->specular_map) &&
            get_path(c, m, "$.material", "roughness_map", true, s->roughness_map) &&
            dm_jread_float_opt(&c->j, m, "$.material", "roughness", 0.0, 1.0, &s->roughness) &&
-           dm_jread_float_opt(&c->j, m, "$.material", "rho_s", 0.0, 1.0, &s->rho_s);
+           dm_jread_float_opt(&c->j, m, "$.material", "rho_s", 0.0, 1.0, &s->rho_s) && parse_albedo_from(c, m, s);
 }
 
 static bool parse_light(ctx *c, const cJSON *l, const char *jpath, dm_light *out)
@@ -482,7 +508,8 @@ static dm_result scene_from_root(const cJSON *root, const char *path, bool searc
     if (!cJSON_IsObject(root)) ok = dm_jread_fail(&c.j, DM_ERR_FORMAT, "$", root, "a JSON object");
     ok = ok && dm_jread_keys(&c.j, root, "$", keys) && parse_header(&c, root) && parse_mesh(&c, root, s) &&
          parse_material(&c, root, s) && parse_lights(&c, root, s) && parse_environment(&c, root, s) &&
-         parse_effects(&c, root, s) && parse_camera(&c, root, s) && parse_output(&c, root, s);
+         parse_effects(&c, root, s) && check_albedo_from(&c, s) && parse_camera(&c, root, s) &&
+         parse_output(&c, root, s);
     if (ok && s->effects[DM_EFFECT_ENVIRONMENT_LIGHTING] && !*s->environment) {
         c.j.r = dm_fail(err, DM_ERR_MISMATCH,
                       "%s: $.effects.environment_lighting: on, but $.environment.path is missing, expected an "

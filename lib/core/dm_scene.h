@@ -92,6 +92,14 @@ typedef struct dm_scene_skin {
     double value[DM_SKIN_KEY_COUNT];
 } dm_scene_skin;
 
+/* Where the diffuse colour comes from (material.albedo_from). */
+typedef enum dm_albedo_from {
+    DM_ALBEDO_FROM_MAP = 0, /* "map": the albedo map as it is (the default) */
+    DM_ALBEDO_FROM_SKIN     /* "skin": the physical skin's total diffuse reflectance per channel
+                             * times the map's luminance detail (bake/dm_albedo_skin.h); needs a
+                             * {"skin": {…}} profile and an albedo map, baked by the packer */
+} dm_albedo_from;
+
 typedef struct dm_scene {
     char path[DM_SCENE_PATH_SIZE]; /* the scene file itself */
     char file_hash[DM_HASH_HEX_SIZE]; /* its content hash (dm_hash_hex) from the one read of
@@ -105,6 +113,7 @@ typedef struct dm_scene {
     char roughness_map[DM_SCENE_PATH_SIZE]; /* grey m in [0, 1], or "" to use roughness */
     float roughness;                        /* constant m when no map (default 0.3) */
     float rho_s;                            /* specular scale (default 0.18) */
+    dm_albedo_from albedo_from;             /* default DM_ALBEDO_FROM_MAP */
     double mm_per_unit;                     /* default 50 (the Lee Perry-Smith head) */
 
     int light_count;
@@ -148,7 +157,8 @@ typedef struct dm_scene {
  *   { "format": "dermis-scene", "version": 1,
  *     "mesh": { "path": REQUIRED, "mm_per_unit": (0, 1e6], "name": glTF mesh name or "" },
  *     "material": { "albedo", "normal_map", "specular_map", "roughness_map": paths or "",
- *                   "roughness": [0, 1], "rho_s": [0, 1] },
+ *                   "roughness": [0, 1], "rho_s": [0, 1], "albedo_from": "map" | "skin" (needs
+ *                   a {"skin": {…}} profile) },
  *     "lights": [ { "type": "directional"|"point" REQUIRED, "direction"|"position" REQUIRED,
  *                   "color": [3 × [0, 1e6]], "intensity": [0, 1e6], "casts_shadow": bool } ] (≤ 8),
  *     "environment": { "path", "intensity": [0, 1e6], "rotation_deg": [-360, 360], "background",

@@ -58,6 +58,8 @@ dm_result dm_scene_to_json(const dm_scene *s, char **out, dm_error *err)
     cJSON_AddStringToObject(mat, "roughness_map", s->roughness_map);
     cJSON_AddNumberToObject(mat, "roughness", s->roughness);
     cJSON_AddNumberToObject(mat, "rho_s", s->rho_s);
+    /* written only when not the default, so a scene without it writes what it always did */
+    if (s->albedo_from == DM_ALBEDO_FROM_SKIN) cJSON_AddStringToObject(mat, "albedo_from", "skin");
     cJSON *ls = cJSON_AddArrayToObject(r, "lights");
     for (int k = 0; k < s->light_count; ++k) {
         const dm_light *l = &s->lights[k];

@@ -77,6 +77,11 @@ dm_result dm_pack_build_begin(dm_pack_build *b, const char *scene_path, const ch
     if (r == DM_OK) snprintf(b->scene_hash, sizeof b->scene_hash, "%s", b->scene.file_hash);
     if (r == DM_OK) r = dmpb_fit_skin(b, err);
     if (r == DM_OK) r = gltf_material_maps(b, err);
+    if (r == DM_OK && b->scene.albedo_from == DM_ALBEDO_FROM_SKIN && !b->scene.albedo[0]) /* after a glTF's map could stand in */
+        r = dm_fail(err, DM_ERR_MISMATCH,
+                    "%s: $.material.albedo_from: \"skin\" modulates the albedo map's luminance detail, but "
+                    "$.material.albedo is empty, expected a map",
+                    scene_path);
     return r;
 }
 
@@ -160,7 +165,10 @@ void dm_pack_build_explain(const dm_scene *s)
         const char *status = applies ? "pack" : "skip";
         for (int c = 0; c < dm_pack_need_copies(nd, s); ++c) { /* env<k>.*: one per alternative map */
             char name[DM_PACK_NAME_SIZE], why[1200];
-            if (c == 0)
+            if (c == 0 && s->albedo_from == DM_ALBEDO_FROM_SKIN && !strcmp(nd->entry, "albedo"))
+                snprintf(why, sizeof why, "%s: albedo_from skin, the skin's total reflectance x the map's luminance "
+                         "detail", nd->why);
+            else if (c == 0)
                 snprintf(why, sizeof why, "%s", nd->why);
             else
                 snprintf(why, sizeof why, "%s (alternative %d: %s)", nd->why, c, dmpb_base_name(s->env_alternatives[c - 1]));

@@ -57,6 +57,9 @@ typedef struct dm_pack_build {
     dm_scene_skin skin; /* the scene's physical skin as read (given: the profile was fitted to
                          * it here, and the scene then holds that profile inline) */
     char skin_spec[256]; /* its parameters as dermis-fit-profile --skin takes them, exact */
+    double skin_total_rgb[3]; /* its colorimetric total diffuse reflectance, linear sRGB (with
+                               * material.albedo_from "skin" the albedo step bakes it into the
+                               * albedo entry, and the pack's scene says "map": the entry holds it) */
 } dm_pack_build;
 
 /* Reads the scene (relative paths searched in asset_dirs, core/dm_scene.h), hashes it, and

@@ -10,7 +10,8 @@
 dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
                    const char *source, dm_error *err);
 const char *dmpb_base_name(const char *path);
-/* The scene's mesh, loaded once (the mesh and stretch steps share it). */
+/* The scene's mesh, loaded once (the mesh, stretch and curvature steps and the albedo from the
+ * skin share it; dm_pack_build_job.c). */
 dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err);
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
 
@@ -19,6 +20,12 @@ void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what);
  * white), put in the scene as an inline profile (dm_pack_build_skin.c). Nothing to do when
  * the scene names no skin. */
 dm_result dmpb_fit_skin(dm_pack_build *j, dm_error *err);
+/* material.albedo_from "skin": the albedo map's texels (w × h RGBA8, sRGB, rows bottom-up)
+ * become the skin's total reflectance times their luminance detail (bake/dm_albedo_skin.h),
+ * in place, weighted by the scene mesh's skin area; the parameters and what came out go into
+ * the entry's provenance p and its report line src (dm_pack_build_skin.c). */
+dm_result dmpb_albedo_from_skin(dm_pack_build *j, uint8_t *rgba, int w, int h, dm_provenance *p, char *src,
+                                size_t src_size, dm_error *err);
 
 /* The steps (dm_pack_build.c runs them from its table). */
 dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err);

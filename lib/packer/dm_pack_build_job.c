@@ -1,6 +1,6 @@
 /* dm_pack_build_job.c — what every build step shares (packer/dm_pack_build_impl.h): whether
  * the scene wants an entry, the entry into the writer with its report row, a path's base
- * name. The runner (dm_pack_build.c) and the steps (dm_pack_build_steps.c,
+ * name, the scene's mesh loaded once. The runner (dm_pack_build.c) and the steps (dm_pack_build_steps.c,
  * dm_pack_build_bake.c) call these; these call neither. */
 #include "packer/dm_pack_build_impl.h"
 
@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/dm_cli.h"
+#include "mesh/dm_mesh_plausible.h"
 #include "pack/dm_pack_needs.h"
 
 bool dm_pack_build_wants(const dm_pack_build *j, const char *entry)
@@ -35,4 +36,18 @@ const char *dmpb_base_name(const char *path)
 {
     const char *s = strrchr(path, '/');
     return s ? s + 1 : path;
+}
+
+dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err)
+{
+    if (j->mesh_loaded) return DM_OK;
+    dm_result r = dm_hash_file_hex(j->scene.mesh, j->mesh_hash, err);
+    dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
+    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
+    j->mesh_loaded = r == DM_OK;
+    j->input_failed = r != DM_OK;
+    char plausible[1024];
+    if (r == DM_OK && dm_mesh_plausible(&j->mesh, j->scene.mm_per_unit, j->scene.mesh, plausible, sizeof plausible))
+        fputs(plausible, stderr);
+    return r;
 }

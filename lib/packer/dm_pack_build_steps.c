@@ -12,7 +12,6 @@
 #include "bake/dm_lut.h"
 #include "bake/dm_lut_prov.h"
 #include "mesh/dm_mesh.h"
-#include "mesh/dm_mesh_plausible.h"
 #include "core/dm_brdf.h"
 #include "core/dm_input.h"
 #include "core/dm_ssss_kernel.h"
@@ -23,8 +22,13 @@
 
 dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err)
 {
+    /* with albedo_from "skin" the albedo entry holds the skin's colour, and the pack's scene,
+     * whose profile is no longer a skin (dmpb_fit_skin), takes that entry as its map */
+    const dm_albedo_from from = j->scene.albedo_from;
+    j->scene.albedo_from = DM_ALBEDO_FROM_MAP;
     char *text = NULL;
     dm_result r = dm_scene_to_json(&j->scene, &text, err);
+    j->scene.albedo_from = from;
     if (r != DM_OK) return r;
     dm_provenance p;
     dm_prov_init(&p, DM_PACK_BUILD_TOOL);
@@ -39,8 +43,15 @@ dm_result dmpb_step_scene(dm_pack_build *j, dm_error *err)
     return r;
 }
 
-/* A map from an image file: channels converted to the pack format, rows bottom-up. */
-static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path, dm_tex_format f, dm_error *err)
+/* Changes a map's converted texels (RGBA8 when the format has 4 components) before they are
+ * packed, adding to its provenance and report line (dmpb_albedo_from_skin). */
+typedef dm_result (*map_change)(dm_pack_build *j, uint8_t *px, int w, int h, dm_provenance *p, char *src,
+                                size_t src_size, dm_error *err);
+
+/* A map from an image file: channels converted to the pack format, rows bottom-up, then
+ * `change` (may be NULL) applied. */
+static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path, dm_tex_format f, map_change change,
+                          dm_error *err)
 {
     dm_image img;
     char gltf_src[300] = "";
@@ -92,6 +103,7 @@ static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path,
     }
     char src[160];
     snprintf(src, sizeof src, "from %.60s%s%.90s", dmpb_base_name(path), gltf ? " " : "", gltf ? gltf_src : "");
+    if (r == DM_OK && change) r = change(j, px, img.width, img.height, &p, src, sizeof src, err);
     if (r == DM_OK) r = dmpb_add(j, &d, px, n * (size_t)out_c, &p, src, err);
     free(px);
     dm_image_free(&img);
@@ -100,19 +112,20 @@ static dm_result pack_map(dm_pack_build *j, const char *entry, const char *path,
 
 dm_result dmpb_step_albedo(dm_pack_build *j, dm_error *err)
 {
-    return pack_map(j, "albedo", j->scene.albedo, DM_TEX_RGBA8_SRGB, err);
+    const bool from_skin = j->scene.albedo_from == DM_ALBEDO_FROM_SKIN;
+    return pack_map(j, "albedo", j->scene.albedo, DM_TEX_RGBA8_SRGB, from_skin ? dmpb_albedo_from_skin : NULL, err);
 }
 dm_result dmpb_step_normal(dm_pack_build *j, dm_error *err)
 {
-    return pack_map(j, "normal", j->scene.normal_map, DM_TEX_RGBA8, err);
+    return pack_map(j, "normal", j->scene.normal_map, DM_TEX_RGBA8, NULL, err);
 }
 dm_result dmpb_step_specular(dm_pack_build *j, dm_error *err)
 {
-    return pack_map(j, "specular", j->scene.specular_map, DM_TEX_R8, err);
+    return pack_map(j, "specular", j->scene.specular_map, DM_TEX_R8, NULL, err);
 }
 dm_result dmpb_step_roughness(dm_pack_build *j, dm_error *err)
 {
-    return pack_map(j, "roughness", j->scene.roughness_map, DM_TEX_R8, err);
+    return pack_map(j, "roughness", j->scene.roughness_map, DM_TEX_R8, NULL, err);
 }
 
 dm_result dmpb_step_beckmann(dm_pack_build *j, dm_error *err)
@@ -286,20 +299,6 @@ dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
              100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
     dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
     return dmpb_add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);
-}
-
-dm_result dmpb_ensure_mesh(dm_pack_build *j, dm_error *err)
-{
-    if (j->mesh_loaded) return DM_OK;
-    dm_result r = dm_hash_file_hex(j->scene.mesh, j->mesh_hash, err);
-    dm_mesh_load_options o = {.mesh_name = j->scene.mesh_name};
-    if (r == DM_OK) r = dm_mesh_load(j->scene.mesh, &o, &j->mesh, err);
-    j->mesh_loaded = r == DM_OK;
-    j->input_failed = r != DM_OK;
-    char plausible[1024];
-    if (r == DM_OK && dm_mesh_plausible(&j->mesh, j->scene.mm_per_unit, j->scene.mesh, plausible, sizeof plausible))
-        fputs(plausible, stderr);
-    return r;
 }
 
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what)

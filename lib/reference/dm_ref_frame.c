@@ -10,6 +10,7 @@
 #include "reference/dm_ref_shade.h"
 #include "reference/dm_ref_surface.h"
 #include "core/dm_parallel.h"
+#include "core/dm_srgb.h"
 
 #define PI 3.14159265358979323846
 
@@ -551,13 +552,6 @@ static double hable(double x)
     return ((x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F)) - E / F;
 }
 
-static uint8_t srgb8(double c)
-{
-    c = c > 0 ? (c < 1 ? c : 1) : 0; /* NaN → 0 */
-    double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-    return (uint8_t)lrint(e * 255.0);
-}
-
 void dm_ref_frame_display(const dm_scene *scene, const float *rgba, int width, int height, uint8_t *out)
 {
     assert(scene && rgba && out);
@@ -572,7 +566,7 @@ void dm_ref_frame_display(const dm_scene *scene, const float *rgba, int width, i
                 v = v > 0 ? (v < 1e30 ? v : 1e30) : 0.0; /* hable(x) → 1/0.15·… as x → ∞: finite */
                 v = hable(2.0 * v) / white;
             }
-            out[i * 4 + c] = srgb8(v);
+            out[i * 4 + c] = dm_srgb8_from_linear(v);
         }
         out[i * 4 + 3] = 255;
     }

@@ -1,5 +1,6 @@
 #include "reference/dm_ref_texture.h"
 #include "core/dm_half.h"
+#include "core/dm_srgb.h"
 
 #include <assert.h>
 #include <math.h>
@@ -7,17 +8,12 @@
 #include <stdint.h>
 #include <string.h>
 
-double dm_ref_srgb_to_linear(double c)
-{
-    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-}
-
 /* sRGB 8-bit → linear: 256 entries of the exact curve, made once. */
 static double srgb_table[256];
 static pthread_once_t srgb_once = PTHREAD_ONCE_INIT;
 static void srgb_init(void)
 {
-    for (int i = 0; i < 256; ++i) srgb_table[i] = dm_ref_srgb_to_linear(i / 255.0);
+    for (int i = 0; i < 256; ++i) srgb_table[i] = dm_srgb_to_linear(i / 255.0);
 }
 static double srgb8(uint8_t v)
 {

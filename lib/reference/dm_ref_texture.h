@@ -35,9 +35,6 @@ void dm_ref_texel(const dm_ref_texture *t, int i, int j, double rgba[4]);
 /* Bilinear lookup at (u, v) (any finite values). t->texels non-NULL. */
 void dm_ref_texture_sample(const dm_ref_texture *t, double u, double v, double rgba[4]);
 
-/* The exact sRGB decoding curve, c in [0, 1]. */
-double dm_ref_srgb_to_linear(double c);
-
 #ifdef __cplusplus
 }
 #endif

@@ -12,6 +12,7 @@
 #include "../common/expect_tool.h"
 #include "../common/tmpdir.h"
 #include "bake/dm_profile_fit.h"
+#include "bake/dm_profile_tsv.h"
 #include "bake/dm_skin_spec.h"
 #include "core/dm_profile.h"
 
@@ -181,4 +182,88 @@ Test(fit_profile_skin, sweep_whole_range, .timeout = 240)
                 ++count;
             }
     cr_assert_eq(count, 27);
+}
+
+/* The source's total is the exact colorimetric one, R̃_c(0) summed over the wavelengths, for
+ * every preset: what dm_skin_profile_fit reports, to the bit. The dense representation's weight
+ * sums are not, where the epidermis takes the closed form (its unspread light, a flat
+ * transform, makes them overshoot): Fitzpatrick 6's are about twice the total. The colour
+ * from the skin (material.albedo_from) and every printed total take the exact one. */
+Test(fit_profile_skin, source_total_is_the_exact_colorimetric_total, .timeout = 60)
+{
+    for (int i = 0; dm_skin_preset_name(i); ++i) {
+        const char *name = dm_skin_preset_name(i);
+        dm_skin_params p;
+        dm_error err = {0};
+        cr_assert_eq(dm_skin_preset(name, &p, &err), DM_OK);
+        dm_profile_source src;
+        cr_assert_eq(dm_profile_source_skin(&p, &src, &err), DM_OK, "%s", err.detail);
+        dm_skin_report rep, phys;
+        dm_profile fitted;
+        cr_assert_eq(dm_skin_profile_fit(&p, NULL, name, &fitted, &rep, &err), DM_OK, "%s", err.detail);
+        cr_assert_eq(dm_skin_physics_report(&p, 0, &phys, &err), DM_OK, "%s", err.detail);
+        double total[3], dense[3];
+        dm_profile_source_total(&src, total);
+        dm_skin_dense_total(&src.skin_dense, dense);
+        for (int c = 0; c < 3; ++c) {
+            cr_assert_eq(total[c], rep.total_rgb[c], "%s channel %d: %.17g vs %.17g", name, c, total[c], rep.total_rgb[c]);
+            cr_assert_eq(phys.total_rgb[c], rep.total_rgb[c], "%s channel %d", name, c);
+            if (!strcmp(name, "fitzpatrick-6"))
+                cr_expect(dense[c] > 1.5 * total[c], "%s channel %d: dense sums %.4f, total %.4f", name, c, dense[c], total[c]);
+            if (!strcmp(name, "caucasian"))
+                cr_expect(fabs(dense[c] - total[c]) < 1e-5, "%s channel %d: %.7f vs %.7f", name, c, dense[c], total[c]);
+        }
+    }
+}
+
+/* --radial and --spectrum: tables for plots, with their provenance, whose numbers are the
+ * source's (the radial total over 0.01-20 mm by the trapezoid in ln r is within 2 % of the
+ * exact total for a light skin, whose light leaves between 0.05 and 5 mm; the spectrum's
+ * colorimetric line is the JSON's total). */
+Test(fit_profile_skin, radial_and_spectrum_tables, .timeout = 60)
+{
+    char dir[64], cmd[600], rad[128], spec[128], json[128];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    snprintf(rad, sizeof rad, "%s/r.tsv", dir);
+    snprintf(spec, sizeof spec, "%s/s.tsv", dir);
+    snprintf(json, sizeof json, "%s/p.json", dir);
+    snprintf(cmd, sizeof cmd, BIN " --skin-preset fitzpatrick-1 --radial %s --spectrum %s -o %s --quiet", rad, spec, json);
+    cr_assert_eq(test_run(cmd, NULL), 0, "%s", cmd);
+    char *r = test_slurp(rad), *s = test_slurp(spec), *j = test_slurp(json);
+    cr_assert(r && s && j);
+    cr_assert(!strncmp(r, "# provenance {\"tool\":\"dermis-fit-profile\"", 41) && strstr(r, "fitzpatrick-1"), "%.200s", r);
+    cr_assert(strstr(r, "\nr_mm\tsrc_r\tsrc_g\tsrc_b\tfit_r\tfit_g\tfit_b\n"));
+    double total[3] = {0, 0, 0}, prev_r = 0, prev[3] = {0, 0, 0};
+    int rows = 0;
+    for (char *line = strtok(r, "\n"); line; line = strtok(NULL, "\n")) {
+        double v[7];
+        if (line[0] == '#' || sscanf(line, "%lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6]) != 7)
+            continue;
+        for (int c = 0; c < 3; ++c) {
+            double m = 2 * 3.14159265358979323846 * v[0] * v[0] * v[1 + c]; /* per ln r */
+            if (rows) total[c] += 0.5 * (m + prev[c]) * log(v[0] / prev_r);
+            prev[c] = m;
+        }
+        prev_r = v[0];
+        ++rows;
+    }
+    cr_assert_eq(rows, DM_PROFILE_TSV_RADIAL_ROWS);
+    double want[3];
+    const char *t = strstr(strstr(j, "\"source\""), "\"total_reflectance_rgb\": [");
+    cr_assert(t && sscanf(t + 26, "%lf, %lf, %lf", &want[0], &want[1], &want[2]) == 3, "%s", j);
+    for (int c = 0; c < 3; ++c)
+        cr_expect(fabs(total[c] / want[c] - 1) < 0.02, "channel %d: %.4f over 0.01-20 mm, total %.4f", c, total[c], want[c]);
+    int lines = 0;
+    for (const char *p = strstr(s, "lambda_nm\ttotal\tflags\n"); p && *p; ++p) lines += *p == '\n';
+    cr_expect_eq(lines, 1 + DM_SKIN_LAMBDA_COUNT + 1, "header, 31 rows, the colorimetric line: %s", s);
+    double col[3];
+    const char *c = strstr(s, "# colorimetric total, linear sRGB (D65): ");
+    cr_assert(c && sscanf(c + 41, "%lf %lf %lf", &col[0], &col[1], &col[2]) == 3, "%s", s);
+    for (int k = 0; k < 3; ++k) cr_expect(fabs(col[k] - want[k]) < 1e-8, "%.9g vs %.9g", col[k], want[k]);
+    free(r), free(s), free(j);
+    const test_usage_case bad[] = {
+        {"--dipole skin1 --spectrum x.tsv", "--spectrum applies to --skin and --skin-preset only"},
+        {"--skin-preset asian --radial x.txt", "--radial"},
+    };
+    test_expect_usage_errors(BIN, dir, bad, sizeof bad / sizeof bad[0]);
 }

@@ -431,3 +431,42 @@ Test(scene_error, file_with_nul_byte_or_missing)
     cr_assert_eq(dm_scene_read("/nonexistent/scene.json", &scene, &err), DM_ERR_FILE_OPEN);
     cr_assert(strstr(err.detail, "/nonexistent/scene.json"));
 }
+
+/* material.albedo_from: "map" (the default) or "skin", which needs a physical skin profile. */
+Test(scene, albedo_from_skin_round_trips_and_map_is_not_written)
+{
+    read_bundled("lps-skin.json");
+    cr_assert_eq(scene.albedo_from, DM_ALBEDO_FROM_SKIN);
+    cr_assert(scene.skin.given);
+    char *text = NULL;
+    dm_error err = {0};
+    cr_assert_eq(dm_scene_to_json(&scene, &text, &err), DM_OK);
+    cr_assert(strstr(text, "\"albedo_from\":\t\"skin\""), "%s", text);
+    dm_scene *b = malloc(sizeof *b);
+    cr_assert_eq(dm_scene_parse(text, "/elsewhere/s.json", b, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(b->albedo_from, DM_ALBEDO_FROM_SKIN);
+    free(text);
+    /* the default is left out, so a scene without the key writes what it always did */
+    cr_assert_eq(dm_scene_parse("{" BASE ", \"material\": {\"albedo_from\": \"map\"}}", "/s.json", b, &err), DM_OK);
+    cr_assert_eq(b->albedo_from, DM_ALBEDO_FROM_MAP);
+    cr_assert_eq(dm_scene_to_json(b, &text, &err), DM_OK);
+    cr_assert(!strstr(text, "albedo_from"), "%s", text);
+    free(text);
+    free(b);
+}
+
+Test(scene_error, albedo_from_skin_without_a_skin_profile)
+{
+    expect_error("{" MESH ", \"material\": {\"albedo_from\": \"skin\"}, \"effects\": {\"subsurface\": true}}",
+                 DM_ERR_MISMATCH, "$.material.albedo_from: \"skin\"", "profile is gems3-skin, expected {\"skin\"");
+    expect_error("{" MESH ", \"material\": {\"albedo_from\": \"skin\"}, \"effects\": {\"subsurface\": {\"profile\": "
+                 "{\"gaussians\": [{\"variance_mm2\": 1, \"weights\": [1, 1, 1]}]}}}}",
+                 DM_ERR_MISMATCH, "$.material.albedo_from", "profile is a Gaussian profile");
+}
+
+Test(scene_error, albedo_from_unknown_value)
+{
+    expect_error("{" BASE ", \"material\": {\"albedo_from\": \"melanin\"}}", DM_ERR_RANGE, "$.material.albedo_from",
+                 "is not \"map\" or \"skin\"");
+    expect_error("{" BASE ", \"material\": {\"albedo_from\": 1}}", DM_ERR_FORMAT, "$.material.albedo_from", NULL);
+}

@@ -7,6 +7,7 @@
 
 #include "core/dm_exr_read.h"
 #include "core/dm_sort.h"
+#include "core/dm_srgb.h"
 #include "render/dm_render_font.h"
 #include "render/dm_render_legend.h"
 
@@ -162,13 +163,6 @@ int dm_refcmp_legend_height(int out_width)
     return 6 * s + 12 * s + 3 * (DM_FONT_H + 4) * s + 4 * (DM_FONT_H + 4) * s + 4 * s;
 }
 
-static uint8_t srgb8(double c)
-{
-    c = c > 0 ? (c < 1 ? c : 1) : 0;
-    double e = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
-    return (uint8_t)lrint(e * 255.0);
-}
-
 static const uint8_t c_bg[3] = {24, 24, 28}, c_text[3] = {235, 235, 235}, c_dim[3] = {150, 150, 155},
                      c_none[3] = {48, 48, 52}, c_mismatch[3] = {255, 0, 255}, c_label_bg[3] = {0, 0, 0};
 
@@ -220,7 +214,7 @@ static void draw_panel(uint8_t *out, int ow, int oh, int x0, int y0, int pw, int
                 const float *p = (use == SRC_REF ? ref : render) + s * 4;
                 if (p[3] < 0.5f) memcpy(c, c_none, 3);
                 else
-                    for (int k = 0; k < 3; ++k) c[k] = srgb8(p[k] / white);
+                    for (int k = 0; k < 3; ++k) c[k] = dm_srgb8_from_linear(p[k] / white);
             }
             if (src == SRC_SPLIT && (i == split_x || i == split_x - 1)) memset(c, 255, 3);
             dm_font_fill(out, ow, oh, ox + i, oy + j, 1, 1, c);
