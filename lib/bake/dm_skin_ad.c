@@ -10,7 +10,7 @@
 #include "core/dm_math.h"
 
 enum { NMAX = DM_SKIN_AD_STREAMS_MAX, DOUBLINGS_MAX = 64 };
-#define T_CONVERGED 1e-12
+#define T_CONVERGED 1e-9
 #define INDEX_MAX 10.0
 
 typedef double mat[NMAX * NMAX]; /* row-major, stride n */

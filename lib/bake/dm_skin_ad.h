@@ -20,7 +20,7 @@
  *    initialisation (Wiscombe 1976: the discrete-ordinate equations with the mid-layer
  *    radiance the mean of the faces'), then doubled k times,
  *    R ← R + T R (I − R R)⁻¹ T, T ← T (I − R R)⁻¹ T;
- *    a semi-infinite layer doubled until every column of T sums below 1e-12 (at most 64
+ *    a semi-infinite layer doubled until every column of T sums below 1e-9 (at most 64
  *    times);
  *  - layers added from the bottom up, R = R_top + T_top R_below (I − R_top R_below)⁻¹ T_top;
  *  - faces against air (index 1, above and below): unpolarised Fresnel (dm_skin_mc_fresnel)
