@@ -14,6 +14,7 @@
 
 #include "bake/dm_profile_fit.h"
 #include "bake/dm_skin_profile.h"
+#include "bake/dm_skin_ad.h"
 #include "bake/dm_skin_weights.h"
 #include "core/dm_cli.h"
 
@@ -149,9 +150,11 @@ int main(int argc, char **argv)
     }
     double mw = bench_median(wall, TIMED), mc = bench_median(cpu, TIMED), mo = bench_median(off, OFFLINE_RUNS);
     fprintf(f, "\nTime of one refit (the Caucasian variances; a melanin sweep 0–0.5, %d refits, median): live "
-               "(%d nodes, %d pairs) **%.2f ms wall, %.2f ms CPU**; the offline fit of the same variances "
-               "(dm_skin_profile_fit: 401 nodes, 20 pairs) %.1f ms wall (median of %d).\n",
-            TIMED, DM_SKIN_WEIGHTS_NODES_DEFAULT, DM_SKIN_WEIGHTS_PAIRS_DEFAULT, mw, mc, mo, OFFLINE_RUNS);
+               "(%d nodes, %d pairs, %d adding-doubling streams) **%.2f ms wall, %.2f ms CPU**; the offline fit "
+               "of the same variances (dm_skin_profile_fit: 401 nodes, 20 pairs, %d streams) %.1f ms wall (median "
+               "of %d).\n",
+            TIMED, DM_SKIN_WEIGHTS_NODES_DEFAULT, DM_SKIN_WEIGHTS_PAIRS_DEFAULT, DM_SKIN_WEIGHTS_STREAMS_DEFAULT, mw, mc,
+            DM_SKIN_AD_STREAMS_DEFAULT, mo, OFFLINE_RUNS);
     printf("live refit median %.2f ms wall, %.2f ms CPU; offline %.1f ms\n", mw, mc, mo);
     if (fclose(f) != 0) {
         fprintf(stderr, "error: %s/skin_weights.md: write failed\n", argv[1]);

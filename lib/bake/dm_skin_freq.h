@@ -25,13 +25,22 @@ extern "C" {
 void dm_skin_freq_nodes(double s_lo, double s_hi, int count, double *s, double *sq);
 /* The weighted design a (count × n): √q_i exp(−v_k s_i²/2) for the variances v[n] (mm²). */
 void dm_skin_freq_design(const double *s, const double *sq, int count, const double *variance_mm2, int n, double *a);
-/* y (count × DM_SKIN_LAMBDA_COUNT): √q_i R̃_λ(s_i) for every wavelength row of validated p. */
-void dm_skin_freq_spectral(const dm_skin_params *p, int pairs, const double *s, const double *sq, int count, double *y);
-/* yc (count × 3): √q_i R̃_c(s_i) = Σ_λ w_c(λ) √q_i R̃_λ(s_i), the channel targets, with the
- * weights w of dm_skin_rgb_weights; the same numbers, bit for bit, as combining
- * dm_skin_freq_spectral's columns, without storing them. */
-void dm_skin_freq_channels(const dm_skin_params *p, int pairs, const double *s, const double *sq, int count,
-                           const double (*w)[3], double *yc);
+/* The model's total diffuse reflectance per wavelength row, total[DM_SKIN_LAMBDA_COUNT]
+ * (adding-doubling, dm_skin_ad_total_at with ad_stream_count streams, 0 = its default), and
+ * scale[DM_SKIN_LAMBDA_COUNT] = total / R̃_λ(0), the factor that normalises diffusion's
+ * transform (dm_skin_reflectance_at with pairs image pairs) to it: the profile keeps
+ * diffusion's shape and takes adding-doubling's total, so scale·R̃_λ(0) is the total exactly
+ * and the RMS radius (a ratio) is diffusion's. Either output may be NULL. p validated. */
+void dm_skin_freq_totals(const dm_skin_params *p, int pairs, int ad_stream_count, double *total, double *scale);
+/* y (count × DM_SKIN_LAMBDA_COUNT): √q_i scale_λ R̃_λ(s_i) for every wavelength row of
+ * validated p (scale from dm_skin_freq_totals; NULL: 1, diffusion's own total). */
+void dm_skin_freq_spectral(const dm_skin_params *p, int pairs, const double *scale, const double *s, const double *sq,
+                           int count, double *y);
+/* yc (count × 3): Σ_λ w_c(λ) √q_i scale_λ R̃_λ(s_i), the channel targets, with the weights w
+ * of dm_skin_rgb_weights; the same numbers, bit for bit, as combining dm_skin_freq_spectral's
+ * columns, without storing them. */
+void dm_skin_freq_channels(const dm_skin_params *p, int pairs, const double *scale, const double *s, const double *sq,
+                           int count, const double (*w)[3], double *yc);
 
 #ifdef __cplusplus
 }

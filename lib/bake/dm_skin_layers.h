@@ -18,6 +18,13 @@
  * the dipole i = 0 (dm_dipole_total). Seen from below, a slab is the same with its faces
  * swapped (the up-going reflectance and transmittance).
  *
+ * Readout (dm_skin_exit): those sums are the net flux E leaving a face (Jensen 2001,
+ * DM_SKIN_EXIT_FLUX). DM_SKIN_EXIT_PARTIAL_CURRENT reads a face as the Fresnel-weighted
+ * partial current C_φ φ + C_E E (Kienle & Patterson 1997; d'Eon 2012), the fluence φ of a
+ * real pole at depth a and its image at b being (e^(−a q) − e^(−b q))/(2Dq) per pair; at a
+ * matched (η = 1) face that is φ/4 + E/2, the plain partial current. The boundary condition
+ * (z_b) is the same in both.
+ *
  * Stacking, top layer 1 over the rest 2 (pointwise in s; Kubelka–Munk-like series of
  * inter-reflections; Donner & Jensen 2005 eq. 12–13, with the up-going R and T of layer 1
  * where the light travels up):
@@ -61,11 +68,18 @@ typedef struct dm_skin_dual {
     double v, d;
 } dm_skin_dual;
 
+/* What a diffusive slab's face lets out (see the top of this file). */
+typedef enum dm_skin_exit {
+    DM_SKIN_EXIT_FLUX = 0,       /* the net flux E = −D ∂φ/∂n (Jensen 2001, Donner & Jensen 2005) */
+    DM_SKIN_EXIT_PARTIAL_CURRENT /* the Fresnel-weighted partial current C_φ φ + C_E E (Kienle & Patterson 1997) */
+} dm_skin_exit;
+
 /* One slab of a stack. */
 typedef struct dm_skin_layer {
     double sigma_a, sigma_s_prime; /* mm⁻¹: σa ≥ 0, σs′ > 0 */
     double thickness_mm;           /* > 0; INFINITY for a semi-infinite last layer */
     double eta_top, eta_bottom;    /* index ratio (this layer over its neighbour) at each face, ≥ 1 */
+    dm_skin_exit exit;             /* 0: the flux, the plain dipole / multipole */
 } dm_skin_layer;
 
 /* Its four responses at one frequency. */
@@ -90,6 +104,11 @@ int dm_skin_layer_diffusive(const dm_skin_layer *l);
  * [μc, 1], μc = √(1 − 1/η²) the critical cosine (no light leaves below it). */
 double dm_skin_single_scatter_reflectance(double albedo, double optical_depth, double eta);
 
+/* The coefficients of DM_SKIN_EXIT_PARTIAL_CURRENT for a face of index ratio eta ≥ 1:
+ * C_φ = (1 − 2C₁)/4, C_E = (1 − 3C₂)/2, C_n = ∫₀¹ F_η(μ) μⁿ dμ the Fresnel moments
+ * (dm_skin_mc_fresnel from η to 1; 1 beyond the critical angle). η = 1: 1/4 and 1/2. */
+void dm_skin_exit_coefficients(double eta, double *c_phi, double *c_e);
+
 /* The slab's responses at frequency s_per_mm ≥ 0 with pairs image pairs (0: the default of
  * dm_diffusion.h, DM_MULTIPOLE_PAIRS_DEFAULT); the fallback above where not diffusive. */
 void dm_skin_layer_transform(const dm_skin_layer *l, int pairs, double s_per_mm, dm_skin_slab *out);
@@ -104,11 +123,15 @@ enum { DM_SKIN_INVALID_EPIDERMIS = 1, DM_SKIN_INVALID_DERMIS = 2 };
 
 /* The skin's two layers at wavelength row lambda_index (dm_skin_data.h): epidermis (faces:
  * η over air, 1 over the dermis) over the dermis (1 over the epidermis; η over air below a
- * finite dermis, semi-infinite when p->dermis_mm is 0). p must be validated. */
+ * finite dermis, semi-infinite when p->dermis_mm is 0), both read out as the partial current
+ * (DM_SKIN_EXIT_PARTIAL_CURRENT: against the Monte Carlo the Caucasian R(r) at 650 nm is
+ * within 0.91–1.14 over 0.25–4.5 mm where the flux's is 0.75–1.37, both normalised to
+ * adding-doubling's total; docs/skin-model.md has the other cases). p must be validated. */
 void dm_skin_layers_at(const dm_skin_params *p, int lambda_index, dm_skin_layer layers[2]);
 
-/* The skin's reflectance transform R̃(s) at lambda_index; *invalid (may be NULL) receives
- * the DM_SKIN_INVALID_* flags. R̃(0).v is the total diffuse reflectance at that λ. */
+/* The skin's reflectance transform R̃(s) at lambda_index by diffusion; *invalid (may be NULL)
+ * receives the DM_SKIN_INVALID_* flags. R̃(0).v is diffusion's total at that λ: the profile
+ * normalises it to adding-doubling's (dm_skin_freq_totals, dm_skin_ad.h). */
 void dm_skin_reflectance_at(const dm_skin_params *p, int lambda_index, int pairs, double s_per_mm, dm_skin_dual *r,
                             unsigned *invalid);
 

@@ -1,9 +1,12 @@
 /* dm_skin_profile.h — the physical skin (dm_skin_optics.h) as a dm_profile: a sum of
  * Gaussians per RGB channel, fitted straight in the radial frequency domain.
  *
- * Per wavelength of dm_skin_data.h the two-layer reflectance transform R̃_λ(s) is exact
- * (dm_skin_layers.h: closed-form poles, no numerical transform); a channel is
- * R̃_c(s) = Σ_λ w_c(λ) R̃_λ(s) (dm_skin_rgb.h). Gaussians transform to exp(−v s²/2), so
+ * Per wavelength of dm_skin_data.h the two-layer reflectance transform R̃_λ(s) is diffusion's
+ * (dm_skin_layers.h: closed-form poles, no numerical transform), normalised to the total
+ * diffuse reflectance of adding-doubling (dm_skin_ad.h, Henyey–Greenstein g 0.8; the
+ * factor of dm_skin_freq_totals): the shape is diffusion's, the total exact for g. Every
+ * output below — the fit's targets, the report's totals and radii, the dense profile — uses
+ * that one normalisation. A channel is R̃_c(s) = Σ_λ w_c(λ) R̃_λ(s) (dm_skin_rgb.h). Gaussians transform to exp(−v s²/2), so
  *   R̃_c(s) ≈ Σ_k w_kc exp(−v_k s²/2)
  * with fixed variances v_k and weights w_kc ≥ 0 by non-negative least squares
  * (dm_lsq_nnls_shared) on DM_SKIN_FREQ_NODES nodes in ln s over [1e-3, 3e3] mm⁻¹, each
@@ -39,6 +42,7 @@ typedef struct dm_skin_profile_options {
     int gaussian_count;                            /* 0: the six of DM_SKIN_GEMS3_VARIANCES_MM2 */
     double variance_mm2[DM_PROFILE_MAX_GAUSSIANS]; /* when gaussian_count > 0: strictly ascending, > 0 */
     int pair_count;                                /* multipole image pairs; 0: DM_MULTIPOLE_PAIRS_DEFAULT */
+    int stream_count;                              /* adding-doubling streams (dm_skin_ad.h); 0: DM_SKIN_AD_STREAMS_DEFAULT */
 } dm_skin_profile_options;
 
 /* What the fit found, and what the physics said on the way. */
@@ -50,7 +54,8 @@ typedef struct dm_skin_report {
     double rms_radius_mm[3];        /* √(∫ r² R_c 2πr dr / ∫ R_c 2πr dr) of the physical profile, exact
                                      * (from ∂R̃/∂s² at 0); 0 where the channel's total or its
                                      * second moment is ≤ 0 (negative lobes) */
-    double total_spectral[DM_SKIN_LAMBDA_COUNT]; /* R̃_λ(0) per wavelength row */
+    double total_spectral[DM_SKIN_LAMBDA_COUNT]; /* R̃_λ(0) per wavelength row: adding-doubling's total */
+    double diffusion_total_spectral[DM_SKIN_LAMBDA_COUNT]; /* diffusion's own R̃_λ(0), before the normalisation */
     unsigned invalid[DM_SKIN_LAMBDA_COUNT];      /* DM_SKIN_INVALID_* per wavelength row */
     int epidermis_invalid_count, dermis_invalid_count;      /* rows where that layer fell back */
 } dm_skin_report;
@@ -69,7 +74,8 @@ dm_result dm_skin_physics_report(const dm_skin_params *p, int pair_count, dm_ski
 /* The dense physical profile, for comparison: each wavelength's R_λ(r) represented by
  * DM_SKIN_DENSE_GAUSSIANS Gaussians (standard deviations log-spaced 0.004..16 mm, NNLS in
  * the frequency domain as above, weights ≥ 0 per wavelength), combined per channel with the
- * signed w_c(λ): channel weights may be negative, which is how the lobes show. */
+ * signed w_c(λ): channel weights may be negative, which is how the lobes show. Normalised
+ * as the fit is, with the default adding-doubling streams. */
 typedef struct dm_skin_dense {
     double variance_mm2[DM_SKIN_DENSE_GAUSSIANS];
     double weight[DM_SKIN_DENSE_GAUSSIANS][3];

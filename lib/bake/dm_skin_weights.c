@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bake/dm_lsq.h"
+#include "bake/dm_skin_ad.h"
 #include "bake/dm_skin_freq.h"
 #include "bake/dm_skin_rgb.h"
 #include "core/dm_diffusion.h"
@@ -25,6 +26,10 @@ dm_result dm_skin_weights_plan_init(dm_skin_weights_plan *plan, const double *va
         return dm_fail(err, DM_ERR_RANGE, "skin weights: pair_count = %d, expected 0 (%d) or 1..%d", o.pair_count,
                        DM_SKIN_WEIGHTS_PAIRS_DEFAULT,
                        DM_MULTIPOLE_PAIRS_MAX);
+    if (o.stream_count == 0) o.stream_count = DM_SKIN_WEIGHTS_STREAMS_DEFAULT;
+    if (o.stream_count < 2 || o.stream_count > DM_SKIN_AD_STREAMS_MAX || o.stream_count % 2)
+        return dm_fail(err, DM_ERR_RANGE, "skin weights: stream_count = %d, expected 0 (%d) or even 2..%d",
+                       o.stream_count, DM_SKIN_WEIGHTS_STREAMS_DEFAULT, DM_SKIN_AD_STREAMS_MAX);
     /* the variances by the profile's own rule: a shape with no weight yet */
     dm_profile shape = {.count = gaussian_count};
     if (gaussian_count >= 1 && gaussian_count <= GMAX)
@@ -34,7 +39,7 @@ dm_result dm_skin_weights_plan_init(dm_skin_weights_plan *plan, const double *va
     memset(plan, 0, sizeof *plan);
     plan->gaussian_count = gaussian_count;
     memcpy(plan->variance_mm2, shape.variance_mm2, sizeof plan->variance_mm2);
-    plan->node_count = o.node_count, plan->pair_count = o.pair_count;
+    plan->node_count = o.node_count, plan->pair_count = o.pair_count, plan->stream_count = o.stream_count;
     double top = sqrt(2.0 * log(1.0 / DM_SKIN_WEIGHTS_CUT) / variance_mm2[0]);
     plan->s_hi_per_mm = fmax(fmin(top, DM_SKIN_FREQ_S_HI_PER_MM), 2.0 * DM_SKIN_FREQ_S_LO_PER_MM);
     dm_skin_freq_nodes(DM_SKIN_FREQ_S_LO_PER_MM, plan->s_hi_per_mm, plan->node_count, plan->s, plan->sq);
@@ -49,8 +54,9 @@ dm_result dm_skin_weights_fit(const dm_skin_weights_plan *plan, const dm_skin_pa
     dm_result rc = dm_skin_params_validate(p, "skin weights", err);
     if (rc != DM_OK) return rc;
     int m = plan->node_count, n = plan->gaussian_count;
-    double yc[3 * NMAX], scratch[NMAX * (GMAX + 1)], wk[3 * GMAX]; /* channel c's weights at wk + c·n */
-    dm_skin_freq_channels(p, plan->pair_count, plan->s, plan->sq, m, (const double(*)[3])plan->rgb, yc);
+    double yc[3 * NMAX], scratch[NMAX * (GMAX + 1)], wk[3 * GMAX], scale[DM_SKIN_LAMBDA_COUNT];
+    dm_skin_freq_totals(p, plan->pair_count, plan->stream_count, NULL, scale);
+    dm_skin_freq_channels(p, plan->pair_count, scale, plan->s, plan->sq, m, (const double(*)[3])plan->rgb, yc);
     dm_lsq_nnls_shared(plan->design, m, n, yc, 3, scratch, wk);
     memset(out, 0, sizeof *out);
     snprintf(out->name, sizeof out->name, "%s", name ? name : "");

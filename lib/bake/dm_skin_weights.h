@@ -38,7 +38,12 @@
 extern "C" {
 #endif
 
-enum { DM_SKIN_WEIGHTS_NODES_DEFAULT = 81, DM_SKIN_WEIGHTS_NODES_MAX = 401, DM_SKIN_WEIGHTS_PAIRS_DEFAULT = 8 };
+enum {
+    DM_SKIN_WEIGHTS_NODES_DEFAULT = 81,
+    DM_SKIN_WEIGHTS_NODES_MAX = 401,
+    DM_SKIN_WEIGHTS_PAIRS_DEFAULT = 8,
+    DM_SKIN_WEIGHTS_STREAMS_DEFAULT = 8
+};
 #define DM_SKIN_WEIGHTS_CUT 1e-9
 
 /* Zero-initialised = defaults. */
@@ -46,13 +51,15 @@ typedef struct dm_skin_weights_options {
     int node_count; /* odd, 3..DM_SKIN_WEIGHTS_NODES_MAX; 0 = DM_SKIN_WEIGHTS_NODES_DEFAULT */
     int pair_count; /* multipole image pairs, 1..DM_MULTIPOLE_PAIRS_MAX; 0 = DM_SKIN_WEIGHTS_PAIRS_DEFAULT
                      * (offline: DM_MULTIPOLE_PAIRS_DEFAULT, 20) */
+    int stream_count; /* adding-doubling streams (dm_skin_ad.h), even 2..DM_SKIN_AD_STREAMS_MAX;
+                       * 0 = DM_SKIN_WEIGHTS_STREAMS_DEFAULT (offline: DM_SKIN_AD_STREAMS_DEFAULT, 16) */
 } dm_skin_weights_options;
 
 /* What the fit keeps between calls (caller-owned, about 40 KB; no allocation). */
 typedef struct dm_skin_weights_plan {
     int gaussian_count;
     double variance_mm2[DM_PROFILE_MAX_GAUSSIANS];
-    int node_count, pair_count;
+    int node_count, pair_count, stream_count;
     double s_hi_per_mm;                       /* the top node */
     double s[DM_SKIN_WEIGHTS_NODES_MAX];      /* nodes, mm⁻¹ */
     double sq[DM_SKIN_WEIGHTS_NODES_MAX];     /* √ of their quadrature weights */

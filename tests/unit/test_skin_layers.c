@@ -30,7 +30,7 @@ Test(skin_layers, one_layer_is_the_dipole_and_multipole_at_s0)
 {
     const double sa[3] = {0.01, 0.3, 2.0}, ss[3] = {1.0, 4.8, 9.2};
     for (int k = 0; k < 3; ++k) {
-        dm_skin_layer semi = {sa[k], ss[k], INFINITY, 1.4, 1.0}, slab = {sa[k], ss[k], 2.0, 1.4, 1.4}; /* ≥ l */
+        dm_skin_layer semi = {sa[k], ss[k], INFINITY, 1.4, 1.0, DM_SKIN_EXIT_FLUX}, slab = {sa[k], ss[k], 2.0, 1.4, 1.4, DM_SKIN_EXIT_FLUX}; /* ≥ l */
         dm_skin_dual r;
         dm_skin_stack_transform(&semi, 1, 0, 0.0, &r, NULL);
         double ref = dm_dipole_total(sa[k], ss[k], 1.4);
@@ -49,7 +49,7 @@ Test(skin_layers, one_layer_matches_hankel_transform_of_r)
     const double depth[2] = {INFINITY, 0.7};
     for (int j = 0; j < 2; ++j)
         for (int k = 0; k < 3; ++k) {
-            dm_skin_layer l = {0.05, 2.5, depth[j], 1.4, 1.4};
+            dm_skin_layer l = {0.05, 2.5, depth[j], 1.4, 1.4, DM_SKIN_EXIT_FLUX};
             dm_skin_dual r;
             dm_skin_stack_transform(&l, 1, 0, s[k], &r, NULL);
             double ref = hankel(s[k], 0.05, 2.5, 1.4, depth[j]);
@@ -69,12 +69,12 @@ Test(skin_layers, derivative_is_the_second_moment)
         m2 += (i == 0 || i == n ? 1.0 : i % 2 ? 4.0 : 2.0) * DM_2PI * r * r * r * r * dm_dipole(sa, ss, eta, r);
     }
     m2 *= h / 3.0;
-    dm_skin_layer l = {sa, ss, INFINITY, eta, 1.0};
+    dm_skin_layer l = {sa, ss, INFINITY, eta, 1.0, DM_SKIN_EXIT_FLUX};
     dm_skin_dual r;
     dm_skin_stack_transform(&l, 1, 0, 0.0, &r, NULL);
     cr_assert(fabs(-4.0 * r.d - m2) < 1e-7 * m2, "%.12g vs %.12g", -4.0 * r.d, m2);
     /* the same through a stack: a finite difference in s² (step 1e-6 mm⁻²: error ~1e-6) */
-    dm_skin_layer two[2] = {{2.0, 9.0, 0.25, 1.4, 1.0}, {0.1, 3.0, INFINITY, 1.0, 1.4}};
+    dm_skin_layer two[2] = {{2.0, 9.0, 0.25, 1.4, 1.0, DM_SKIN_EXIT_FLUX}, {0.1, 3.0, INFINITY, 1.0, 1.4, DM_SKIN_EXIT_FLUX}};
     dm_skin_dual a, b;
     dm_skin_stack_transform(two, 2, 0, 1e-3, &a, NULL);
     dm_skin_stack_transform(two, 2, 0, sqrt(1e-6 + 1e-6), &b, NULL);
@@ -87,7 +87,7 @@ Test(skin_layers, derivative_is_the_second_moment)
 Test(skin_layers, thick_top_layer_hides_the_bottom)
 {
     double sa = 0.1, ss = 3.0, d = 40.0 / sqrt(3.0 * sa * (sa + ss));
-    dm_skin_layer two[2] = {{sa, ss, d, 1.4, 1.0}, {0.01, 1.0, INFINITY, 1.0, 1.4}}, one = {sa, ss, INFINITY, 1.4, 1.0};
+    dm_skin_layer two[2] = {{sa, ss, d, 1.4, 1.0, DM_SKIN_EXIT_FLUX}, {0.01, 1.0, INFINITY, 1.0, 1.4, DM_SKIN_EXIT_FLUX}}, one = {sa, ss, INFINITY, 1.4, 1.0, DM_SKIN_EXIT_FLUX};
     for (double s = 0.0; s < 20.0; s = s * 3 + 0.1) {
         dm_skin_dual a, b;
         dm_skin_stack_transform(two, 2, 0, s, &a, NULL);
@@ -105,7 +105,7 @@ Test(skin_layers, one_medium_cut_in_two)
     double sa = 0.05, ss = 2.5, l = 1.0 / (sa + ss);
     double whole = dm_dipole_total(sa, ss, 1.4);
     for (double f = 2.0; f < 40.0; f *= 1.5) {
-        dm_skin_layer two[2] = {{sa, ss, f * l, 1.4, 1.0}, {sa, ss, INFINITY, 1.0, 1.4}};
+        dm_skin_layer two[2] = {{sa, ss, f * l, 1.4, 1.0, DM_SKIN_EXIT_FLUX}, {sa, ss, INFINITY, 1.0, 1.4, DM_SKIN_EXIT_FLUX}};
         dm_skin_dual r;
         dm_skin_stack_transform(two, 2, 0, 0.0, &r, NULL);
         cr_assert(fabs(r.v - whole) < 0.02 * whole, "d = %g l: %.5f vs %.5f", f, r.v, whole);
@@ -120,7 +120,7 @@ Test(skin_layers, responses_bounded)
     const double sa[3] = {0.02, 0.5, 4.0};
     for (int k = 0; k < 3; ++k)
         for (double f = 1.0; f < 50.0; f *= 1.3) {
-            dm_skin_layer l = {sa[k], 5.0, f / (sa[k] + 5.0), 1.4, 1.0};
+            dm_skin_layer l = {sa[k], 5.0, f / (sa[k] + 5.0), 1.4, 1.0, DM_SKIN_EXIT_FLUX};
             cr_assert(dm_skin_layer_diffusive(&l) == (f >= DM_SKIN_DEPTH_DIFFUSIVE));
             double prev_t = 2.0;
             for (double s = 0.0; s < 100.0; s = s * 2 + 0.05) {
@@ -170,8 +170,8 @@ Test(skin_layers, single_scatter_closed_form)
  * the closed form alone. */
 Test(skin_layers, closed_form_fallback)
 {
-    dm_skin_layer thin = {0.5, 9.0, 0.05, 1.4, 1.0}, dark = {20.0, 6.0, 0.25, 1.4, 1.0};
-    dm_skin_layer at = {0.5, 9.0, DM_SKIN_DEPTH_DIFFUSIVE / 9.5, 1.4, 1.0};
+    dm_skin_layer thin = {0.5, 9.0, 0.05, 1.4, 1.0, DM_SKIN_EXIT_FLUX}, dark = {20.0, 6.0, 0.25, 1.4, 1.0, DM_SKIN_EXIT_FLUX};
+    dm_skin_layer at = {0.5, 9.0, DM_SKIN_DEPTH_DIFFUSIVE / 9.5, 1.4, 1.0, DM_SKIN_EXIT_FLUX};
     cr_assert(!dm_skin_layer_diffusive(&thin) && dm_skin_layer_diffusion_weight(&thin) == 0.0);
     cr_assert(!dm_skin_layer_diffusive(&dark) && dm_skin_layer_diffusion_weight(&dark) == 0.0);
     cr_assert(dm_skin_layer_diffusive(&at));
@@ -181,11 +181,11 @@ Test(skin_layers, closed_form_fallback)
            r_up = dm_skin_single_scatter_reflectance(a, 26.0 * 0.25, 1.0);
     cr_assert(o.r.v == r && o.r_up.v == r_up && o.r.d == 0.0 && o.t.d == 0.0);
     cr_assert(fabs(o.t.v - fmax(0.0, exp(-5.0) - r)) < 1e-15 && fabs(o.t_up.v - fmax(0.0, exp(-10.0) - r_up)) < 1e-15);
-    dm_skin_layer semi_dark = {20.0, 6.0, INFINITY, 1.4, 1.0};
+    dm_skin_layer semi_dark = {20.0, 6.0, INFINITY, 1.4, 1.0, DM_SKIN_EXIT_FLUX};
     dm_skin_layer_transform(&semi_dark, 0, 0.0, &o);
     cr_assert(o.r.v == dm_skin_single_scatter_reflectance(a, INFINITY, 1.4) && o.t.v == 0.0);
     /* over a diffusive bottom: DJ2005's sum with the closed form's R, T */
-    dm_skin_layer two[2] = {thin, {0.05, 2.5, INFINITY, 1.0, 1.4}};
+    dm_skin_layer two[2] = {thin, {0.05, 2.5, INFINITY, 1.0, 1.4, DM_SKIN_EXIT_FLUX}};
     dm_skin_dual rs;
     dm_skin_stack_transform(two, 2, 0, 0.0, &rs, NULL);
     double r1 = dm_skin_single_scatter_reflectance(9.0 / 9.5, 9.5 * 0.05, 1.4);
@@ -204,9 +204,9 @@ Test(skin_layers, switch_is_continuous)
     double prev[2][4] = {{-1}, {-1}};
     for (int i = 0; i <= 2000; ++i) {
         double x = (double)i / 2000;
-        dm_skin_layer thick = {0.5, 9.0, (0.9 + 0.3 * x) / 9.5, 1.4, 1.0};           /* d: 0.9 → 1.2 l */
+        dm_skin_layer thick = {0.5, 9.0, (0.9 + 0.3 * x) / 9.5, 1.4, 1.0, DM_SKIN_EXIT_FLUX};           /* d: 0.9 → 1.2 l */
         double sa = 1.0 / (0.35 + 0.2 * x) * 6.0 - 6.0;                              /* α′: 0.35 → 0.55 */
-        dm_skin_layer dark = {sa, 6.0, 0.25, 1.4, 1.0};
+        dm_skin_layer dark = {sa, 6.0, 0.25, 1.4, 1.0, DM_SKIN_EXIT_FLUX};
         const dm_skin_layer *ls[2] = {&thick, &dark};
         for (int k = 0; k < 2; ++k) {
             dm_skin_slab o;
@@ -220,4 +220,19 @@ Test(skin_layers, switch_is_continuous)
             }
         }
     }
+}
+
+/* The partial-current readout's coefficients (Kienle & Patterson 1997): C_φ = (1 − 2C₁)/4,
+ * C_E = (1 − 3C₂)/2 from the Fresnel moments. A matched face (η = 1) lets out the plain
+ * partial current φ/4 + E/2; at η 1.4 they give the moment boundary A = (1 + 3C₂)/(1 − 2C₁)
+ * = 2.95 that docs/skin-model.md quotes for Haskell et al. 1994 (C_φ 0.1178, C_E 0.3056). */
+Test(skin_layers, partial_current_coefficients)
+{
+    double c_phi, c_e;
+    dm_skin_exit_coefficients(1.0, &c_phi, &c_e);
+    cr_assert(c_phi == 0.25 && c_e == 0.5, "%.17g %.17g", c_phi, c_e);
+    dm_skin_exit_coefficients(1.4, &c_phi, &c_e);
+    double two_c1 = 1.0 - 4.0 * c_phi, three_c2 = 1.0 - 2.0 * c_e, a = (1.0 + three_c2) / (1.0 - two_c1);
+    cr_assert(fabs(c_phi - 0.1178) < 5e-5 && fabs(c_e - 0.3056) < 5e-5, "%.6f %.6f", c_phi, c_e);
+    cr_assert(fabs(a - 2.95) < 0.005, "A %.4f", a);
 }

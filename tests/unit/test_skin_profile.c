@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bake/dm_skin_ad.h"
+#include "bake/dm_skin_freq.h"
 #include "bake/dm_skin_layers.h"
 #include "bake/dm_skin_mc.h"
 #include "bake/dm_skin_profile.h"
@@ -19,11 +21,10 @@ static dm_skin_params preset(const char *name)
     return p;
 }
 
+/* The model's total diffuse reflectance (adding-doubling; the profile is normalised to it). */
 static double total_at(const dm_skin_params *p, double nm)
 {
-    dm_skin_dual r;
-    dm_skin_reflectance_at(p, dm_skin_data_index(nm), 0, 0.0, &r, NULL);
-    return r.v;
+    return dm_skin_ad_total_at(p, dm_skin_data_index(nm), 0);
 }
 
 /* ---- the parameter check ---- */
@@ -69,7 +70,7 @@ static const double nist_lo[3] = {0.116, 0.190, 0.386}, nist_med[3] = {0.269, 0.
 
 /* The light exemplar (DJ2006's Caucasian, Cm 0.005) is inside the bands at 550 and 650 nm,
  * above the median at 550 (light near the top); at 450 nm it is brighter than the 95th
- * percentile, by 0.03 (measured 0.355): the model's known excess, held here so a change
+ * percentile, by 0.009 (measured 0.334; diffusion alone said 0.355): held here so a change
  * shows, and reported in docs/skin-model.md. */
 Test(skin_profile, caucasian_against_nist)
 {
@@ -101,11 +102,11 @@ Test(skin_profile, light_skin_inside_nist_bands)
 
 /* The darker exemplars are darker at every wavelength (Caucasian > Asian > African). Not
  * held to the cohort: DJ2006's melanin spread evenly through a 0.25 mm epidermis absorbs
- * more than the cohort's darkest skins (measured: Asian 0.050 / 0.099 / 0.169, African
- * 0.011 / 0.014 / 0.018 at 450 / 550 / 650 nm, under the 5th percentiles 0.116 / 0.190 /
- * 0.386). The Monte Carlo of the same layers agrees that they are that dark (Asian 0.03 /
- * 0.05 / 0.12, African 0.006 / 0.007 / 0.012 at g 0.8): it is the parameters, not the
- * diffusion (docs/skin-model.md). Printed here so the numbers show. */
+ * more than the cohort's darkest skins (measured: Asian 0.029 / 0.055 / 0.121, African
+ * 0.0055 / 0.0080 / 0.0123 at 450 / 550 / 650 nm, under the 5th percentiles 0.116 / 0.190 /
+ * 0.386; diffusion with its closed form said 0.050 / 0.099 / 0.169 and 0.011 / 0.014 /
+ * 0.018). The Monte Carlo of the same layers agrees (below): it is the parameters, not the
+ * transport (docs/skin-model.md). Printed here so the numbers show. */
 Test(skin_profile, darker_exemplars_are_darker)
 {
     dm_skin_params c = preset("caucasian"), a = preset("asian"), f = preset("african");
@@ -114,8 +115,9 @@ Test(skin_profile, darker_exemplars_are_darker)
         printf("%g nm: asian %.3f african %.4f (NIST 5 %% %.3f)\n", nist_nm[k], ra, rf, nist_lo[k]);
         cr_assert(rc > ra && ra >= rf && rf >= 0, "%g nm: %.3f %.3f %.4f", nist_nm[k], rc, ra, rf);
     }
-    /* today's value, pinned so that a change to the model or the preset shows */
-    cr_assert(fabs(total_at(&a, 650) - 0.169) < 0.02, "asian at 650 nm: %.3f", total_at(&a, 650));
+    /* today's value, pinned so that a change to the model or the preset shows (adding-doubling:
+     * 0.121; it was diffusion's 0.169) */
+    cr_assert(fabs(total_at(&a, 650) - 0.121) < 0.02, "asian at 650 nm: %.3f", total_at(&a, 650));
 }
 
 /* ---- the switch to the closed form where diffusion fails ---- */
@@ -293,7 +295,9 @@ static int differs(const double a[4], const double b[4])
 
 Test(skin_profile, every_parameter_pinned)
 {
-    const double want[4] = {0.17338332, 0.209353133, 0.295271512, 0.723295197};
+    /* adding-doubling's totals and the partial-current shape (diffusion's flux totals were
+     * 0.17338332 0.209353133 0.295271512, red RMS radius 0.723295197) */
+    const double want[4] = {0.121131196, 0.161008586, 0.251458508, 0.761856425};
     double v[4];
     pin_values(&pin_point, v);
     printf("pin: %.9g %.9g %.9g %.9g\n", v[0], v[1], v[2], v[3]);
@@ -310,70 +314,83 @@ Test(skin_profile, every_parameter_pinned)
 }
 
 /* ---- against the Monte Carlo (bake/dm_skin_mc.h) ----
- * The Caucasian exemplar's two layers as an MCML-style stack (n 1.4 both, air above,
- * Henyey–Greenstein g 0.8 with μs = σs′/(1 − g), semi-infinite dermis), 2·10⁴ photons
- * (SE ≈ 0.7 %). Diffusion theory with DJ2005's layering overestimates it: measured +9.8 %,
- * +4.6 %, +4.5 % at 450/550/650 nm (the dipole alone is +1.5–2.2 % at n = 1.4,
- * docs/skin-mc.md; the thin epidermis, 2.4 transport lengths at 450 nm, adds the rest). Held
- * at what is measured, with 4 SE of room: the 2 % the issue asks for is not met
- * (docs/skin-model.md). */
-Test(skin_profile, caucasian_against_monte_carlo, .timeout = 60)
+ * An exemplar's two layers as an MCML-style stack: n 1.4 both, air above, Henyey–Greenstein
+ * g = DM_SKIN_ANISOTROPY (0.8) with μs = σs′/(1 − g), semi-infinite dermis. Like for like:
+ * the MC's Rd is per incident power, the model's total per entering power (the renderer
+ * applies the entry Fresnel itself), so the MC side is Rd/(1 − Rsp). */
+static dm_skin_mc_result mc_of(const dm_skin_params *p, int li, uint64_t photons, uint64_t seed, double *rd,
+                               double *se, int bins)
 {
-    dm_skin_params p = preset("caucasian");
-    const double high[3] = {0.13, 0.075, 0.075};
-    for (int k = 0; k < 3; ++k) {
-        int li = dm_skin_data_index(nist_nm[k]);
-        dm_skin_layer L[2];
-        dm_skin_layers_at(&p, li, L);
-        const double g = 0.8;
-        dm_skin_mc_layer m[2];
-        for (int j = 0; j < 2; ++j)
-            m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
-        dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 20000, .seed = 30, .thread_count = 1};
-        dm_skin_mc_result res = {0};
-        dm_error err = {0};
-        cr_assert_eq(dm_skin_mc_run(&d, &res, &err), DM_OK, "%s", err.detail);
-        double model = total_at(&p, nist_nm[k]), rel = model / res.diffuse_reflectance - 1.0;
-        double se = res.diffuse_reflectance_se / res.diffuse_reflectance;
-        printf("%g nm: model %.4f, Monte Carlo %.4f ± %.4f (%+.1f %%)\n", nist_nm[k], model, res.diffuse_reflectance,
-               res.diffuse_reflectance_se, 100.0 * rel);
-        cr_assert(rel > -4.0 * se && rel < high[k] + 4.0 * se, "%g nm: %+.3f", nist_nm[k], rel);
+    dm_skin_layer L[2];
+    dm_skin_layers_at(p, li, L);
+    dm_skin_mc_layer m[2];
+    for (int j = 0; j < 2; ++j)
+        m[j] = (dm_skin_mc_layer){p->eta, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - DM_SKIN_ANISOTROPY),
+                                  DM_SKIN_ANISOTROPY, L[j].thickness_mm};
+    dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = photons, .seed = seed, .thread_count = 0,
+                         .dr_mm = 0.1, .radial_bin_count = bins};
+    dm_skin_mc_result res = {.rd_r_per_mm2 = rd, .rd_r_se_per_mm2 = se};
+    dm_error err = {0};
+    cr_assert_eq(dm_skin_mc_run(&d, &res, &err), DM_OK, "%s", err.detail);
+    return res;
+}
+
+/* Issue #30: the total diffuse reflectance the profile carries (the report's total_spectral,
+ * adding-doubling's) against the MC of the same slab, within 2 % + 2 SE, every exemplar at
+ * 450/550/650 nm (4·10⁴ photons: SE 0.3–0.5 % on the light skins, 2–7 % on the African, whose
+ * Rd is 0.006–0.012). 2 % is the issue's; the MC's own noise is added because the model is
+ * exact in what both describe (adding-doubling solves the MC's transport equation: 16
+ * streams are within 1e-3 of 32, test_skin_ad.c), and at 2 SE the seeds fixed here leave it
+ * deterministic. Measured (docs/skin-model.md): within ±1.3 %, most within 0.5 %. Before,
+ * diffusion's total was +6.8 / +2.6 / +1.1 % (Caucasian), +21 / +12 / +7 % (Fitzpatrick 1)
+ * like for like, and 1.4–2× on the dark exemplars. */
+Test(skin_profile, totals_against_monte_carlo, .timeout = 120)
+{
+    const char *names[4] = {"caucasian", "fitzpatrick-1", "asian", "african"};
+    for (int e = 0; e < 4; ++e) {
+        dm_skin_params p = preset(names[e]);
+        dm_profile prof;
+        dm_skin_report rep;
+        cr_assert_eq(dm_skin_profile_fit(&p, NULL, names[e], &prof, &rep, NULL), DM_OK);
+        for (int k = 0; k < 3; ++k) {
+            int li = dm_skin_data_index(nist_nm[k]);
+            dm_skin_mc_result res = mc_of(&p, li, 40000, 30 + 3 * e + k, NULL, NULL, 0);
+            double mc = res.diffuse_reflectance / (1.0 - res.specular), se = res.diffuse_reflectance_se / (1.0 - res.specular);
+            double model = rep.total_spectral[li];
+            printf("%s %g nm: model %.4f (diffusion %.4f), MC %.4f ± %.4f (%+.2f %%)\n", names[e], nist_nm[k], model,
+                   rep.diffusion_total_spectral[li], mc, se, 100.0 * (model / mc - 1.0));
+            cr_assert(fabs(model - mc) < 0.02 * mc + 2.0 * se, "%s %g nm: model %.4f, MC %.4f ± %.4f", names[e],
+                      nist_nm[k], model, mc, se);
+        }
     }
 }
 
-/* The darker exemplars' shortfall against the cohort is not diffusion's: the Monte Carlo of
+/* The darker exemplars' shortfall against the cohort is not the model's: the Monte Carlo of
  * the same layers (as above, 10⁴ photons) is below the NIST 5th percentile at 450/550/650 nm
- * too (measured Asian 0.028 / 0.054 / 0.117, African 0.006 / 0.007 / 0.012 against 0.116 /
- * 0.190 / 0.386; SE < 0.002), and below the layered model (whose closed form and diffusion
- * both overestimate a strongly absorbing epidermis). docs/skin-model.md, "Measured". */
+ * too (measured Asian 0.029 / 0.054 / 0.117, African 0.006 / 0.008 / 0.012 against 0.116 /
+ * 0.190 / 0.386; SE < 0.002), and so is the model, which agrees with it (above).
+ * docs/skin-model.md, "Measured". */
 Test(skin_profile, dark_exemplars_below_the_cohort_in_the_monte_carlo_too, .timeout = 60)
 {
     const char *names[2] = {"asian", "african"};
     for (int e = 0; e < 2; ++e) {
         dm_skin_params p = preset(names[e]);
         for (int k = 0; k < 3; ++k) {
-            dm_skin_layer L[2];
-            dm_skin_layers_at(&p, dm_skin_data_index(nist_nm[k]), L);
-            const double g = 0.8;
-            dm_skin_mc_layer m[2];
-            for (int j = 0; j < 2; ++j)
-                m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
-            dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 10000, .seed = 32, .thread_count = 1};
-            dm_skin_mc_result res = {0};
-            cr_assert_eq(dm_skin_mc_run(&d, &res, NULL), DM_OK);
+            dm_skin_mc_result res = mc_of(&p, dm_skin_data_index(nist_nm[k]), 10000, 32, NULL, NULL, 0);
             double mc = res.diffuse_reflectance, model = total_at(&p, nist_nm[k]);
             printf("%s %g nm: Monte Carlo %.4f ± %.4f, model %.4f, NIST 5 %% %.3f\n", names[e], nist_nm[k], mc,
                    res.diffuse_reflectance_se, model, nist_lo[k]);
             cr_assert(mc + 4.0 * res.diffuse_reflectance_se < nist_lo[k], "%s %g nm: %.4f", names[e], nist_nm[k], mc);
-            cr_assert(mc < model, "%s %g nm: MC %.4f, model %.4f", names[e], nist_nm[k], mc, model);
+            cr_assert(model < nist_lo[k], "%s %g nm: model %.4f", names[e], nist_nm[k], model);
         }
     }
 }
 
 /* R_λ(r) of the model by the inverse transform (1/2π) ∫ s J0(s r) R̃(s) ds, trapezoid with
  * Δs = 0.005 mm⁻¹ to 400 mm⁻¹ (R̃ falls as e^(−l s), l ≈ 0.1 mm: e^−40 there; at r = 5 mm
- * J0's period 1.26 mm⁻¹ holds 250 steps). Independent of the Gaussian fit. */
-static double model_r(const dm_skin_params *p, int li, double r)
+ * J0's period 1.26 mm⁻¹ holds 250 steps), times the normalisation to adding-doubling's total
+ * (dm_skin_freq_totals), as the profile takes it. Independent of the Gaussian fit. */
+static double model_r(const dm_skin_params *p, int li, double scale, double r)
 {
     const double ds = 0.005;
     double acc = 0.0;
@@ -383,37 +400,29 @@ static double model_r(const dm_skin_params *p, int li, double r)
         dm_skin_reflectance_at(p, li, 0, s, &f, NULL);
         acc += (i == 80000 ? 0.5 : 1.0) * s * j0(s * r) * f.v;
     }
-    return acc * ds / DM_2PI;
+    return scale * acc * ds / DM_2PI;
 }
 
 /* R(r) of the Caucasian exemplar at 650 nm (dermis l′ = 0.41 mm, epidermis 0.25 mm = 1.1 of
  * its own l) against the Monte Carlo's annuli (g 0.8, 4·10⁴ photons, 0.1 mm bins) over
- * 0.2–5 mm. Measured model/MC: 1.43 at 0.25 mm, 0.78–0.83 over 0.5–1 mm, 0.91–1.05 over
- * 1–4.5 mm: the layered diffusion puts too much light next to the beam (its total is +3.6 %)
- * and too little at 1–2 l′, and agrees beyond. Diffusion's known accuracy (a single layer's
- * dipole against the same MC, docs/skin-mc.md: 0.37–0.62 under 0.25 l′, 0.92–1.18 over
- * 0.4–5 l′) is kept beyond 1 mm (≥ 2.4 l′): 15 % + 4 SE per annulus; under it the layering
- * is worse than one dipole, held at what is measured: 50 % + 4 SE. */
+ * 0.2–5 mm, like for like (MC/(1 − Rsp)): the shape is diffusion's read out as the
+ * Fresnel-weighted partial current, the total adding-doubling's. Measured model/MC: 1.14 at
+ * 0.25 mm, 1.00–1.09 over 0.35–0.95 mm, 0.91–1.10 over 1–4.5 mm (the flux readout, normalised
+ * the same way: 1.37, 0.75–0.87, 0.88–1.01). Diffusion's known accuracy — a single dipole
+ * against the same MC, docs/skin-mc.md: 0.92–1.18 over 0.4–5 l′ — is what is held: 20 % +
+ * 4 SE per annulus under 1 mm (0.5–2.4 l′), 15 % + 4 SE beyond. */
 Test(skin_profile, radial_profile_against_monte_carlo, .timeout = 120)
 {
     dm_skin_params p = preset("caucasian");
     int li = dm_skin_data_index(650);
-    dm_skin_layer L[2];
-    dm_skin_layers_at(&p, li, L);
-    const double g = 0.8, dr = 0.1;
-    dm_skin_mc_layer m[2];
-    for (int j = 0; j < 2; ++j)
-        m[j] = (dm_skin_mc_layer){1.4, L[j].sigma_a, L[j].sigma_s_prime / (1.0 - g), g, L[j].thickness_mm};
-    double rd[60], se[60];
-    dm_skin_mc_desc d = {.layers = m, .layer_count = 2, .photon_count = 40000, .seed = 31, .thread_count = 0,
-                         .dr_mm = dr, .radial_bin_count = 60};
-    dm_skin_mc_result res = {.rd_r_per_mm2 = rd, .rd_r_se_per_mm2 = se};
-    dm_error err = {0};
-    cr_assert_eq(dm_skin_mc_run(&d, &res, &err), DM_OK, "%s", err.detail);
+    double rd[60], se[60], scale[DM_SKIN_LAMBDA_COUNT];
+    dm_skin_mc_result res = mc_of(&p, li, 40000, 31, rd, se, 60);
+    dm_skin_freq_totals(&p, 0, 0, NULL, scale);
     for (int i = 2; i < 50; i += (i < 10 ? 1 : 5)) {
-        double r = (i + 0.5) * dr, model = model_r(&p, li, r);
-        printf("r %.2f mm: model %.5f MC %.5f ± %.5f (ratio %.3f)\n", r, model, rd[i], se[i], model / rd[i]);
-        double tol = r < 1.0 ? 0.5 : 0.15;
-        cr_assert(fabs(model - rd[i]) < tol * rd[i] + 4.0 * se[i], "r %.2f: %.5f vs %.5f", r, model, rd[i]);
+        double r = (i + 0.5) * 0.1, model = model_r(&p, li, scale[li], r);
+        double mc = rd[i] / (1.0 - res.specular), mc_se = se[i] / (1.0 - res.specular);
+        printf("r %.2f mm: model %.5f MC %.5f ± %.5f (ratio %.3f)\n", r, model, mc, mc_se, model / mc);
+        double tol = r < 1.0 ? 0.2 : 0.15;
+        cr_assert(fabs(model - mc) < tol * mc + 4.0 * mc_se, "r %.2f: %.5f vs %.5f", r, model, mc);
     }
 }

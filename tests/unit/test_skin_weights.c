@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "bake/dm_profile_fit.h"
+#include "bake/dm_skin_ad.h"
 #include "bake/dm_skin_profile.h"
 #include "bake/dm_skin_weights.h"
 
@@ -21,10 +22,16 @@ static dm_skin_params preset(const char *name)
 
 static dm_skin_weights_plan plan; /* ~40 KB: not on the test's stack */
 
-static void make_plan(const double *variance, int count)
+static void make_plan_streams(const double *variance, int count, int streams)
 {
     dm_error err = {0};
-    cr_assert_eq(dm_skin_weights_plan_init(&plan, variance, count, NULL, &err), DM_OK, "%s", err.detail);
+    dm_skin_weights_options o = {.stream_count = streams};
+    cr_assert_eq(dm_skin_weights_plan_init(&plan, variance, count, &o, &err), DM_OK, "%s", err.detail);
+}
+
+static void make_plan(const double *variance, int count)
+{
+    make_plan_streams(variance, count, 0);
 }
 
 static double max_weight_difference(const dm_profile *a, const dm_profile *b)
@@ -38,7 +45,9 @@ static double max_weight_difference(const dm_profile *a, const dm_profile *b)
 /* The live path drops the nodes above the narrowest Gaussian's band (exact to the cut,
  * 1e-9), and takes 81 nodes and 8 pairs instead of 401 and 20: measured 5.7e-7 at most over
  * these skins (weights are 0.01–0.3); 1e-5 is twenty times that and still a thousandth of
- * the smallest weight that shows in a picture (8-bit: 1/255). */
+ * the smallest weight that shows in a picture (8-bit: 1/255). Both normalise to the
+ * adding-doubling totals with the live stream count here (the streams' own cost is
+ * live_streams_against_the_offline_totals). */
 Test(skin_weights, offline_fit_of_the_same_variances)
 {
     make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
@@ -49,7 +58,8 @@ Test(skin_weights, offline_fit_of_the_same_variances)
             if (e) p.epidermis_mm = 0.05;
             dm_profile live, offline;
             cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
-            cr_assert_eq(dm_skin_profile_fit(&p, NULL, "offline", &offline, NULL, NULL), DM_OK);
+            dm_skin_profile_options same = {.stream_count = plan.stream_count}; /* the totals alike */
+            cr_assert_eq(dm_skin_profile_fit(&p, &same, "offline", &offline, NULL, NULL), DM_OK);
             double d = max_weight_difference(&live, &offline);
             printf("%s, epidermis %g mm: live − offline weights %.2e\n", names[i], p.epidermis_mm, d);
             cr_assert(d <= 1e-5, "%s epidermis %g: %g", names[i], p.epidermis_mm, d);
@@ -72,7 +82,8 @@ Test(skin_weights, free_fit_reproduced_at_its_variances, .timeout = 120)
         dm_fit_result fr;
         cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
         cr_assert_eq(dm_profile_fit(&src, NULL, "free", &fr, NULL), DM_OK);
-        make_plan(fr.profile.variance_mm2, fr.profile.count);
+        /* the dense profile the free fit sees is normalised with the default streams */
+        make_plan_streams(fr.profile.variance_mm2, fr.profile.count, DM_SKIN_AD_STREAMS_DEFAULT);
         dm_profile live;
         cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
         double e[3], d = max_weight_difference(&live, &fr.profile), de = 0.0;
@@ -115,19 +126,35 @@ Test(skin_weights, non_negative_and_finite_over_the_range, .timeout = 120)
  * more at 550 nm than at 650, SKIN-MODEL.md), so R/G grows — over Ch 0.002–0.032; past
  * ~0.045 red is absorbed too and R/G falls again (measured: 1.372 at 0.04, 1.364 at 0.05),
  * and R/B falls throughout (the red channel's negative lobe below 550 nm loses with the
- * blue), as docs/skin-model.md says. */
+ * blue), as docs/skin-model.md says.
+ * The weight sums are held over Cm 0.005–0.155 only: from Cm ≈ 0.15 on the six GPU Gems
+ * variances hold nothing of the profile (fit error 1.00 in every channel: the closed-form
+ * epidermis is a peak no Gaussian resolves) and the sums stop following the totals (Cm 0.205:
+ * 0.041 / 0.046 / 0.032 against colorimetric 0.035 / 0.022 / 0.015; green rises 0.043 → 0.047
+ * over Cm 0.155–0.18 since the totals became adding-doubling's). The colorimetric totals, which
+ * the model owns, are held monotone over the whole range 0.005–0.5. */
 Test(skin_weights, colour_moves_the_physical_way)
 {
     make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
     dm_skin_params p = dm_skin_params_default();
     double prev[3] = {0}, sum[3];
-    for (int i = 0; i < 5; ++i) {
+    for (int i = 0; i < 4; ++i) {
         p.melanin_fraction = 0.005 + 0.05 * i;
         dm_profile w;
         cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, NULL), DM_OK);
         dm_profile_channel_sums(&w, sum);
         for (int c = 0; i && c < 3; ++c) cr_assert(sum[c] < prev[c], "Cm %g channel %d: %g !< %g", p.melanin_fraction, c, sum[c], prev[c]);
         memcpy(prev, sum, sizeof prev);
+    }
+    for (int i = 0; i < 11; ++i) {
+        p.melanin_fraction = 0.005 + 0.049 * i;
+        dm_profile w;
+        dm_skin_report rep;
+        cr_assert_eq(dm_skin_profile_fit(&p, NULL, NULL, &w, &rep, NULL), DM_OK);
+        for (int c = 0; i && c < 3; ++c)
+            cr_assert(rep.total_rgb[c] < prev[c], "Cm %g channel %d: total %g !< %g", p.melanin_fraction, c,
+                      rep.total_rgb[c], prev[c]);
+        memcpy(prev, rep.total_rgb, sizeof prev);
     }
     p = dm_skin_params_default();
     double rg_prev = 0;
@@ -164,4 +191,32 @@ Test(skin_weights, refusals_name_the_value)
     dm_profile w;
     cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, &err), DM_ERR_RANGE);
     cr_assert(strstr(err.detail, "melanin_fraction"), "%s", err.detail);
+}
+
+/* The live path's adding-doubling takes DM_SKIN_WEIGHTS_STREAMS_DEFAULT (8) streams where the
+ * offline fit takes 16 (about 1.5 ms of a refit instead of 16, bench/results/skin_weights.md).
+ * Its cost, measured against 32 streams over every preset and wavelength: the totals within
+ * 7e-3 relative on the light skins (Caucasian 5.0e-3, Fitzpatrick 1 6.6e-3) and 2e-3
+ * absolute everywhere (1.6e-3); the weights within 2e-3 of the offline fit's (7.7e-4 at most;
+ * weights are 0.01–0.3). */
+Test(skin_weights, live_streams_against_the_offline_totals, .timeout = 60)
+{
+    make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
+    const char *names[] = {"caucasian", "fitzpatrick-1", "fitzpatrick-3", "asian", "african"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        dm_skin_params p = preset(names[i]);
+        double worst_rel = 0.0, worst_abs = 0.0;
+        for (int l = 0; l < DM_SKIN_LAMBDA_COUNT; ++l) {
+            double live = dm_skin_ad_total_at(&p, l, plan.stream_count), ref = dm_skin_ad_total_at(&p, l, 32);
+            worst_rel = fmax(worst_rel, fabs(live / ref - 1.0)), worst_abs = fmax(worst_abs, fabs(live - ref));
+        }
+        dm_profile live, offline;
+        cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
+        cr_assert_eq(dm_skin_profile_fit(&p, NULL, "offline", &offline, NULL, NULL), DM_OK);
+        double d = max_weight_difference(&live, &offline);
+        printf("%s: %d streams against 32: totals %.1e relative, %.1e absolute; weights against the offline fit %.1e\n",
+               names[i], plan.stream_count, worst_rel, worst_abs, d);
+        if (i < 2) cr_assert(worst_rel < 7e-3, "%s: %g", names[i], worst_rel);
+        cr_assert(worst_abs < 2e-3 && d < 2e-3, "%s: %g %g", names[i], worst_abs, d);
+    }
 }
