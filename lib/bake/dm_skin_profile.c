@@ -93,10 +93,11 @@ dm_result dm_skin_physics_report(const dm_skin_params *p, int pair_count, dm_ski
     if (pair_count < 0 || pair_count > DM_MULTIPOLE_PAIRS_MAX)
         return dm_fail(err, DM_ERR_RANGE, "skin: pair_count = %d, expected 0 (default) or 1..%d", pair_count,
                        DM_MULTIPOLE_PAIRS_MAX);
-    double w[L][3];
+    double w[L][3], scale[L];
     dm_skin_rgb_weights(w);
+    dm_skin_freq_totals(p, pair_count, 0, NULL, scale); /* the default fit's: adding-doubling's totals */
     memset(rep, 0, sizeof *rep);
-    physics_report(p, pair_count, (const double (*)[3])w, rep);
+    physics_report(p, pair_count, scale, (const double (*)[3])w, rep);
     return DM_OK;
 }
 
