@@ -75,14 +75,8 @@ static int parse(int argc, char **argv, args *a)
             return DM_EXIT_USAGE;
         }
     }
-    const char *why = dm_bake_cli_check(&a->c);
-    if (!why && a->c.profile && a->smooth_mm >= 0.0) why = "--smooth and --profile exclude each other";
-    if (why) {
-        fprintf(stderr, "error: %s\n", why);
-        usage(stderr);
-        return DM_EXIT_USAGE;
-    }
-    return -1;
+    return dm_bake_cli_finish(&a->c, a->c.profile && a->smooth_mm >= 0.0 ? "--smooth and --profile exclude each other" : NULL,
+                              usage);
 }
 
 static void print_report(const char *path, const dm_mesh *m, const dm_curvature_map *map, double smooth_mm,

@@ -74,13 +74,7 @@ static int parse(int argc, char **argv, args *a)
             return DM_EXIT_USAGE;
         }
     }
-    const char *why = dm_bake_cli_check(&a->c);
-    if (why) {
-        fprintf(stderr, "error: %s\n", why);
-        usage(stderr);
-        return DM_EXIT_USAGE;
-    }
-    return -1;
+    return dm_bake_cli_finish(&a->c, NULL, usage);
 }
 
 static void on_progress(void *ctx, double f) { dm_progress_update(ctx, f); }

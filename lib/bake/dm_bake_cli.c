@@ -43,6 +43,16 @@ const char *dm_bake_cli_check(const dm_bake_cli *a)
     return NULL;
 }
 
+int dm_bake_cli_finish(const dm_bake_cli *a, const char *conflict, void (*usage)(FILE *out))
+{
+    const char *why = dm_bake_cli_check(a);
+    if (!why) why = conflict;
+    if (!why) return -1;
+    fprintf(stderr, "error: %s\n", why);
+    usage(stderr);
+    return DM_EXIT_USAGE;
+}
+
 int dm_bake_cli_output(const dm_bake_cli *a)
 {
     return dm_output_check_cli("-o", a->output, (const char *const[]){".exr", NULL},

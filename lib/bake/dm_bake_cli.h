@@ -9,6 +9,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "mesh/dm_mesh.h"
 #include "core/dm_hash.h"
@@ -33,6 +34,9 @@ bool dm_bake_cli_option(int argc, char **argv, int *i, int64_t size_max, dm_bake
 /* After the options: what is missing or conflicting (no MESH, no output, --quiet with -v
  * or --report), or NULL. */
 const char *dm_bake_cli_check(const dm_bake_cli *a);
+/* The end of a bake tool's parse: dm_bake_cli_check, else `conflict` (NULL, or the tool's own
+ * rule the options broke), said on stderr with the usage. -1 to go on, else DM_EXIT_USAGE. */
+int dm_bake_cli_finish(const dm_bake_cli *a, const char *conflict, void (*usage)(FILE *out));
 
 /* The output (-o) against core/dm_output.h's rules: an .exr name (any case), not the mesh
  * or the profile, in a writable folder. 0 when fine, else the exit code (said on stderr).
