@@ -483,7 +483,8 @@ int main(int argc, char **argv)
             printf("blur passes: %s\nseam map: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL",
                    dm_renderer_seam_map(r) ? "the pack's: the irradiance pass also lights the gutter texels a blur reaches, "
                                              "where the surface continues across the UV seam"
-                                           : "none in the pack: the blurs stop at UV seams");
+                   : src.assets->seam.texels ? "the pack's is for another irradiance size: not used, the blurs stop at UV seams"
+                                             : "none in the pack: the blurs stop at UV seams");
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

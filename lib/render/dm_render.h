@@ -101,7 +101,8 @@ typedef struct dm_render_assets {
     dm_texture stretch_mask; /* R8 chart coverage; optional (coverage is also rasterized) */
     /* the seam map (bake/dm_seam_map.h): RGBA32F, per gutter texel the UV where the surface
      * continues beyond the chart (u', v', 1, mm beyond the edge), else 0; optional. With it the
-     * irradiance pass lights those texels at that point, so the blurs cross UV seams. */
+     * irradiance pass lights those texels at that point, so the blurs cross UV seams; used only
+     * when its size is the irradiance size (dm_renderer_seam_map says whether it is used). */
     dm_texture seam;
     const dm_profile *profile; /* NULL: scene->profile */
 

@@ -70,7 +70,7 @@ static void pack_plate(const char *dir, const char *name, const seam_plate *p, p
 /* The diffusion view (IRR², RGBA) of the assets, the seam map left out when without_seam. */
 static dm_blur_path blur_path = DM_BLUR_PATH_AUTO; /* llvmpipe: the CPU's */
 
-static float *diffusion(const plate_pack *pp, bool without_seam)
+static float *diffusion_at(const plate_pack *pp, bool without_seam, int irr)
 {
     dm_render_assets a = pp->assets;
     if (without_seam) a.seam = (dm_texture){0};
@@ -78,18 +78,21 @@ static float *diffusion(const plate_pack *pp, bool without_seam)
     dm_renderer *r = NULL;
     dm_error err = {0};
     cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR, .blur_path = blur_path}, &r, &err),
+    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = irr, .blur_path = blur_path}, &r, &err),
                  DM_OK, "%s", err.detail);
     cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_seam_map(r), !without_seam && irr == pp->assets.seam.width);
     int w, h;
     dm_renderer_view_size(r, &w, &h);
-    cr_assert(w == IRR && h == IRR);
-    float *px = malloc(sizeof *px * 4 * IRR * IRR);
+    cr_assert(w == irr && h == irr);
+    float *px = malloc(sizeof *px * 4 * (size_t)irr * irr);
     cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     return px;
 }
+
+static float *diffusion(const plate_pack *pp, bool without_seam) { return diffusion_at(pp, without_seam, IRR); }
 
 static const float *at(const float *px, const double uv[2])
 {
@@ -186,4 +189,18 @@ Test(seam, a_mesh_without_seams_renders_the_same_bit_for_bit, .timeout = 120)
     cr_assert_eq(memcmp(with, without, sizeof *with * 4 * IRR * IRR), 0);
     free(with), free(without);
     dm_pack_close(&whole.pack);
+}
+
+/* A seam map baked for another irradiance size is not used (its gutters are other texels):
+ * the cut plate at half the pack's size renders as without one, bit for bit. */
+Test(seam, a_map_of_another_size_is_left_out, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    plate_pack cut;
+    pack_plate(dir, "cut", &(seam_plate){0.01, 0.01, 0, 0}, &cut);
+    float *with = diffusion_at(&cut, false, IRR / 2), *without = diffusion_at(&cut, true, IRR / 2);
+    cr_assert_eq(memcmp(with, without, sizeof *with * 4 * (IRR / 2) * (IRR / 2)), 0);
+    free(with), free(without);
+    dm_pack_close(&cut.pack);
 }
