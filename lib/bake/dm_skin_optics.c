@@ -21,17 +21,25 @@ dm_skin_params dm_skin_params_default(void)
 
 typedef struct preset {
     const char *name;
-    double cm, beta, ch;
+    double cm, beta, ch, epidermis_mm;
 } preset;
-/* DJ2006's exemplars, then a Fitzpatrick gallery that is our own mapping (no paper tabulates
- * Fitzpatrick I–VI parameters): melanosome fractions placed on Jacques' (1998) bands, light
- * adults 1.3–6.3 % (I its floor, II its middle, III its top), moderately pigmented 11–16 %
- * (IV its middle), darkly pigmented 18–43 % (V a quarter up, VI its top); eumelanin share,
- * blood and the rest as the default. */
+/* DJ2006's exemplars (their 0.25 mm epidermis), then a Fitzpatrick gallery that is our own
+ * mapping (no paper tabulates Fitzpatrick I–VI parameters): spread over the NIST forearm
+ * cohort (100 subjects), I near its top and VI near its bottom at 450, 550 and 650 nm, in the
+ * forearm's measured epidermis (Sandby-Møller, Poulsen & Wulf 2003: 18 µm stratum corneum +
+ * 57 µm cellular epidermis = 0.075 mm); melanosome fractions geometric from 0.6 % to 4.2 %
+ * (×1.48 a type), inside Jacques' (1998) light-adult band 1.3–6.3 % from III on, and by
+ * Jacques' law at 694 nm 0.11–0.79 mm⁻¹ of epidermal absorption, Norvang et al.'s (1997)
+ * measured Caucasian and Asian range 0.3–1.2 mm⁻¹ from IV on. Eumelanin share and blood as
+ * the default. docs/skin-model.md: the totals beside the cohort, and why not DJ2006's
+ * 0.25 mm (the cohort's band is then spanned by Cm 0.006–0.016 at 450 nm and red leaves it
+ * first). */
 static const preset presets[] = {
-    {"caucasian", 0.005, 0.7, 0.005},    {"asian", 0.15, 0.0, 0.01},          {"african", 0.5, 0.7, 0.05},
-    {"fitzpatrick-1", 0.013, 0.7, 0.005}, {"fitzpatrick-2", 0.038, 0.7, 0.005}, {"fitzpatrick-3", 0.063, 0.7, 0.005},
-    {"fitzpatrick-4", 0.135, 0.7, 0.005}, {"fitzpatrick-5", 0.24, 0.7, 0.005},  {"fitzpatrick-6", 0.43, 0.7, 0.005},
+    {"caucasian", 0.005, 0.7, 0.005, 0.25},       {"asian", 0.15, 0.0, 0.01, 0.25},
+    {"african", 0.5, 0.7, 0.05, 0.25},            {"fitzpatrick-1", 0.006, 0.7, 0.005, 0.075},
+    {"fitzpatrick-2", 0.009, 0.7, 0.005, 0.075},  {"fitzpatrick-3", 0.013, 0.7, 0.005, 0.075},
+    {"fitzpatrick-4", 0.019, 0.7, 0.005, 0.075},  {"fitzpatrick-5", 0.028, 0.7, 0.005, 0.075},
+    {"fitzpatrick-6", 0.042, 0.7, 0.005, 0.075},
 };
 enum { PRESET_COUNT = sizeof presets / sizeof presets[0] };
 
@@ -43,6 +51,7 @@ dm_result dm_skin_preset(const char *name, dm_skin_params *p, dm_error *err)
         p->melanin_fraction = presets[i].cm;
         p->eumelanin_blend = presets[i].beta;
         p->blood_fraction = presets[i].ch;
+        p->epidermis_mm = presets[i].epidermis_mm;
         return DM_OK;
     }
     return dm_fail(err, DM_ERR_INVALID_ARGUMENT,

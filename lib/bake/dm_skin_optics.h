@@ -54,10 +54,11 @@ typedef struct dm_skin_params {
 dm_skin_params dm_skin_params_default(void);
 
 /* The DJ2006 exemplars (SKIN-MODEL.md): "caucasian" (Cm 0.005, βm 0.7, Ch 0.005), "asian"
- * (0.15, 0, 0.01), "african" (0.5, 0.7, 0.05); and a Fitzpatrick gallery, our own mapping
- * onto Jacques' melanosome bands (no paper tabulates one): "fitzpatrick-1" … "-6" with
- * Cm 0.013, 0.038, 0.063 (light adults 1.3–6.3 %), 0.135 (moderate 11–16 %), 0.24, 0.43
- * (dark 18–43 %), βm 0.7, Ch 0.005. The rest as the default.
+ * (0.15, 0, 0.01), "african" (0.5, 0.7, 0.05), epidermis 0.25 mm; and a Fitzpatrick gallery,
+ * our own mapping (no paper tabulates one) spread over the NIST forearm cohort, I near its
+ * top and VI near its bottom: "fitzpatrick-1" … "-6" with Cm 0.006, 0.009, 0.013, 0.019,
+ * 0.028, 0.042 in the forearm's measured 0.075 mm epidermis, βm 0.7, Ch 0.005
+ * (docs/skin-model.md). The rest as the default.
  * DM_ERR_INVALID_ARGUMENT, naming the known ones, for another name. */
 dm_result dm_skin_preset(const char *name, dm_skin_params *p, dm_error *err);
 /* The preset names in order, index 0..; NULL past the last. */

@@ -51,11 +51,22 @@ dm_result dm_skin_weights_plan_init(dm_skin_weights_plan *plan, const double *va
 dm_result dm_skin_weights_fit(const dm_skin_weights_plan *plan, const dm_skin_params *p, const char *name,
                               dm_profile *out, dm_error *err)
 {
+    return dm_skin_weights_fit_colour(plan, p, name, out, NULL, err);
+}
+
+dm_result dm_skin_weights_fit_colour(const dm_skin_weights_plan *plan, const dm_skin_params *p, const char *name,
+                                     dm_profile *out, double total_rgb[3], dm_error *err)
+{
     dm_result rc = dm_skin_params_validate(p, "skin weights", err);
     if (rc != DM_OK) return rc;
     int m = plan->node_count, n = plan->gaussian_count;
     double yc[3 * NMAX], scratch[NMAX * (GMAX + 1)], wk[3 * GMAX], scale[DM_SKIN_LAMBDA_COUNT];
-    dm_skin_freq_totals(p, plan->pair_count, plan->stream_count, NULL, scale);
+    double total[DM_SKIN_LAMBDA_COUNT];
+    dm_skin_freq_totals(p, plan->pair_count, plan->stream_count, total, scale);
+    for (int c = 0; total_rgb && c < 3; ++c) {
+        total_rgb[c] = 0.0;
+        for (int l = 0; l < DM_SKIN_LAMBDA_COUNT; ++l) total_rgb[c] += plan->rgb[l][c] * total[l];
+    }
     dm_skin_freq_channels(p, plan->pair_count, scale, plan->s, plan->sq, m, (const double(*)[3])plan->rgb, yc);
     dm_lsq_nnls_shared(plan->design, m, n, yc, 3, scratch, wk);
     memset(out, 0, sizeof *out);

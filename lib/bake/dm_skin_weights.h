@@ -80,6 +80,14 @@ dm_result dm_skin_weights_plan_init(dm_skin_weights_plan *plan, const double *va
  * deterministic. */
 dm_result dm_skin_weights_fit(const dm_skin_weights_plan *plan, const dm_skin_params *p, const char *name,
                               dm_profile *out, dm_error *err);
+/* The same, and the skin's colorimetric total diffuse reflectance per linear-sRGB channel,
+ * total_rgb[c] = Σ_λ w_c(λ) T_λ with T_λ adding-doubling's total at the plan's stream count
+ * (what the fit normalises to; within 5e-3 of the offline 16 streams): exact where the
+ * weights' sums are not — a peak the variances cannot hold (the closed-form epidermis, dark
+ * skins) leaves the sums up to twice the total. A colour follows total_rgb, never the sums
+ * (dermis-view's sliders: docs/dermis-view.md). total_rgb may be NULL. */
+dm_result dm_skin_weights_fit_colour(const dm_skin_weights_plan *plan, const dm_skin_params *p, const char *name,
+                                     dm_profile *out, double total_rgb[3], dm_error *err);
 
 #ifdef __cplusplus
 }

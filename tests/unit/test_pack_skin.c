@@ -101,7 +101,7 @@ Test(pack_skin, preset_and_override, .init = setup, .timeout = 60)
 
     write_scene(scene, sizeof scene, "override", "{\"skin\": {\"preset\": \"fitzpatrick-3\", \"blood\": 0.03}}");
     cr_assert_eq(dm_pack_build_begin(b, scene, NULL, 0, &small, &err), DM_OK, "%s", err.detail);
-    tool_profile("--skin melanin=0.063,eumelanin=0.7,blood=0.03", &ref);
+    tool_profile("--skin melanin=0.013,eumelanin=0.7,blood=0.03,epidermis-mm=0.075", &ref);
     same_profile(&b->scene.profile, &ref, "override");
     dm_pack_build_free(b);
     free(b);

@@ -100,6 +100,42 @@ Test(skin_profile, light_skin_inside_nist_bands)
     }
 }
 
+/* The Fitzpatrick gallery (our own mapping, dm_skin_optics.c) against the cohort, issue #30's
+ * check: every type inside the 5–95 % band at 450, 550 and 650 nm, each darker than the one
+ * before at every wavelength, type I near the top (the band's top quarter at 450 and 550 nm,
+ * its upper half at 650: measured 0.316 / 0.358 / 0.551) and type VI near the bottom (its
+ * bottom quarter at all three: 0.138 / 0.221 / 0.396); and the line between them — melanin
+ * 0.006 to 0.042 in steps of 0.0005, the gallery's epidermis and blood — inside the band
+ * everywhere. Melanin −20 % at the light end or ±20 % at the dark end, or DJ2006's 0.25 mm
+ * epidermis, fails it. */
+Test(skin_profile, gallery_spans_the_nist_cohort, .timeout = 60)
+{
+    double prev[3] = {1, 1, 1};
+    for (int i = 1; i <= 6; ++i) {
+        char name[32];
+        snprintf(name, sizeof name, "fitzpatrick-%d", i);
+        dm_skin_params p = preset(name);
+        for (int k = 0; k < 3; ++k) {
+            double r = total_at(&p, nist_nm[k]), q = (r - nist_lo[k]) / (nist_hi[k] - nist_lo[k]);
+            printf("%s %g nm: %.3f (%.0f %% up the band)\n", name, nist_nm[k], r, 100 * q);
+            cr_assert(r >= nist_lo[k] && r <= nist_hi[k], "%s %g nm: %.3f", name, nist_nm[k], r);
+            cr_assert(r < prev[k], "%s %g nm: %.3f, not darker than %.3f", name, nist_nm[k], r, prev[k]);
+            if (i == 1) cr_assert(q >= (k < 2 ? 0.75 : 0.5), "%s %g nm: %.2f up", name, nist_nm[k], q);
+            if (i == 6) cr_assert(q <= 0.25, "%s %g nm: %.2f up", name, nist_nm[k], q);
+            prev[k] = r;
+        }
+    }
+    dm_skin_params lo = preset("fitzpatrick-1"), hi = preset("fitzpatrick-6");
+    for (double cm = lo.melanin_fraction; cm <= hi.melanin_fraction + 1e-12; cm += 0.0005) {
+        dm_skin_params p = lo;
+        p.melanin_fraction = cm;
+        for (int k = 0; k < 3; ++k) {
+            double r = total_at(&p, nist_nm[k]);
+            cr_assert(r >= nist_lo[k] && r <= nist_hi[k], "Cm %g, %g nm: %.3f", cm, nist_nm[k], r);
+        }
+    }
+}
+
 /* The darker exemplars are darker at every wavelength (Caucasian > Asian > African). Not
  * held to the cohort: DJ2006's melanin spread evenly through a 0.25 mm epidermis absorbs
  * more than the cohort's darkest skins (measured: Asian 0.029 / 0.055 / 0.121, African

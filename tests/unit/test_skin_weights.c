@@ -75,9 +75,12 @@ Test(skin_weights, offline_fit_of_the_same_variances)
  * own measure). Tolerances: measured (printed), with a margin of about 3. */
 Test(skin_weights, free_fit_reproduced_at_its_variances, .timeout = 120)
 {
-    const char *names[] = {"caucasian", "fitzpatrick-3"};
+    /* the Caucasian exemplar and a mid-pigmented skin (Cm 0.063), both in DJ2006's 0.25 mm
+     * epidermis; the gallery's thin epidermis: thin_epidermis_free_and_live_fits below */
+    const char *names[] = {"caucasian", "Cm 0.063"};
     for (size_t i = 0; i < 2; ++i) {
-        dm_skin_params p = preset(names[i]);
+        dm_skin_params p = preset("caucasian");
+        if (i) p.melanin_fraction = 0.063;
         dm_profile_source src;
         dm_fit_result fr;
         cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
@@ -93,6 +96,38 @@ Test(skin_weights, free_fit_reproduced_at_its_variances, .timeout = 120)
                names[i], d, de, fr.error_relative_max);
         cr_assert(d <= 3e-6, "%s: %g", names[i], d); /* measured 7.1e-7, 1.0e-6 */
         cr_assert(de <= 1e-9 && de >= -1e-9, "%s: %g", names[i], de); /* measured 6e-11, 2.4e-10 */
+    }
+}
+
+/* An epidermis thinner than one transport mean free path (the gallery's 0.075 mm: 1/σt′ is
+ * about 0.1 mm at 450 nm) takes the closed form, whose unspread light returns where it
+ * entered: the free fit gives it a Gaussian of σ ≈ 4 µm. There the two quadratures no longer
+ * see the same profile (the r-domain one sees that peak through its few nodes below 10 µm),
+ * so the weights do not agree as above (measured 0.030 for Fitzpatrick 1, 0.045 for 6, on
+ * the narrow Gaussian). Held: every gallery skin's free fit represents its physical profile
+ * at least as well as the Caucasian exemplar's does (relative L2 5.5e-3, the 0.25 mm skins
+ * above); the live weights at those variances are printed (measured 8.5e-4 and 2.5e-2) — what
+ * a slider costs there is in docs/skin-model.md. */
+Test(skin_weights, thin_epidermis_free_fits, .timeout = 300)
+{
+    for (int i = 1; i <= 6; ++i) {
+        char name[32];
+        snprintf(name, sizeof name, "fitzpatrick-%d", i);
+        dm_skin_params p = preset(name);
+        cr_assert(p.epidermis_mm < 0.1);
+        dm_profile_source src;
+        dm_fit_result fr;
+        cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
+        cr_assert_eq(dm_profile_fit(&src, NULL, "free", &fr, NULL), DM_OK);
+        make_plan_streams(fr.profile.variance_mm2, fr.profile.count, DM_SKIN_AD_STREAMS_DEFAULT);
+        dm_profile live;
+        cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
+        double e[3], worst = 0.0;
+        cr_assert_eq(dm_profile_fit_error(&src, &live, NULL, e, NULL), DM_OK);
+        for (int c = 0; c < 3; ++c) worst = fmax(worst, e[c]);
+        printf("%s: free error %.2e, live error at its variances %.2e, weights differ by %.2e\n", name,
+               fr.error_relative_max, worst, max_weight_difference(&live, &fr.profile));
+        cr_assert(fr.error_relative_max < 5.5e-3, "%s: %g", name, fr.error_relative_max);
     }
 }
 
@@ -127,43 +162,39 @@ Test(skin_weights, non_negative_and_finite_over_the_range, .timeout = 120)
  * ~0.045 red is absorbed too and R/G falls again (measured: 1.372 at 0.04, 1.364 at 0.05),
  * and R/B falls throughout (the red channel's negative lobe below 550 nm loses with the
  * blue), as docs/skin-model.md says.
- * The weight sums are held over Cm 0.005–0.155 only: from Cm ≈ 0.15 on the six GPU Gems
- * variances hold nothing of the profile (fit error 1.00 in every channel: the closed-form
- * epidermis is a peak no Gaussian resolves) and the sums stop following the totals (Cm 0.205:
- * 0.041 / 0.046 / 0.032 against colorimetric 0.035 / 0.022 / 0.015; green rises 0.043 → 0.047
- * over Cm 0.155–0.18 since the totals became adding-doubling's). The colorimetric totals, which
- * the model owns, are held monotone over the whole range 0.005–0.5. */
+ * What is held is the colour a slider gives (dermis-view: the live fit's colorimetric
+ * totals, dm_skin_weights_fit_colour), over the whole melanin range 0.005–0.5 in 0.025 steps:
+ * not the weights' sums, which stop following the totals where the six GPU Gems variances
+ * hold nothing of the profile (the closed-form epidermis' peak: from Cm ≈ 0.13 blue's sums
+ * are ~2× the total, and green's rose 0.043 → 0.047 over Cm 0.155–0.18 while every total
+ * fell). The live totals (8 adding-doubling streams) are the offline ones (16) to within 2e-3
+ * absolute (measured 1.4e-3 at most, on the light end's red; 2e-4, 4 % relative, on the
+ * darkest blue): the live path's stream count's own cost (docs/skin-model.md). */
 Test(skin_weights, colour_moves_the_physical_way)
 {
     make_plan(DM_SKIN_GEMS3_VARIANCES_MM2, 6);
     dm_skin_params p = dm_skin_params_default();
-    double prev[3] = {0}, sum[3];
-    for (int i = 0; i < 4; ++i) {
-        p.melanin_fraction = 0.005 + 0.05 * i;
-        dm_profile w;
-        cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, NULL), DM_OK);
-        dm_profile_channel_sums(&w, sum);
-        for (int c = 0; i && c < 3; ++c) cr_assert(sum[c] < prev[c], "Cm %g channel %d: %g !< %g", p.melanin_fraction, c, sum[c], prev[c]);
-        memcpy(prev, sum, sizeof prev);
-    }
-    for (int i = 0; i < 11; ++i) {
-        p.melanin_fraction = 0.005 + 0.049 * i;
+    double prev[3] = {0}, total[3];
+    for (int i = 0; i < 21; ++i) {
+        p.melanin_fraction = 0.005 + 0.02475 * i;
         dm_profile w;
         dm_skin_report rep;
-        cr_assert_eq(dm_skin_profile_fit(&p, NULL, NULL, &w, &rep, NULL), DM_OK);
-        for (int c = 0; i && c < 3; ++c)
-            cr_assert(rep.total_rgb[c] < prev[c], "Cm %g channel %d: total %g !< %g", p.melanin_fraction, c,
-                      rep.total_rgb[c], prev[c]);
-        memcpy(prev, rep.total_rgb, sizeof prev);
+        cr_assert_eq(dm_skin_weights_fit_colour(&plan, &p, NULL, &w, total, NULL), DM_OK);
+        cr_assert_eq(dm_skin_physics_report(&p, 0, &rep, NULL), DM_OK);
+        for (int c = 0; c < 3; ++c) {
+            cr_assert(fabs(total[c] - rep.total_rgb[c]) < 2e-3, "Cm %g channel %d: live %g, offline %g",
+                      p.melanin_fraction, c, total[c], rep.total_rgb[c]);
+            if (i) cr_assert(total[c] < prev[c], "Cm %g channel %d: %g !< %g", p.melanin_fraction, c, total[c], prev[c]);
+        }
+        memcpy(prev, total, sizeof prev);
     }
     p = dm_skin_params_default();
     double rg_prev = 0;
     for (int i = 0; i < 4; ++i) {
         p.blood_fraction = 0.002 + 0.01 * i;
         dm_profile w;
-        cr_assert_eq(dm_skin_weights_fit(&plan, &p, NULL, &w, NULL), DM_OK);
-        dm_profile_channel_sums(&w, sum);
-        double rg = sum[0] / sum[1];
+        cr_assert_eq(dm_skin_weights_fit_colour(&plan, &p, NULL, &w, total, NULL), DM_OK);
+        double rg = total[0] / total[1];
         if (i) cr_assert(rg > rg_prev, "Ch %g: R/G %g !> %g", p.blood_fraction, rg, rg_prev);
         rg_prev = rg;
     }

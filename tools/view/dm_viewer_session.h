@@ -46,7 +46,7 @@ typedef struct dm_viewer_skin {
     bool available, from_pack, changed;
     char off_reason[256];    /* why not available */
     dm_skin_params start, now;
-    double start_total[3];   /* Σ weights of the starting skin's live fit */
+    double start_total[3];   /* the starting skin's colorimetric totals (dm_skin_weights_fit_colour) */
     double scale_rgb[3];     /* now's total over start's, per channel */
     dm_skin_weights_plan plan;
     double ms[DM_VIEWER_SKIN_TIMES]; /* refit + hand-over per change, ring */

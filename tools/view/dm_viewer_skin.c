@@ -39,12 +39,11 @@ void dm_viewer_skin_init(dm_viewer *v)
     dm_error err = {0};
     dm_profile w;
     if (dm_skin_weights_plan_init(&k->plan, v->profile.variance_mm2, v->profile.count, NULL, &err) != DM_OK ||
-        dm_skin_weights_fit(&k->plan, &k->start, NULL, &w, &err) != DM_OK) {
+        dm_skin_weights_fit_colour(&k->plan, &k->start, NULL, &w, k->start_total, &err) != DM_OK) {
         snprintf(k->off_reason, sizeof k->off_reason, "%.255s", err.detail);
         dm_viewer_set_status(v, false, "skin sliders off: %s", err.detail);
         return;
     }
-    dm_profile_channel_sums(&w, k->start_total);
     k->available = true;
 }
 
@@ -60,10 +59,10 @@ bool dm_viewer_skin_set(dm_viewer *v, const char *name, double value)
     double t0 = now_ms();
     dm_error err = {0};
     dm_profile w;
-    if (dm_skin_weights_fit(&k->plan, &p, v->profile.name, &w, &err) != DM_OK)
-        return dm_viewer_set_status(v, true, "%s %g: %s", name, value, err.detail), false;
     double total[3], scale[3];
-    dm_profile_channel_sums(&w, total);
+    if (dm_skin_weights_fit_colour(&k->plan, &p, v->profile.name, &w, total, &err) != DM_OK)
+        return dm_viewer_set_status(v, true, "%s %g: %s", name, value, err.detail), false;
+    /* the colour follows the skin's exact totals, not the weights' sums (dm_skin_weights.h) */
     for (int c = 0; c < 3; ++c) /* a channel the starting skin did not reflect stays as it is */
         scale[c] = k->start_total[c] > 0.0 ? total[c] / k->start_total[c] : 1.0;
     if (dm_renderer_set_profile_weights(v->r, &w, scale, &err) != DM_OK)
