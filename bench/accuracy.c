@@ -7,7 +7,9 @@
  * fitted to one profile (the skin1 dipole when dermis-reference offers --dipole, else
  * gems3-skin; one pack each) and compared with ONE reference of that profile, stretch
  * correction off (the chain replaced by one constant texture of the chart's median s_u,
- * s_v), the dm_render_desc speed knobs, screen-space SSS, translucency. Columns:
+ * s_v), the dm_render_desc speed knobs, screen-space SSS, translucency; and two fits against
+ * their own truth, texture space only: six Gaussians fitted to Burley, and the six the packer
+ * fits to the physical skin's Caucasian exemplar against that skin's own profile. Columns:
  *   - frame ms: median of DERMIS_BENCH_FRAMES (default 7, at least 5) final frames at
  *     1280x720 after one warm-up, every row's renderer alive and the frames run round
  *     robin so the shared machine's load hits every row alike;
@@ -36,6 +38,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "bake/dm_skin_optics.h"
+#include "bake/dm_skin_spec.h"
 #include "reference/dm_ref_regions.h"
 #include "reference/dm_ref_surface.h"
 #include "reference/dm_reference.h"
@@ -138,6 +142,9 @@ static void add_rows(bool quick, bool large, int B)
     add(256, 0, BURLEY_G, false, (dm_render_desc){0}, "256 Burley G6",
         "256, 6 Gaussians fitted to Burley (A 0.8/0.6/0.4, mfp 1/0.5/0.25 mm), vs Burley")
         ->burley = true;
+    add(512, 0, SKIN_G, false, (dm_render_desc){0}, "512 skin G6",
+        "512, 6 Gaussians fitted to the physical skin (Caucasian exemplar), vs the physical profile")
+        ->skin = true;
     int T = quick ? 256 : 1024;
     snprintf(n, sizeof n, "%d + transl.", T), snprintf(w, sizeof w, "irradiance %d + translucency", T);
     add(T, 0, 0, false, (dm_render_desc){0}, n, w)->translucency = true;
@@ -155,7 +162,33 @@ static int run(const char *cmd)
  * dermis-reference when missing or stale. */
 static const char *truth_kind(const char *spec)
 {
-    return !spec ? NULL : spec == BURLEY ? "burley" : "dipole";
+    return !spec ? NULL : spec == BURLEY ? "burley" : spec == SKIN ? "skin" : "dipole";
+}
+
+/* The truth a row is compared with (NULL: the pack's own profile) and the pack it renders. */
+static const char *row_truth(const setting *s)
+{
+    return s->burley ? BURLEY : s->skin ? SKIN : s->gaussians ? dipole : NULL;
+}
+
+static int row_pack(const setting *s)
+{
+    return s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->skin ? PACK_SKIN : s->gaussians;
+}
+
+/* SKIN's parameters as dermis-reference and dermis-pack write them into the provenance
+ * ("skin": dm_skin_spec_format, 17 digits), so a reference or pack of a preset since
+ * changed is made again. */
+static int skin_spec(char *buf, int size)
+{
+    dm_skin_params p;
+    dm_error err = {0};
+    if (dm_skin_preset(SKIN, &p, &err) != DM_OK) {
+        fprintf(stderr, "error: skin preset %s: %s\n", SKIN, err.detail);
+        return 0;
+    }
+    dm_skin_spec_format(&p, 17, buf, size);
+    return 1;
 }
 
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
@@ -163,7 +196,12 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
 {
     const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
     char path[2048], cmd[8192], truth[64] = "", opt[200] = "", wo[64] = "";
-    if (dip) {
+    char spec[DM_PROV_STRING_SIZE] = "";
+    if (dip == SKIN && !skin_spec(spec, sizeof spec)) return 0;
+    if (dip == SKIN) /* the preset by name, its representation's size in the file name */
+        snprintf(truth, sizeof truth, "skin-%s-g%d-", SKIN, SKIN_RADIAL),
+            snprintf(opt, sizeof opt, " --skin-preset %s --radial-gaussians %d", SKIN, SKIN_RADIAL);
+    else if (dip) {
         snprintf(truth, sizeof truth, "%s-%s-", kind, dip), snprintf(opt, sizeof opt, " --%s %s", kind, dip);
         for (char *t = truth; *t; ++t) /* the spec's '/', ',' and '.' out of the file name */
             if (!((*t >= 'a' && *t <= 'z') || (*t >= '0' && *t <= '9') || *t == '-')) *t = '_';
@@ -184,9 +222,12 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             (N ? ref->width == N : ref->width == FW && ref->height == FH)) {
             const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
             const dm_param *bp = dm_prov_find(&ref->prov, "burley"), *mine = dip == BURLEY ? bp : dp;
+            const dm_param *sk = dm_prov_find(&ref->prov, "skin"), *rg = dm_prov_find(&ref->prov, "radial_gaussians");
             const dm_param *ps = dm_prov_find(&ref->prov, "pixel_samples"); /* frames: anti-aliased */
             const dm_param *df = dm_prov_find(&ref->prov, "diffusion"), *wt = dm_prov_find(&ref->prov, "without");
-            bool truth_ok = dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) : !dp && !bp;
+            bool truth_ok = dip == SKIN ? sk && !strcmp(sk->s, spec) && rg && rg->i == SKIN_RADIAL && !dp && !bp
+                            : dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) && !sk
+                                  : !dp && !bp && !sk;
             bool frame_ok = ps && ps->i == FRAME_PS && df && !strcmp(df->s, "pixel") && wt &&
                             !strcmp(wt->s, without ? without : "");
             if ((!tc || tc->i == 1) && truth_ok && (N || frame_ok)) {
@@ -296,6 +337,34 @@ static int pack_burley(const char *bin, const char *dir, const char *hash, char 
     return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, "burley", pack_path);
 }
 
+/* The pack whose profile is the physical skin SKIN, fitted by dermis-pack itself (SKIN_G
+ * Gaussians, normalised to white). Cached by the base pack's hash while its "profile" entry's
+ * provenance holds SKIN's parameters as they are now. */
+static int pack_skin(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    char spec[DM_PROV_STRING_SIZE], value[200];
+    if (!skin_spec(spec, sizeof spec)) return 0;
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-skin-%s-g%d.dpk", dir, hex, SKIN, SKIN_G);
+    if (cached(pack_path)) {
+        dm_pack pack;
+        dm_provenance prov;
+        const dm_pack_entry *e;
+        const dm_param *sk = NULL;
+        if (dm_pack_open(pack_path, &pack, NULL) == DM_OK) {
+            if ((e = dm_pack_find(&pack, "profile")) && e->provenance_json &&
+                dm_prov_from_json(&prov, e->provenance_json, pack_path, NULL) == DM_OK)
+                sk = dm_prov_find(&prov, "skin");
+            bool same = sk && !strcmp(sk->s, spec);
+            dm_pack_close(&pack);
+            if (same) return 1;
+        }
+        fprintf(stderr, "accuracy bench: %s is not of the skin %s now, packing it again\n", pack_path, spec);
+    }
+    snprintf(value, sizeof value, "\"profile\": {\"skin\": {\"preset\": \"%s\"}}", SKIN);
+    return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, "skin", pack_path);
+}
+
 /* The scene as the pre-integrated technique packs it (its table and curvature map). */
 static int pack_preint(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
 {
@@ -364,11 +433,19 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         int g = rows_s[c].gaussians;
         char p[2048];
-        if (g && !rows_s[c].burley && !packs[g].open && (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g])))
+        if (g && !rows_s[c].burley && !rows_s[c].skin && !packs[g].open &&
+            (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g])))
             return 3;
         if (rows_s[c].burley && !packs[PACK_BURLEY].open &&
             (!pack_burley(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_BURLEY])))
             return 3;
+        if (rows_s[c].skin && !packs[PACK_SKIN].open &&
+            (!pack_skin(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_SKIN])))
+            return 3;
+        if (rows_s[c].skin && packs[PACK_SKIN].profile.count != SKIN_G) {
+            fprintf(stderr, "error: the skin pack's profile has %d Gaussians, expected %d\n", packs[PACK_SKIN].profile.count, SKIN_G);
+            return 3;
+        }
         if (rows_s[c].technique == DM_SSS_PRE_INTEGRATED && !packs[PACK_PREINT].open &&
             (!pack_preint(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_PREINT])))
             return 3;
@@ -388,14 +465,18 @@ int main(int argc, char **argv)
     }
     dm_ref_regions_info ri;
     dm_ref_regions_get_info(rg, &ri);
-    sized z[6] = {{0}};
+    static sized z[MAX_SIZED];
     int nz = 0;
     for (int c = 0; c < nrows; ++c) {
-        const char *truth = rows_s[c].burley ? BURLEY : rows_s[c].gaussians ? dipole : NULL;
+        const char *truth = row_truth(&rows_s[c]);
         int i = 0;
         if (rows_s[c].technique != DM_SSS_TEXTURE_SPACE || rows_s[c].frame_only || rows_s[c].no_subsurface) continue;
         while (i < nz && !(z[i].N == rows_s[c].size && z[i].dipole == truth)) ++i;
         if (i < nz) continue;
+        if (nz == MAX_SIZED) {
+            fprintf(stderr, "error: more than %d texture-space references (MAX_SIZED)\n", MAX_SIZED);
+            return 3;
+        }
         z[nz].N = rows_s[c].size, z[nz].dipole = truth;
         if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, NULL, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz]))
             return 3;
@@ -434,7 +515,7 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         const setting *s = &rows_s[c];
         rows[c].s = *s;
-        int pk = s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->gaussians;
+        int pk = row_pack(s);
         rows[c].scene = packs[pk].scene;
         if (s->taps) rows[c].scene.blur_taps = s->taps;
         rows[c].scene.effects[DM_EFFECT_GLOW] = false;
@@ -442,7 +523,7 @@ int main(int argc, char **argv)
         rows[c].scene.sss_technique = s->technique;
         if (s->no_subsurface) rows[c].scene.effects[DM_EFFECT_SUBSURFACE] = false;
         if (s->screen_taps) rows[c].scene.screen_taps = s->screen_taps;
-        rows[c].ft = s->burley || texture_only ? NULL : &ft[s->gaussians && dipole]; /* Burley: texture space only */
+        rows[c].ft = s->burley || s->skin || texture_only ? NULL : &ft[s->gaussians && dipole]; /* Burley, skin: texture space only */
         as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
         if (s->no_seam) as[c].seam = (dm_texture){0};
@@ -471,7 +552,7 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         rows[c].frame_ms = bench_median(rows[c].ms, frames);
         const sized *zz = z;
-        const char *truth = rows[c].s.burley ? BURLEY : rows[c].s.gaussians ? dipole : NULL;
+        const char *truth = row_truth(&rows[c].s);
         while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == truth)) ++zz;
         if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !rows[c].s.frame_only && !rows[c].s.no_subsurface) {
             int w = 0, h = 0;

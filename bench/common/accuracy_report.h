@@ -31,7 +31,9 @@ enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2,
 #define FRAME_ERROR_BAR_RGB 0.08
 #define FRAME_ERROR_BAR_RED 0.035
 enum { MAX_FRAMES = 64, MAX_ROWS = 44, MAX_G = 8 };
-enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, NPACKS }; /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated */
+/* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit */
+enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, NPACKS };
+enum { MAX_SIZED = 8 }; /* texture-space references: one per (size, truth) */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
 
@@ -45,6 +47,7 @@ typedef struct setting {
     int screen_taps;            /* screen-space kernel taps */
     bool translucency;
     bool burley; /* its own truth and pack: a Gaussian fit of BURLEY against BURLEY itself */
+    bool skin;   /* its own truth and pack: the packer's fit of the physical skin SKIN against SKIN itself */
     bool frame_only;    /* no texture-space comparison (2048: its reference takes 15+ min) */
     bool no_subsurface; /* the floor: the renderer's Lambert, subsurface off */
     dm_render_desc knobs;
@@ -60,9 +63,16 @@ static const char *dipole;
 static const char *const BURLEY = "0.8,0.6,0.4/1,0.5,0.25";
 enum { BURLEY_G = 6 };
 
+/* The physical skin of the skin rows (docs/skin-model.md): a dermis-fit-profile preset. The
+ * pack's profile is {"skin": {"preset": SKIN}}, which dermis-pack fits by SKIN_G Gaussians
+ * normalised to white; the truth is dermis-reference --skin-preset SKIN, the model's own R(r)
+ * represented by SKIN_RADIAL Gaussians, each channel's weights normalised to sum 1 as well. */
+static const char *const SKIN = "caucasian";
+enum { SKIN_G = 6, SKIN_RADIAL = 32 };
+
 typedef struct sized {
     int N;
-    const char *dipole; /* the truth's spec: NULL the pack's profile, dipole, or BURLEY */
+    const char *dipole; /* the truth's spec: NULL the pack's profile, dipole, BURLEY or SKIN */
     dm_refcmp_ref ref;
     uint8_t *label;
     float *area;
@@ -105,8 +115,9 @@ static void plot(const char *outdir, const char *dir, const row *rows)
     int order[MAX_ROWS], n = 0;
     double fmax_ = 1;
     for (int c = 0; c < nrows; ++c) {
-        /* another truth: its own series, not on the front (Burley: not plotted) */
-        int fit = rows[c].s.burley ? 2 : rows[c].s.gaussians && dipole;
+        /* another truth, never on the front: 1 the dipole fits (their own series), 2 Burley's and
+         * the skin's fits (drawn with the texture-space points, labelled) */
+        int fit = rows[c].s.burley || rows[c].s.skin ? 2 : rows[c].s.gaussians && dipole;
         if (!rows[c].ok[REG_ALL] && !rows[c].fok) continue;
         char tsd[32] = "?", fr_[32] = "?";
         if (rows[c].ok[REG_ALL]) snprintf(tsd, sizeof tsd, "%.6f", 100 * mean3(rows[c].st[REG_ALL].mean));
@@ -320,8 +331,12 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "frame: they show each N's fitting cost on top of the diffusion's. The Burley row: the pack's profile "
                 "is `dermis-fit-profile --burley --albedo 0.8,0.6,0.4 --mfp 1,0.5,0.25 -n 6`, compared in texture "
                 "space with `dermis-reference --burley 0.8,0.6,0.4/1,0.5,0.25` (Burley represented by 12 Gaussians "
-                "from d/40): what the 6-Gaussian fit loses. Screen-space rows (Jimenez's "
-                "separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
+                "from d/40): what the 6-Gaussian fit loses. The skin row likewise: the pack's profile is "
+                "`{\"skin\": {\"preset\": \"%s\"}}`, the physical skin model's exemplar fitted by dermis-pack "
+                "(%d Gaussians), compared in texture space with `dermis-reference --skin-preset %s "
+                "--radial-gaussians %d` (the model's own R(r) represented by %d Gaussians; 8 min at 512 on 2 cores); "
+                "both normalise each channel's weights to sum 1 (white), so the row shows where the fit puts the "
+                "light, not how much of it the skin returns. Screen-space rows (Jimenez's separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
                 "frame error only, against the same frame references (they do not depend on the technique). The "
                 "no-subsurface row is the renderer with subsurface off (Lambert × albedo): the floor. The 2048 row "
                 "is measured on the frame only (its texture-space reference takes 15+ min). "
@@ -333,7 +348,8 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "right axis); `accuracy-frame.png`: the full run's reference, the default render (irradiance 1024) "
                 "and the relative error, cropped to the head (pixel-weighted legend).\n",
             med[0], med[1], B, dipole ? "--dipole skin1" : "--preset gems3-skin",
-            dipole ? "`dermis-reference --dipole skin1`, the dipole represented by 12 Gaussians" : "gems3-skin's six Gaussians");
+            dipole ? "`dermis-reference --dipole skin1`, the dipole represented by 12 Gaussians" : "gems3-skin's six Gaussians",
+            SKIN, SKIN_G, SKIN, SKIN_RADIAL, SKIN_RADIAL);
     edge_table(md); /* on failure the section stops short and stderr says why */
     fclose(md);
     printf("accuracy bench: wrote %s/accuracy.md\n", outdir);
