@@ -85,6 +85,8 @@ static void usage(FILE *f)
             "                       in the texel ring along chart edges)\n"
             "  --no-seam-map        leave the pack's seam map out: the blurs stop at UV seams, as\n"
             "                       before dermis baked one (to see what it changes)\n"
+            "  --no-thin-map        leave the pack's thin-part map out: no light from across thin\n"
+            "                       parts and folds (ears, lips, eyelids), as before dermis baked one\n"
 
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
@@ -108,7 +110,7 @@ typedef struct options {
     dm_view view;
     double view_scale, light_azimuth;
     bool view_scale_given;
-    bool timings, explain, verbose, quiet, compare_exact, no_seam_map;
+    bool timings, explain, verbose, quiet, compare_exact, no_seam_map, no_thin_map;
     dm_render_desc speed; /* the speed/accuracy fields only */
 } options;
 
@@ -167,6 +169,8 @@ static int parse(int argc, char **argv, options *o)
             o->speed.diffusion_per_pixel = true;
         } else if (!strcmp(a, "--no-seam-map")) {
             o->no_seam_map = true;
+        } else if (!strcmp(a, "--no-thin-map")) {
+            o->no_thin_map = true;
         } else if (!strcmp(a, "--blur-on")) {
             static const char *paths[] = {"auto", "gl", "cpu"}; /* dm_blur_path's order */
             int k = 0;
@@ -303,6 +307,7 @@ static int load(const options *o, source *src, dm_error *err)
             dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
             return DM_EXIT_LOAD;
         if (o->no_seam_map) src->pack_assets.seam = (dm_texture){0};
+        if (o->no_thin_map) src->pack_assets.thin = (dm_texture){0};
         src->assets = &src->pack_assets;
         src->s = &src->scene;
         if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
@@ -485,6 +490,15 @@ int main(int argc, char **argv)
                                              "where the surface continues across the UV seam"
                    : src.assets->seam.texels ? "the pack's is for another irradiance size: not used, the blurs stop at UV seams"
                                              : "none in the pack: the blurs stop at UV seams");
+        if (plan.blur_levels > 1) /* docs/thin-map.md */
+            printf("thin-part map: %s\n",
+                   dm_renderer_thin_map(r) ? "the pack's: the diffusion pass adds the light from across thin parts and "
+                                             "folds (up to two points a texel, each level weighted by exp(-d^2/2v))"
+                   : !src.assets->thin.texels ? "none in the pack: no light reaches across thin parts and folds"
+                   : src.assets->thin.width != (desc.irradiance_size ? desc.irradiance_size : src.s->irradiance_size)
+                       ? "the pack's is for another irradiance size: not used"
+                       : "the pack's is not used: the levels are summed per pixel (reduced levels or "
+                         "--diffusion-per-pixel), where it has no texel to read");
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

@@ -7,15 +7,33 @@
  * rounding (tests/render/test_render_blur_cpu.c); levels at the grid's own size only (the
  * renderer sums reduced levels per pixel instead).
  *
+ * With a thin-part map (bake/dm_thin_map.h, DM_THIN in the shader) each level k also adds, right
+ * after its own term, per candidate j of the texel (u′_j, v′_j, d_j mm):
+ *     w_k · (exp(−d_j²/(2 v_k)) · L_k(u′_j, v′_j))
+ * L_k read as the shader's sampler reads it: bilinear at the texel centres, zero outside the
+ * image, then coverage-normalised as above. The candidates come in a compact form
+ * (dm_level_sum_thin_make).
+ *
  * Deterministic: each texel alone, byte-identical for any thread count. */
 #ifndef DM_LEVEL_SUM_H
 #define DM_LEVEL_SUM_H
 
 #include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* A thin-part map's candidates per texel: texel i = x + y·n has candidates first[i] ..
+ * first[i + 1] − 1 of cand, 4 floats each (u′, v′, d mm, 0), layer 0's before layer 1's. */
+typedef struct dm_level_sum_thin {
+    int n;
+    int32_t *first; /* n·n + 1 */
+    float *cand;
+    size_t count;
+} dm_level_sum_thin;
 
 typedef struct dm_level_sum_pass {
     float *sum;         /* RGBA, n × n, unpadded: the sum so far (alpha: c once started) */
@@ -27,10 +45,19 @@ typedef struct dm_level_sum_pass {
     bool first;       /* level 0: starts the sum and takes its alpha as the coverage c */
     bool last;        /* the last level: multiplies the sum by c */
     int thread_count; /* 0 = every core */
+    const dm_level_sum_thin *thin; /* NULL: none; else its n is this n */
+    float variance_mm2;            /* v_k, with thin */
 } dm_level_sum_pass;
 
-/* Adds one level. False (nothing written) when a pointer is NULL, n < 1 or stride < 4 n. */
+/* Adds one level. False (nothing written) when a pointer is NULL, n < 1, stride < 4 n, or a
+ * thin map of another size or a variance ≤ 0 with one. */
 bool dm_level_sum_add(const dm_level_sum_pass *p);
+
+/* The compact candidates of a thin-part map's texels (RGBA, n × 2n: layer j in rows
+ * [j·n, (j + 1)·n); a candidate where alpha > 0.5). False when out of memory (out left
+ * empty) or n < 1. Free with dm_level_sum_thin_free (safe on a zeroed one). */
+bool dm_level_sum_thin_make(const float *map, int n, dm_level_sum_thin *out);
+void dm_level_sum_thin_free(dm_level_sum_thin *t);
 
 #ifdef __cplusplus
 }

@@ -104,6 +104,12 @@ typedef struct dm_render_assets {
      * irradiance pass lights those texels at that point, so the blurs cross UV seams; used only
      * when its size is the irradiance size (dm_renderer_seam_map says whether it is used). */
     dm_texture seam;
+    /* the thin-part map (bake/dm_thin_map.h): RGBA32F, N × 2N, two layers of N rows: per texel
+     * up to two points across a thin part or a fold (u', v', mm apart, 1), else 0; optional.
+     * With it the diffusion pass adds Σ_k w_k exp(−d²/2v_k) L_k(u', v') per candidate (exact for
+     * parallel sheets); used only when N is the irradiance size and the levels are summed per
+     * texel (dm_renderer_thin_map says whether it is used). */
+    dm_texture thin;
     const dm_profile *profile; /* NULL: scene->profile */
 
     /* screen-space subsurface: the separable kernel dermis-pack fitted to the profile
@@ -223,6 +229,9 @@ bool dm_renderer_blur_on_cpu(const dm_renderer *r);
 /* Whether texture space reads the pack's seam map (its irradiance pass lights the gutter
  * texels a blur reaches where the surface continues across a UV seam). */
 bool dm_renderer_seam_map(const dm_renderer *r);
+/* Whether texture space reads the pack's thin-part map (its diffusion pass adds the light
+ * from across thin parts and folds). */
+bool dm_renderer_thin_map(const dm_renderer *r);
 
 /* Replaces the scene's values that no pass, target or upload depends on: camera, light
  * directions, positions, colours and intensities, material constants, environment

@@ -49,3 +49,8 @@ bool dm_renderer_seam_map(const dm_renderer *r)
 {
     return r && r->f.tex_seam && r->f.plan.texture_space;
 }
+
+bool dm_renderer_thin_map(const dm_renderer *r)
+{
+    return r && r->f.tex_thin && r->f.plan.texture_space;
+}

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../common/obj_write.h"
 #include "../common/seam_plate.h"
 #include "../common/tmpdir.h"
 #include "host/dm_osmesa.h"
@@ -35,18 +36,10 @@ static void pack_plate(const char *dir, const char *name, const seam_plate *p, p
     seam_plate_mesh(p, &m);
     char path[256], cmd[1024], log[256];
     snprintf(path, sizeof path, "%s/%s.obj", dir, name);
-    FILE *f = fopen(path, "w");
-    cr_assert(f);
-    for (int v = 0; v < m.vertex_count; ++v)
-        fprintf(f, "v %.9g %.9g %.9g\n", m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]);
-    for (int c = 0; c < 3 * m.triangle_count; ++c) fprintf(f, "vt %.9g %.9g\n", m.uvs[2 * c], m.uvs[2 * c + 1]);
-    for (int t = 0; t < m.triangle_count; ++t)
-        fprintf(f, "f %u/%d %u/%d %u/%d\n", m.indices[3 * t] + 1, 3 * t + 1, m.indices[3 * t + 1] + 1, 3 * t + 2,
-                m.indices[3 * t + 2] + 1, 3 * t + 3);
-    fclose(f);
+    test_write_obj(path, &m);
     dm_mesh_free(&m);
     snprintf(path, sizeof path, "%s/%s.json", dir, name);
-    f = fopen(path, "w");
+    FILE *f = fopen(path, "w");
     cr_assert(f);
     fprintf(f, "{\"mesh\": {\"path\": \"%s.obj\", \"mm_per_unit\": 1},\n"
                " \"lights\": [{\"type\": \"point\", \"position\": [23, 20, 3], \"intensity\": 40}],\n"

@@ -38,12 +38,19 @@ static float *make_level(int k, float **px)
 
 static const float weight[LEVELS][3] = {{0.25f, 0.4f, 0.6f}, {0.25f, 0.3f, 0.2f}, {0.3f, 0.2f, 0.1f}, {0.2f, 0.1f, 0.1f}};
 
-static void sum_levels(float *const px[LEVELS], float *sum, int threads)
+static const float variance[LEVELS] = {0.0064f, 0.0484f, 0.187f, 0.567f};
+
+static void sum_levels_thin(float *const px[LEVELS], float *sum, int threads, const dm_level_sum_thin *thin)
 {
     for (int k = 0; k < LEVELS; ++k)
         cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
                                                         {weight[k][0], weight[k][1], weight[k][2]}, k == 0,
-                                                        k == LEVELS - 1, threads}));
+                                                        k == LEVELS - 1, threads, thin, variance[k]}));
+}
+
+static void sum_levels(float *const px[LEVELS], float *sum, int threads)
+{
+    sum_levels_thin(px, sum, threads, NULL);
 }
 
 Test(level_sum, matches_the_shader_formula_in_double)
@@ -96,10 +103,98 @@ Test(level_sum, refuses_what_breaks_the_rules)
 {
     float level[4 * 4] = {0}, sum[4 * 4];
     cr_expect(!dm_level_sum_add(NULL));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){NULL, level, 8, 2, {1, 1, 1}, true, true, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, NULL, 8, 2, {1, 1, 1}, true, true, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 0, {1, 1, 1}, true, true, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 7, 2, {1, 1, 1}, true, true, 0}));
-    cr_expect(dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 2, {1, 1, 1}, true, true, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){NULL, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, NULL, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 0, {1, 1, 1}, true, true, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 7, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
+    cr_expect(dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
     for (int i = 0; i < 16; ++i) cr_expect(sum[i] == 0.0f && !signbit(sum[i]), "zero coverage: black, not NaN");
+}
+
+/* Level k at (u, v) in double: bilinear between the texel centres, zero outside the N × N
+ * image, then rgb / alpha where alpha > 1e-4 (the shader's sampler and dm_level). */
+static double level_at(const float *px, int c, double u, double v)
+{
+    long stride = dm_level_blur_stride(N);
+    double x = u * N - 0.5, y = v * N - 0.5, fx = floor(x), fy = floor(y), t[4] = {0, 0, 0, 0};
+    for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+            int xi = (int)fx + dx, yi = (int)fy + dy;
+            double wgt = (dx ? x - fx : 1 - (x - fx)) * (dy ? y - fy : 1 - (y - fy));
+            if (xi < 0 || yi < 0 || xi >= N || yi >= N) continue;
+            for (int q = 0; q < 4; ++q) t[q] += wgt * px[yi * stride + 4 * xi + q];
+        }
+    return t[3] > 1e-4 ? t[c] / t[3] : 0.0;
+}
+
+/* With a thin-part map: per texel up to two candidates (u', v', d), some at the image's edge
+ * and corners (the zero border), some on uncovered texels; each level adds
+ * w_k exp(-d^2 / 2 v_k) L_k(u', v') per candidate, evaluated here in double from the formula
+ * of core/dm_level_sum.h. Texels without candidates are the plain sum, bit for bit. */
+Test(level_sum, thin_candidates_match_the_formula_in_double)
+{
+    float *buf[LEVELS], *px[LEVELS];
+    for (int k = 0; k < LEVELS; ++k) buf[k] = make_level(k, &px[k]);
+    float *map = calloc((size_t)4 * N * 2 * N, sizeof(float));
+    unsigned seed = 99u;
+    for (int i = 0; i < 2 * N * N; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        if ((seed >> 24) % 3) continue; /* a third of the slots */
+        float *c = map + 4 * i;
+        seed = seed * 1664525u + 1013904223u;
+        c[0] = (seed >> 20) % 7 == 0 ? 0.0f : (seed >> 20) % 7 == 1 ? 1.0f : (float)(seed >> 8) / 16777216.0f;
+        seed = seed * 1664525u + 1013904223u;
+        c[1] = (float)(seed >> 8) / 16777216.0f;
+        seed = seed * 1664525u + 1013904223u;
+        c[2] = 0.05f + (float)(seed >> 8) / 16777216.0f * 2.0f; /* 0.05..2.05 mm */
+        c[3] = 1.0f;
+    }
+    dm_level_sum_thin thin;
+    cr_assert(dm_level_sum_thin_make(map, N, &thin));
+    cr_assert_gt(thin.count, (size_t)N * N / 2);
+    float *sum = malloc(sizeof(float) * 4 * N * N), *plain = malloc(sizeof(float) * 4 * N * N);
+    sum_levels_thin(px, sum, 0, &thin);
+    sum_levels(px, plain, 0);
+    long stride = dm_level_blur_stride(N);
+    int with = 0;
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            const float *s = sum + 4 * (y * N + x);
+            const float *cand[2] = {map + 4 * (y * N + x), map + 4 * ((N + y) * N + x)};
+            bool any = cand[0][3] > 0.5f || cand[1][3] > 0.5f;
+            double cov = px[0][y * stride + 4 * x + 3];
+            with += any && cov > 0;
+            if (!any) {
+                cr_assert(!memcmp(s, plain + 4 * (y * N + x), sizeof(float) * 4), "texel %d, %d: not the plain sum", x, y);
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) {
+                double ref = 0.0;
+                for (int k = 0; k < LEVELS; ++k) {
+                    const float *t = px[k] + y * stride + 4 * x;
+                    ref += (double)weight[k][c] * (t[3] > 1e-4f ? (double)t[c] / t[3] : 0.0);
+                    for (int j = 0; j < 2; ++j)
+                        if (cand[j][3] > 0.5f)
+                            ref += (double)weight[k][c] * exp(-(double)cand[j][2] * cand[j][2] / (2.0 * variance[k])) *
+                                   level_at(px[k], c, cand[j][0], cand[j][1]);
+                }
+                ref *= cov;
+                /* float: each bilinear tap and division rounds to ~1e-7 of its value; 4 levels,
+                 * up to 3 terms each, all non-negative: under 2e-6 of the sum */
+                cr_assert(fabs(s[c] - ref) <= 2e-6 * fabs(ref) + 1e-30, "texel %d, %d, channel %d: %.9g, expected %.9g",
+                          x, y, c, (double)s[c], ref);
+            }
+        }
+    cr_expect_gt(with, N * N / 4);
+    float *many = malloc(sizeof(float) * 4 * N * N);
+    sum_levels_thin(px, many, 5, &thin);
+    cr_expect(!memcmp(sum, many, sizeof(float) * 4 * N * N), "byte-identical on 5 threads");
+    dm_level_sum_thin other = thin;
+    other.n = N + 1;
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &other, 1.0f}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &thin, 0.0f}));
+    dm_level_sum_thin_free(&thin);
+    dm_level_sum_thin_free(&thin); /* twice: safe */
+    for (int k = 0; k < LEVELS; ++k) free(buf[k]);
+    free(map), free(sum), free(plain), free(many);
 }

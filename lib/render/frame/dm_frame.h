@@ -43,6 +43,8 @@ enum {
     UNIT_CURVATURE = UNIT_LEVEL0 + 7,
     /* the irradiance pass's seam map: its G-buffer takes UNIT_LEVEL0..+3 */
     UNIT_SEAM = UNIT_LEVEL0 + 4,
+    /* the diffusion pass's thin-part map: that pass reads the levels and nothing else */
+    UNIT_THIN = UNIT_SRC,
     /* the texture views' chart coverage (the texture-space G-buffer's positions, w) */
     UNIT_COVER = UNIT_BACKGROUND
 };
@@ -99,6 +101,8 @@ struct dmr_frame {
     bool spec_in_normal; /* the specular map is the normal map texture's alpha (DM_SPEC_IN_NORMAL) */
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask; /* texture space's stretch chain */
     GLuint tex_seam; /* the seam map (0 without one): irradiance.glsl's DM_SEAM */
+    GLuint tex_thin; /* the thin-part map (0 without one): diffusion.glsl's DM_THIN; the blur on
+                      * the CPU keeps its candidates in its own compact copy */
     GLuint ts_cover_tex; /* texture space's G-buffer positions: w = 1 on the texels a triangle covers */
     int stretch_count;
     dmr_preint_inputs preint;

@@ -25,7 +25,7 @@ static void set_sampler_units(GLuint p)
                  {"u_glow", UNIT_GLOW},           {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
                  {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE},
-                 {"u_seam", UNIT_SEAM},           {"u_cover", UNIT_COVER}};
+                 {"u_seam", UNIT_SEAM},           {"u_cover", UNIT_COVER},         {"u_thin", UNIT_THIN}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);
@@ -106,6 +106,7 @@ static void frame_defines(const dmr_frame *f, const char *extra, char *defines, 
     if (f->spec_in_normal) n += (size_t)snprintf(defines + n, size - n, "#define DM_SPEC_IN_NORMAL 1\n");
     if (f->diffusion_sum) n += (size_t)snprintf(defines + n, size - n, "#define DM_DIFFUSION_SUM 1\n");
     if (f->tex_seam && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_SEAM 1\n");
+    if (f->tex_thin && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_THIN 1\n");
     if (extra) snprintf(defines + n, size - n, "%s", extra);
 }
 

@@ -81,7 +81,8 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     for (int k = 0; k < st->layers; ++k) a->stretch[k] = layer(st, k);
     a->stretch_level_count = st->layers;
     dm_result r = texture(pack, "stretch.mask", &a->stretch_mask, err);
-    return r == DM_OK ? texture(pack, "seam", &a->seam, err) : r;
+    if (r == DM_OK) r = texture(pack, "seam", &a->seam, err);
+    return r == DM_OK ? texture(pack, "thin", &a->thin, err) : r;
 }
 
 static bool has_env(const dm_pack *pack, int env)

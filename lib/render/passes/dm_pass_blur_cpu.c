@@ -52,6 +52,8 @@ static bool allocate(dmr_frame *f, dmr_blur_cpu *b, const dm_render_assets *a)
     /* the diffusion pass's sum */
     if (f->diffusion_sum && !(b->sum = malloc(sizeof(float) * 4 * (size_t)f->irr_edge * (size_t)f->irr_edge)))
         return false;
+    /* the thin-part map's candidates, compact (diffusion.glsl's DM_THIN: the same terms) */
+    if (b->sum && f->tex_thin && !dm_level_sum_thin_make(a->thin.texels, f->irr_edge, &b->thin)) return false;
     return true;
 }
 
@@ -62,7 +64,8 @@ static void add_to_sum(const dmr_frame *f, dmr_blur_cpu *b, int k)
     int n = f->irr_edge; /* every level at this size (diffusion_sum) */
     dm_level_sum_add(&(dm_level_sum_pass){b->sum, b->level, dm_level_blur_stride(n), n,
                                           {f->level_weight[k][0], f->level_weight[k][1], f->level_weight[k][2]},
-                                          k == 0, k == f->plan.blur_levels - 1, 0});
+                                          k == 0, k == f->plan.blur_levels - 1, 0, b->thin.first ? &b->thin : NULL,
+                                          (float)f->profile.variance_mm2[k]});
     b->sum_level = k;
 }
 
@@ -129,6 +132,7 @@ void dmr_blur_cpu_free(dmr_frame *f, void *st)
     dmr_blur_cpu *b = st;
     for (int i = 0; i < 3; ++i) free(b->buf[i]), b->buf[i] = NULL;
     free(b->sum), b->sum = NULL;
+    dm_level_sum_thin_free(&b->thin);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k)
         free(b->step[k][0]), free(b->step[k][1]), b->step[k][0] = b->step[k][1] = NULL;
 }

@@ -5,6 +5,7 @@
 #ifndef DM_PASS_BLUR_CPU_H
 #define DM_PASS_BLUR_CPU_H
 
+#include "core/dm_level_sum.h"
 #include "render/frame/dm_frame_pass.h"
 
 typedef struct dmr_blur_cpu {
@@ -14,6 +15,7 @@ typedef struct dmr_blur_cpu {
     int held, tmp_level;                     /* −1: none */
     float *sum;    /* the diffusion pass's sum, level by level (full-resolution levels) */
     int sum_level; /* the last level added to it; −1: none this frame */
+    dm_level_sum_thin thin; /* the thin-part map's candidates, when the GL pass has it (f->tex_thin) */
     bool syncing;  /* the sync is running the chain */
     bool summing;  /* this frame's chain feeds the sum, and no pass reads the levels in GL:
                     * their uploads wait until something does (f->levels) */

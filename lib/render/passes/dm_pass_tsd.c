@@ -27,6 +27,9 @@ dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error 
     if (rc == DM_OK && a->seam.texels && a->seam.format != DM_TEX_RGBA32F)
         rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the seam map is %s, expected rgba32f",
                      dmr_format_name(a->seam.format));
+    if (rc == DM_OK && a->thin.texels && a->thin.format != DM_TEX_RGBA32F)
+        rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the thin-part map is %s, expected rgba32f",
+                     dmr_format_name(a->thin.format));
     int taps = a->scene->blur_taps;
     if (rc == DM_OK && (taps < 3 || taps > DM_BLUR_TAPS_MAX || taps % 2 == 0))
         rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, %d]", taps,
@@ -50,6 +53,13 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
      * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). */
     if (rc == DM_OK && a->seam.texels && a->seam.width == f->irr_edge && a->seam.height == f->irr_edge)
         rc = dmr_upload(f, &a->seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
+    /* the thin-part map, read at texel centres (nearest) by the diffusion pass (DM_THIN;
+     * dm_renderer_thin_map): only at the size it was baked for, and only where the levels are
+     * summed per texel (a per-pixel sum has no texel to read its candidates at). On the CPU
+     * blur path the sum is made in C from the same texels. */
+    if (rc == DM_OK && a->thin.texels && f->diffusion_sum && a->thin.width == f->irr_edge &&
+        a->thin.height == 2 * f->irr_edge)
+        rc = dmr_upload(f, &a->thin, "thin", false, GL_NEAREST, &f->tex_thin, err);
     return rc;
 }
 

@@ -1,0 +1,189 @@
+/* The thin-part map in the renderer (issue #29 point 2): a thin sheet — two parallel plates
+ * s mm apart, back to back, each its own UV chart (tests/common/thin_sheet.h) — lit from above,
+ * so only the top plate receives light. The atlas blur cannot carry it to the bottom plate;
+ * the thin-part map (here in closed form: every texel's point straight across) lets the
+ * diffusion pass add Σ_k w_k exp(−s²/2v_k) L_k(across). For infinite parallel sheets under
+ * uniform light that is exact: far from the plates' edges the bottom's diffusion is the top's
+ * times Σ_k w_k exp(−s²/2v_k), per channel, and the top's own is unchanged (nothing lights the
+ * bottom). On the GL and the CPU blur path alike; a map of another size is left out, and an
+ * empty one changes nothing, bit for bit. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../common/obj_write.h"
+#include "../common/thin_sheet.h"
+#include "../common/tmpdir.h"
+#include "host/dm_osmesa.h"
+#include "pack/dm_pack.h"
+#include "render/dm_render.h"
+#include "render/dm_render_pack.h"
+
+enum { IRR = 256 };
+
+typedef struct sheet_pack {
+    dm_pack pack;
+    dm_scene scene;
+    dm_profile profile;
+    dm_render_assets assets;
+} sheet_pack;
+
+/* The sheet s mm thick, a directional light straight above, subsurface only (no shadows: the
+ * bottom faces away from the light anyway), packed by dermis-pack and opened. */
+static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
+{
+    dm_mesh m;
+    thin_sheet_mesh(s_mm, &m);
+    char path[256], cmd[1024], log[256];
+    snprintf(path, sizeof path, "%s/sheet.obj", dir);
+    test_write_obj(path, &m);
+    dm_mesh_free(&m);
+    snprintf(path, sizeof path, "%s/sheet.json", dir);
+    FILE *f = fopen(path, "w");
+    cr_assert(f);
+    fprintf(f, "{\"mesh\": {\"path\": \"sheet.obj\", \"mm_per_unit\": 1},\n"
+               " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1]}],\n"
+               " \"effects\": {\"subsurface\": {\"irradiance_size\": %d}},\n"
+               " \"camera\": {\"eye\": [20, 20, 80], \"target\": [20, 20, 0]}, \"output\": {\"width\": 64, \"height\": 64}}\n",
+            IRR);
+    fclose(f);
+    snprintf(cmd, sizeof cmd, "cd '%s' && " DERMIS_BIN "/dermis-pack sheet.json -o sheet.dpk --threads 1 --quiet", dir);
+    snprintf(log, sizeof log, "%s/sheet.log", dir);
+    int rc = test_run(cmd, log);
+    char *text = rc ? test_slurp(log) : NULL;
+    cr_assert_eq(rc, 0, "dermis-pack failed: %s", text ? text : "");
+    snprintf(path, sizeof path, "%s/sheet.dpk", dir);
+    dm_error err = {0};
+    cr_assert_eq(dm_pack_open(path, &out->pack, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_assets_from_pack(&out->pack, &out->scene, &out->profile, &out->assets, &err), DM_OK, "%s",
+                 err.detail);
+}
+
+/* The diffusion view (irr², RGBA) with the given thin-part map texels (NULL: none) of n × 2n. */
+static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, bool *used)
+{
+    dm_render_assets a = sp->assets;
+    a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
+    dm_osmesa *ctx = NULL;
+    dm_renderer *r = NULL;
+    dm_error err = {0};
+    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR, .blur_path = path},
+                                    &r, &err),
+                 DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+    *used = dm_renderer_thin_map(r);
+    int w, h;
+    dm_renderer_view_size(r, &w, &h);
+    cr_assert(w == IRR && h == IRR);
+    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
+    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(ctx);
+    return px;
+}
+
+static const float *at(const float *px, int bottom, double x, double y)
+{
+    double uv[2];
+    thin_sheet_uv(bottom, x, y, uv);
+    return px + 4 * ((size_t)floor(uv[1] * IRR) * IRR + (size_t)floor(uv[0] * IRR));
+}
+
+/* Σ_k w_k exp(−s²/2v_k) per channel, the weights normalised per channel as the renderer's. */
+static void across(const dm_profile *p, double s, double out[3])
+{
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0, g = 0;
+        for (int k = 0; k < p->count; ++k) sum += p->weight[k][c], g += p->weight[k][c] * exp(-s * s / (2 * p->variance_mm2[k]));
+        out[c] = g / sum;
+    }
+}
+
+/* Over the plates' middle (10 mm clear of every edge: 3.7 σ of the widest Gaussian), the
+ * bottom's diffusion over the top's at the same (x, y), per channel: mean and largest
+ * departure from the closed form. */
+static void check_sheet(dm_blur_path path, double s)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, s, &sp);
+    float *map = thin_sheet_map(s, IRR);
+    bool used_with, used_without;
+    float *with = diffusion_with(&sp, map, IRR, path, &used_with), *without = diffusion_with(&sp, NULL, 0, path, &used_without);
+    cr_assert(used_with && !used_without);
+    double want[3], worst = 0;
+    across(&sp.profile, s, want);
+    int count = 0;
+    for (double y = 10.25; y < THIN_SHEET_L - 10; y += 0.5)
+        for (double x = 10.25; x < THIN_SHEET_L - 10; x += 0.5, ++count) {
+            const float *top = at(with, 0, x, y), *bottom = at(with, 1, x, y), *top0 = at(without, 0, x, y),
+                        *bottom0 = at(without, 1, x, y);
+            for (int c = 0; c < 3; ++c) {
+                cr_assert(top[c] > 0.1f, "the top is lit");
+                cr_assert_eq(top[c], top0[c], "the top's own light is unchanged (the bottom is dark)");
+                cr_assert(bottom0[c] < 1e-6f * top[c], "without the map the bottom is dark: %g", bottom0[c]);
+                worst = fmax(worst, fabs(bottom[c] / top[c] / want[c] - 1));
+            }
+        }
+    cr_log_info("sheet %.2f mm (%s blur): across %.5f %.5f %.5f of the top, %d texels, worst %.2e relative", s,
+                path == DM_BLUR_PATH_GL ? "GL" : "CPU", want[0], want[1], want[2], count, worst);
+    cr_assert_gt(want[0], 0.05, "the test must see light across");
+    /* the candidates read the top's levels bilinearly at exact texel centres (both charts on the
+     * same grid): what remains is float rounding, ~1e-6; 1e-4 fails a level off by one, a
+     * weight unnormalised or exp(−s²/v) */
+    cr_assert_lt(worst, 1e-4, "worst %.2e", worst);
+    free(with), free(without), free(map);
+    dm_pack_close(&sp.pack);
+}
+
+Test(thin, parallel_sheets_exact_on_the_cpu_blur, .timeout = 120) { check_sheet(DM_BLUR_PATH_CPU, 1.0); }
+Test(thin, parallel_sheets_exact_on_the_gl_blur, .timeout = 120) { check_sheet(DM_BLUR_PATH_GL, 1.0); }
+/* thinner than a texel (0.04 mm against 0.39 mm a texel): as exact */
+Test(thin, a_sheet_thinner_than_a_texel, .timeout = 120) { check_sheet(DM_BLUR_PATH_CPU, 0.04); }
+
+/* A map of another size (its texels are other points) and an empty map: left out or adding
+ * nothing, bit for bit. */
+Test(thin, another_size_or_an_empty_map_change_nothing, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    float *half = thin_sheet_map(1.0, IRR / 2), *empty = calloc((size_t)4 * IRR * 2 * IRR, sizeof(float));
+    for (int p = 0; p < 2; ++p) {
+        dm_blur_path path = p ? DM_BLUR_PATH_GL : DM_BLUR_PATH_CPU;
+        bool u0, u1, u2;
+        float *none = diffusion_with(&sp, NULL, 0, path, &u0), *other = diffusion_with(&sp, half, IRR / 2, path, &u1),
+              *zero = diffusion_with(&sp, empty, IRR, path, &u2);
+        cr_assert(!u0 && !u1 && u2);
+        cr_assert_eq(memcmp(none, other, sizeof *none * 4 * IRR * IRR), 0, "a map of another size was used");
+        cr_assert_eq(memcmp(none, zero, sizeof *none * 4 * IRR * IRR), 0, "an empty map changed the picture");
+        free(none), free(other), free(zero);
+    }
+    free(half), free(empty);
+    dm_pack_close(&sp.pack);
+}
+
+/* The two blur paths agree with the map as without it: to float rounding (1e-4 of the value,
+ * tests/render/test_render_blur_cpu.c's measure). */
+Test(thin, the_cpu_and_gl_paths_agree, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    float *map = thin_sheet_map(1.0, IRR);
+    bool u;
+    float *cpu = diffusion_with(&sp, map, IRR, DM_BLUR_PATH_CPU, &u), *gl = diffusion_with(&sp, map, IRR, DM_BLUR_PATH_GL, &u);
+    double worst = 0, range = 0;
+    for (size_t i = 0; i < (size_t)4 * IRR * IRR; ++i) range = fmax(range, fabs(gl[i]));
+    for (size_t i = 0; i < (size_t)4 * IRR * IRR; ++i) worst = fmax(worst, fabs(cpu[i] - gl[i]));
+    cr_log_info("CPU vs GL with the thin map: %.2e of the range", worst / range);
+    cr_assert_lt(worst, 1e-4 * range);
+    free(cpu), free(gl), free(map);
+    dm_pack_close(&sp.pack);
+}
