@@ -30,7 +30,7 @@ enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2,
  * the 2² → 3² step at 1280x720 and the 3² → 6² step at 640x360, extrapolated as 1/k²). */
 #define FRAME_ERROR_BAR_RGB 0.08
 #define FRAME_ERROR_BAR_RED 0.035
-enum { MAX_FRAMES = 64, MAX_ROWS = 44, MAX_G = 8 };
+enum { MAX_FRAMES = 64, MAX_ROWS = 48, MAX_G = 8 };
 /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit */
 enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, NPACKS };
 enum { MAX_SIZED = 8 }; /* texture-space references: one per (size, truth) */
@@ -42,6 +42,7 @@ typedef struct setting {
     int size, taps, gaussians; /* irradiance size; blur taps (0: the scene's); 0: the pack's profile */
     bool flat_stretch;
     bool no_seam;       /* the pack's seam map left out: blurs stop at UV seams (before #29) */
+    bool no_thin;       /* the pack's thin-part map left out: no light across thin parts (before #29) */
     dm_sss_technique technique; /* texture-space (0), screen-space or pre-integrated (its own pack:
                                  * the table and curvature map, PACK_PREINT) */
     int screen_taps;            /* screen-space kernel taps */
