@@ -18,8 +18,6 @@
 #include "core/dm_prov.h"
 
 #define TOOL "dermis-bake-seams"
-#define REACH_MIN_MM 1e-3
-#define REACH_MAX_MM 1e3
 
 typedef struct args {
     dm_bake_cli c;   /* the shared options (bake/dm_bake_cli.h) */
@@ -63,7 +61,7 @@ static void usage(FILE *f)
             "            3 processing failed, 4 cannot save the output.\n"
             "Example: " TOOL " LeePerrySmith.obj -o seams.exr --size 1024 --report\n",
             DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, DM_STRETCH_MM_PER_UNIT_DEFAULT, dm_seam_map_reach_mm(v),
-            REACH_MIN_MM, REACH_MAX_MM, v);
+            DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
 }
 
 /* Returns -1 to go on, else the exit code. */
@@ -72,14 +70,14 @@ static int parse(int argc, char **argv, args *a)
     /* mm per unit as the stretch map's: the two are baked for the same scene */
     *a = (args){.c = {.size = DM_SEAM_MAP_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT}, .reach_mm = -1.0};
     for (int i = 1; i < argc; ++i) {
-        const char *s = argv[i], *v;
+        const char *s = argv[i];
+        bool ok = true;
         if (dm_cli_version(s, TOOL)) exit(0);
         if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
             usage(stdout);
             return DM_EXIT_OK;
-        } else if (!strcmp(s, "--reach-mm")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, REACH_MIN_MM, REACH_MAX_MM, &a->reach_mm))
-                return DM_EXIT_USAGE;
+        } else if (dm_bake_cli_reach_option(argc, argv, &i, &a->reach_mm, &ok)) {
+            if (!ok) return DM_EXIT_USAGE;
         } else if (!strcmp(s, "--threads")) { /* shared by the other bakers; this bake is one pass */
             fprintf(stderr, "error: --threads: " TOOL " bakes on one thread (see --help)\n");
             return DM_EXIT_USAGE;
@@ -87,8 +85,7 @@ static int parse(int argc, char **argv, args *a)
             return DM_EXIT_USAGE;
         }
     }
-    return dm_bake_cli_finish(&a->c, a->c.profile && a->reach_mm >= 0.0 ? "--reach-mm and --profile exclude each other" : NULL,
-                              usage);
+    return dm_bake_cli_finish(&a->c, dm_bake_cli_reach_conflict(&a->c, a->reach_mm), usage);
 }
 
 typedef struct timings {
@@ -113,29 +110,13 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_
     printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
 }
 
-/* The interleaved texels as four planes, in EXR channel order. false: out of memory. */
-static bool planes_of(const dm_seam_map *map, float *planes[4])
-{
-    size_t n = (size_t)map->size * (size_t)map->size;
-    float *all = malloc(4 * n * sizeof *all);
-    if (!all) return false;
-    for (int c = 0; c < 4; ++c) planes[c] = all + (size_t)c * n;
-    for (size_t x = 0; x < n; ++x)
-        for (int c = 0; c < 4; ++c) planes[c][x] = map->texels[4 * x + (size_t)c];
-    return true;
-}
-
 static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
                      double reach_mm, const dm_seam_map *map, const dm_seam_map_stats *s)
 {
     dm_error err = {0};
-    const bool from_profile = a->reach_mm < 0.0;
     dm_provenance prov;
     dm_bake_cli_prov(&a->c, TOOL, mesh_hash, &prov);
-    dm_prov_add_double(&prov, "reach_mm", reach_mm);
-    dm_prov_add_string(&prov, "profile", from_profile ? profile->name : "");
-    dm_prov_add_string(&prov, "profile_hash", from_profile ? profile_hash : "");
-    if (from_profile) dm_prov_add_double(&prov, "largest_variance_mm2", profile->variance_mm2[profile->count - 1]);
+    dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
     dm_prov_add_string(&prov, "method", "nearest seam edge, chart extended and unfolded onto the other side");
     dm_prov_add_string(&prov, "units", "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond "
                                        "the edge");
@@ -150,10 +131,8 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
     dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
 
     float *planes[4];
-    if (!planes_of(map, planes)) {
-        fprintf(stderr, "error: %s: out of memory for the %dx%d planes\n", a->c.output, map->size, map->size);
+    if (!dm_bake_cli_planes(map->texels, (size_t)map->size * (size_t)map->size, a->c.output, planes))
         return DM_EXIT_SAVE;
-    }
     dm_exr_channel ch[4] = {{"seam.u", planes[0], DM_EXR_FLOAT},
                             {"seam.v", planes[1], DM_EXR_FLOAT},
                             {"seam.continued", planes[2], DM_EXR_HALF}, /* 0 and 1 are exact in half */
@@ -180,12 +159,8 @@ int main(int argc, char **argv)
     dm_profile profile;
     char profile_hash[DM_HASH_HEX_SIZE];
     if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
-    double reach_mm = a.reach_mm >= 0.0 ? a.reach_mm : dm_seam_map_reach_mm(profile.variance_mm2[profile.count - 1]);
     char reach_from[128];
-    if (a.reach_mm >= 0.0) snprintf(reach_from, sizeof reach_from, "--reach-mm");
-    else
-        snprintf(reach_from, sizeof reach_from, "3 sigma of %s's widest Gaussian, %g mm^2", profile.name,
-                 profile.variance_mm2[profile.count - 1]);
+    double reach_mm = dm_bake_cli_reach(a.reach_mm, &profile, reach_from, sizeof reach_from);
     char mesh_hash[DM_HASH_HEX_SIZE];
     dm_mesh mesh;
     if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;

@@ -1,8 +1,10 @@
 /* dm_bake_cli.h — what the mesh bake tools (dermis-bake-stretch, dermis-bake-curvature,
- * dermis-bake-seams) share on their command line: the operand MESH and the options -o,
- * --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet; their checks;
- * the loading of the profile and the mesh with their content hashes; and the provenance
- * entries they all write. Each tool keeps its own --help text and its own options
+ * dermis-bake-seams, dermis-bake-thin) share on their command line: the operand MESH and the
+ * options -o, --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet;
+ * their checks; the loading of the profile and the mesh with their content hashes; the
+ * provenance entries they all write; the reach of the two maps that reach across the surface
+ * (--reach-mm, or 3 sigma of the profile's widest Gaussian); the EXR planes of an
+ * interleaved map. Each tool keeps its own --help text and its own options
  * (dermis-bake-seams refuses --threads before this parser sees it: its bake is one pass). */
 #ifndef DM_BAKE_CLI_H
 #define DM_BAKE_CLI_H
@@ -50,9 +52,32 @@ bool dm_bake_cli_profile(const dm_bake_cli *a, dm_profile *profile, char hash[DM
 bool dm_bake_cli_mesh(const dm_bake_cli *a, dm_mesh *mesh, char hash[DM_HASH_HEX_SIZE]);
 
 /* Provenance for tool: input_hash the mesh's, then mesh_name (when given), width, height
- * (size) and mm_per_unit; the tool adds its own after. */
+ * (size, or the given height) and mm_per_unit; the tool adds its own after. */
 void dm_bake_cli_prov(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
                       dm_provenance *prov);
+void dm_bake_cli_prov_height(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
+                             int64_t height, dm_provenance *prov);
+
+/* --- the reach (dermis-bake-seams, dermis-bake-thin) ------------------------------------ */
+
+#define DM_BAKE_CLI_REACH_MIN_MM 1e-3
+#define DM_BAKE_CLI_REACH_MAX_MM 1e3
+/* Whether argv[*i] is --reach-mm; then its value (advancing *i) into *reach_mm, *ok false for
+ * a bad one (said on stderr). */
+bool dm_bake_cli_reach_option(int argc, char **argv, int *i, double *reach_mm, bool *ok);
+/* "--reach-mm and --profile exclude each other" when both are given (reach_opt ≥ 0), else NULL. */
+const char *dm_bake_cli_reach_conflict(const dm_bake_cli *a, double reach_opt);
+/* reach_opt when ≥ 0, else 3 σ of the profile's widest Gaussian (dm_seam_map_reach_mm);
+ * from[from_size] says which, for --report. */
+double dm_bake_cli_reach(double reach_opt, const dm_profile *profile, char *from, size_t from_size);
+/* reach_mm, profile and profile_hash ("" when --reach-mm gave it) and, from the profile,
+ * largest_variance_mm2. */
+void dm_bake_cli_reach_prov(double reach_opt, double reach_mm, const dm_profile *profile, const char *profile_hash,
+                            dm_provenance *prov);
+
+/* The four channels of count interleaved texels as four planes, in planes[0] (one malloc:
+ * free(planes[0])). false, said on stderr naming output, when out of memory. */
+bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, float *planes[4]);
 
 #ifdef __cplusplus
 }
