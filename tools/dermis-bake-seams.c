@@ -11,7 +11,6 @@
 #include "bake/dm_stretch.h"
 #include "image/dm_exr.h"
 #include "mesh/dm_mesh.h"
-#include "mesh/dm_mesh_plausible.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_profile.h"
@@ -62,30 +61,6 @@ static void usage(FILE *f)
             "Example: " TOOL " LeePerrySmith.obj -o seams.exr --size 1024 --report\n",
             DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, DM_STRETCH_MM_PER_UNIT_DEFAULT, dm_seam_map_reach_mm(v),
             DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
-}
-
-/* Returns -1 to go on, else the exit code. */
-static int parse(int argc, char **argv, args *a)
-{
-    /* mm per unit as the stretch map's: the two are baked for the same scene */
-    *a = (args){.c = {.size = DM_SEAM_MAP_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT}, .reach_mm = -1.0};
-    for (int i = 1; i < argc; ++i) {
-        const char *s = argv[i];
-        bool ok = true;
-        if (dm_cli_version(s, TOOL)) exit(0);
-        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
-            usage(stdout);
-            return DM_EXIT_OK;
-        } else if (dm_bake_cli_reach_option(argc, argv, &i, &a->reach_mm, &ok)) {
-            if (!ok) return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--threads")) { /* shared by the other bakers; this bake is one pass */
-            fprintf(stderr, "error: --threads: " TOOL " bakes on one thread (see --help)\n");
-            return DM_EXIT_USAGE;
-        } else if (!dm_bake_cli_option(argc, argv, &i, DM_SEAM_MAP_SIZE_MAX, &a->c)) {
-            return DM_EXIT_USAGE;
-        }
-    }
-    return dm_bake_cli_finish(&a->c, dm_bake_cli_reach_conflict(&a->c, a->reach_mm), usage);
 }
 
 typedef struct timings {
@@ -149,42 +124,34 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
 int main(int argc, char **argv)
 {
     args a;
-    int rc = parse(argc, argv, &a);
+    int rc = dm_bake_cli_parse_reach(argc, argv, TOOL, DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, false, usage, &a.c,
+                                     &a.reach_mm);
     if (rc >= 0) return rc;
     if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
 
     /* Load. */
     timings t = {0};
-    double t0 = dm_now_ms();
-    dm_profile profile;
-    char profile_hash[DM_HASH_HEX_SIZE];
-    if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
-    char reach_from[128];
-    double reach_mm = dm_bake_cli_reach(a.reach_mm, &profile, reach_from, sizeof reach_from);
-    char mesh_hash[DM_HASH_HEX_SIZE];
-    dm_mesh mesh;
-    if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;
-    t.load_ms = dm_now_ms() - t0;
-    char plausible[1024];
-    if (dm_mesh_plausible(&mesh, a.c.mm_per_unit, a.c.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
-    if (a.c.verbose)
-        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.c.mesh, mesh.triangle_count, t.load_ms);
+    dm_bake_cli_inputs in;
+    if ((rc = dm_bake_cli_load_reach(&a.c, a.reach_mm, &in)) != DM_EXIT_OK) return rc;
+    t.load_ms = in.load_ms;
+    const double reach_mm = in.reach_mm;
+    dm_mesh *mesh = &in.mesh;
 
     /* Process. */
     dm_error err = {0};
-    t0 = dm_now_ms();
+    double t0 = dm_now_ms();
     dm_seam_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm};
     dm_seam_map map;
     dm_seam_map_stats s;
-    if (dm_seam_map_bake(&mesh, &opt, &map, &s, &err) != DM_OK) {
+    if (dm_seam_map_bake(mesh, &opt, &map, &s, &err) != DM_OK) {
         fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
-        dm_mesh_free(&mesh);
+        dm_mesh_free(mesh);
         return DM_EXIT_PROCESS;
     }
     t.bake_ms = dm_now_ms() - t0;
     if (!dm_cli_finite(map.texels, 4 * (size_t)map.size * (size_t)map.size, "seam map")) {
         dm_seam_map_free(&map);
-        dm_mesh_free(&mesh);
+        dm_mesh_free(mesh);
         return DM_EXIT_PROCESS;
     }
     if (a.c.verbose)
@@ -196,9 +163,9 @@ int main(int argc, char **argv)
 
     /* Write. */
     t0 = dm_now_ms();
-    rc = write_map(&a, mesh_hash, &profile, profile_hash, reach_mm, &map, &s);
+    rc = write_map(&a, in.mesh_hash, &in.profile, in.profile_hash, reach_mm, &map, &s);
     t.write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, &mesh, &map, &s, reach_mm, reach_from, &t);
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, mesh, &map, &s, reach_mm, in.reach_from, &t);
     else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, reach %.3f mm, %lld seam edges (%lld cut, %lld boundary), %lld gutter texels continued, "
                "%lld lost, %lld ended, farthest %.3f mm\n",
@@ -206,6 +173,6 @@ int main(int argc, char **argv)
                (long long)s.boundary_edges, (long long)s.continued_texels, (long long)s.lost_texels,
                (long long)s.ended_texels, s.max_distance_mm);
     dm_seam_map_free(&map);
-    dm_mesh_free(&mesh);
+    dm_mesh_free(mesh);
     return rc;
 }

@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "bake/dm_seam_map.h"
+#include "bake/dm_stretch.h"
+#include "mesh/dm_mesh_plausible.h"
 
 #include "core/dm_cli.h"
 #include "core/dm_output.h"
@@ -150,4 +152,42 @@ bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, f
     for (size_t x = 0; x < count; ++x)
         for (int c = 0; c < 4; ++c) planes[c][x] = texels[4 * x + (size_t)c];
     return true;
+}
+
+int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in)
+{
+    double t0 = dm_now_ms();
+    if (!dm_bake_cli_profile(a, &in->profile, in->profile_hash)) return DM_EXIT_LOAD;
+    in->reach_mm = dm_bake_cli_reach(reach_opt, &in->profile, in->reach_from, sizeof in->reach_from);
+    if (!dm_bake_cli_mesh(a, &in->mesh, in->mesh_hash)) return DM_EXIT_LOAD;
+    in->load_ms = dm_now_ms() - t0;
+    char plausible[1024];
+    if (dm_mesh_plausible(&in->mesh, a->mm_per_unit, a->mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
+    if (a->verbose)
+        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a->mesh, in->mesh.triangle_count, in->load_ms);
+    return DM_EXIT_OK;
+}
+
+int dm_bake_cli_parse_reach(int argc, char **argv, const char *tool, int64_t size_default, int64_t size_max,
+                            bool threads, void (*usage)(FILE *out), dm_bake_cli *a, double *reach_opt)
+{
+    *a = (dm_bake_cli){.size = size_default, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT};
+    *reach_opt = -1.0;
+    for (int i = 1; i < argc; ++i) {
+        const char *s = argv[i];
+        bool ok = true;
+        if (dm_cli_version(s, tool)) exit(0);
+        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
+            usage(stdout);
+            return DM_EXIT_OK;
+        } else if (dm_bake_cli_reach_option(argc, argv, &i, reach_opt, &ok)) {
+            if (!ok) return DM_EXIT_USAGE;
+        } else if (!threads && !strcmp(s, "--threads")) { /* shared by the other bakers */
+            fprintf(stderr, "error: --threads: %s bakes on one thread (see --help)\n", tool);
+            return DM_EXIT_USAGE;
+        } else if (!dm_bake_cli_option(argc, argv, &i, size_max, a)) {
+            return DM_EXIT_USAGE;
+        }
+    }
+    return dm_bake_cli_finish(a, dm_bake_cli_reach_conflict(a, *reach_opt), usage);
 }

@@ -33,14 +33,8 @@ dm_result dmpb_step_thin(dm_pack_build *j, dm_error *err)
     dm_prov_add_int(&p, "lost_hits", st.lost_hits);
     dm_prov_add_double(&p, "max_distance_mm", st.max_distance_mm);
     dm_prov_add_double(&p, "mean_distance_mm", st.mean_distance_mm);
-    char src[200];
-    snprintf(src, sizeof src, "baked from %.150s", dmpb_base_name(j->scene.mesh));
-    dm_pack_entry d = dm_pack_texture_entry("thin", DM_TEX_RGBA32F, n, DM_THIN_MAP_CANDIDATES * n);
-    d.channel_count = 4;
     static const char *const ch[4] = {"u", "v", "mm", "candidate"};
-    for (int c = 0; c < 4; ++c) snprintf(d.channels[c], sizeof d.channels[c], "%s", ch[c]);
-    r = dmpb_add(j, &d, map.texels, sizeof *map.texels * 4 * DM_THIN_MAP_CANDIDATES * (size_t)n * (size_t)n, &p, src,
-                 err);
+    r = dmpb_add_mesh_rgba32f(j, "thin", n, DM_THIN_MAP_CANDIDATES * n, ch, map.texels, &p, err);
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
         fprintf(stderr, "thin map: %lld texels with one surface across, %lld with two, %lld dropped more\n",
                 (long long)st.one_candidate_texels, (long long)st.two_candidate_texels, (long long)st.dropped_texels);

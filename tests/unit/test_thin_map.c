@@ -111,8 +111,8 @@ static int check_across(const dm_thin_map *map, const int32_t *tri, const double
     return checked;
 }
 
-/* Two plates s mm apart, charts at (0.05, 0.05) and (0.55, 0.05); up_low: the lower one faces
- * up (a fold when the upper faces down) or down (a sheet's two sides, upper facing up). */
+/* Two plates s mm apart, charts at (0.05, 0.05) and (0.55, 0.05): a fold (the lower one faces
+ * up, the upper down) or the two sides of a sheet (the lower faces down, the upper up). */
 static void two_plates(double s, bool fold)
 {
     quad q[2] = {plate(0.0, fold, 0, L, 0.05, 0.05), plate(s, !fold, 0, L, 0.55, 0.05)};
