@@ -16,11 +16,11 @@ set label 2 "lib/pack  the .dpk: format, reader, verifier, writer" at 27,18.5 ce
 set object 3 rect from 58,2 to 108,9 fc rgb of                     # image
 set label 3 "lib/image  OpenEXR, OpenImageIO" at 83,5.5 center
 set object 4 rect from 58,12 to 108,19 fc rgb of                   # mesh
-set label 4 "lib/mesh  OpenMesh, tinygltf (isolated),\nchecks, UV raster, gutters" at 83,15.5 center
+set label 4 "lib/mesh  OpenMesh, tinygltf (isolated),\nchecks, UV raster, gutters, Embree rays" at 83,15.5 center
 set object 5 rect from 58,22 to 108,29 fc rgb of                   # bake
-set label 5 "lib/bake  LUTs, stretch, curvature,\nprofile fits, environment" at 83,25.5 center
+set label 5 "lib/bake  LUTs, stretch, curvature, seams,\nthin parts, profile fits, environment" at 83,25.5 center
 set object 6 rect from 58,32 to 108,39 fc rgb of                   # reference
-set label 6 "lib/reference  the ground truth, Embree rays" at 83,35.5 center
+set label 6 "lib/reference  the ground truth" at 83,35.5 center
 set object 7 rect from 58,42 to 108,49 fc rgb of                   # packer
 set label 7 "lib/packer  scene → .dpk, the step table" at 83,45.5 center
 set object 8 rect from 2,25 to 52,62 fc rgb "#eef5fb"              # render frame

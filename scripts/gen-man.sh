@@ -11,6 +11,7 @@ case $(basename "$tool") in
   dermis-bake-stretch)   what="bake UV stretch maps and their blurred chain from a mesh" ;;
   dermis-bake-curvature) what="bake per-texel mean curvature from a mesh for pre-integrated skin" ;;
   dermis-bake-seams)     what="bake the seam map that lets texture-space diffusion blur across UV seams" ;;
+  dermis-bake-thin)      what="bake the thin-part map that lets texture-space diffusion reach through thin parts and across folds" ;;
   dermis-bake-env)       what="bake an HDR environment into SH irradiance and prefiltered specular levels" ;;
   dermis-fit-profile)    what="fit a diffusion profile with a sum of Gaussians" ;;
   dermis-pack)           what="bake what a scene's effects need into one GPU-ready .dpk pack" ;;

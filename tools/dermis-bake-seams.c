@@ -11,15 +11,12 @@
 #include "bake/dm_stretch.h"
 #include "image/dm_exr.h"
 #include "mesh/dm_mesh.h"
-#include "mesh/dm_mesh_plausible.h"
 #include "core/dm_cli.h"
 #include "core/dm_hash.h"
 #include "core/dm_profile.h"
 #include "core/dm_prov.h"
 
 #define TOOL "dermis-bake-seams"
-#define REACH_MIN_MM 1e-3
-#define REACH_MAX_MM 1e3
 
 typedef struct args {
     dm_bake_cli c;   /* the shared options (bake/dm_bake_cli.h) */
@@ -63,32 +60,7 @@ static void usage(FILE *f)
             "            3 processing failed, 4 cannot save the output.\n"
             "Example: " TOOL " LeePerrySmith.obj -o seams.exr --size 1024 --report\n",
             DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, DM_STRETCH_MM_PER_UNIT_DEFAULT, dm_seam_map_reach_mm(v),
-            REACH_MIN_MM, REACH_MAX_MM, v);
-}
-
-/* Returns -1 to go on, else the exit code. */
-static int parse(int argc, char **argv, args *a)
-{
-    /* mm per unit as the stretch map's: the two are baked for the same scene */
-    *a = (args){.c = {.size = DM_SEAM_MAP_SIZE_DEFAULT, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT}, .reach_mm = -1.0};
-    for (int i = 1; i < argc; ++i) {
-        const char *s = argv[i], *v;
-        if (dm_cli_version(s, TOOL)) exit(0);
-        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
-            usage(stdout);
-            return DM_EXIT_OK;
-        } else if (!strcmp(s, "--reach-mm")) {
-            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_double(s, v, REACH_MIN_MM, REACH_MAX_MM, &a->reach_mm))
-                return DM_EXIT_USAGE;
-        } else if (!strcmp(s, "--threads")) { /* shared by the other bakers; this bake is one pass */
-            fprintf(stderr, "error: --threads: " TOOL " bakes on one thread (see --help)\n");
-            return DM_EXIT_USAGE;
-        } else if (!dm_bake_cli_option(argc, argv, &i, DM_SEAM_MAP_SIZE_MAX, &a->c)) {
-            return DM_EXIT_USAGE;
-        }
-    }
-    return dm_bake_cli_finish(&a->c, a->c.profile && a->reach_mm >= 0.0 ? "--reach-mm and --profile exclude each other" : NULL,
-                              usage);
+            DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
 }
 
 typedef struct timings {
@@ -113,29 +85,13 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_
     printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
 }
 
-/* The interleaved texels as four planes, in EXR channel order. false: out of memory. */
-static bool planes_of(const dm_seam_map *map, float *planes[4])
-{
-    size_t n = (size_t)map->size * (size_t)map->size;
-    float *all = malloc(4 * n * sizeof *all);
-    if (!all) return false;
-    for (int c = 0; c < 4; ++c) planes[c] = all + (size_t)c * n;
-    for (size_t x = 0; x < n; ++x)
-        for (int c = 0; c < 4; ++c) planes[c][x] = map->texels[4 * x + (size_t)c];
-    return true;
-}
-
 static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
                      double reach_mm, const dm_seam_map *map, const dm_seam_map_stats *s)
 {
     dm_error err = {0};
-    const bool from_profile = a->reach_mm < 0.0;
     dm_provenance prov;
     dm_bake_cli_prov(&a->c, TOOL, mesh_hash, &prov);
-    dm_prov_add_double(&prov, "reach_mm", reach_mm);
-    dm_prov_add_string(&prov, "profile", from_profile ? profile->name : "");
-    dm_prov_add_string(&prov, "profile_hash", from_profile ? profile_hash : "");
-    if (from_profile) dm_prov_add_double(&prov, "largest_variance_mm2", profile->variance_mm2[profile->count - 1]);
+    dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
     dm_prov_add_string(&prov, "method", "nearest seam edge, chart extended and unfolded onto the other side");
     dm_prov_add_string(&prov, "units", "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond "
                                        "the edge");
@@ -150,10 +106,8 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
     dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
 
     float *planes[4];
-    if (!planes_of(map, planes)) {
-        fprintf(stderr, "error: %s: out of memory for the %dx%d planes\n", a->c.output, map->size, map->size);
+    if (!dm_bake_cli_planes(map->texels, (size_t)map->size * (size_t)map->size, a->c.output, planes))
         return DM_EXIT_SAVE;
-    }
     dm_exr_channel ch[4] = {{"seam.u", planes[0], DM_EXR_FLOAT},
                             {"seam.v", planes[1], DM_EXR_FLOAT},
                             {"seam.continued", planes[2], DM_EXR_HALF}, /* 0 and 1 are exact in half */
@@ -170,46 +124,34 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
 int main(int argc, char **argv)
 {
     args a;
-    int rc = parse(argc, argv, &a);
+    int rc = dm_bake_cli_parse_reach(argc, argv, TOOL, DM_SEAM_MAP_SIZE_DEFAULT, DM_SEAM_MAP_SIZE_MAX, false, usage, &a.c,
+                                     &a.reach_mm);
     if (rc >= 0) return rc;
     if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
 
     /* Load. */
     timings t = {0};
-    double t0 = dm_now_ms();
-    dm_profile profile;
-    char profile_hash[DM_HASH_HEX_SIZE];
-    if (!dm_bake_cli_profile(&a.c, &profile, profile_hash)) return DM_EXIT_LOAD;
-    double reach_mm = a.reach_mm >= 0.0 ? a.reach_mm : dm_seam_map_reach_mm(profile.variance_mm2[profile.count - 1]);
-    char reach_from[128];
-    if (a.reach_mm >= 0.0) snprintf(reach_from, sizeof reach_from, "--reach-mm");
-    else
-        snprintf(reach_from, sizeof reach_from, "3 sigma of %s's widest Gaussian, %g mm^2", profile.name,
-                 profile.variance_mm2[profile.count - 1]);
-    char mesh_hash[DM_HASH_HEX_SIZE];
-    dm_mesh mesh;
-    if (!dm_bake_cli_mesh(&a.c, &mesh, mesh_hash)) return DM_EXIT_LOAD;
-    t.load_ms = dm_now_ms() - t0;
-    char plausible[1024];
-    if (dm_mesh_plausible(&mesh, a.c.mm_per_unit, a.c.mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
-    if (a.c.verbose)
-        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a.c.mesh, mesh.triangle_count, t.load_ms);
+    dm_bake_cli_inputs in;
+    if ((rc = dm_bake_cli_load_reach(&a.c, a.reach_mm, &in)) != DM_EXIT_OK) return rc;
+    t.load_ms = in.load_ms;
+    const double reach_mm = in.reach_mm;
+    dm_mesh *mesh = &in.mesh;
 
     /* Process. */
     dm_error err = {0};
-    t0 = dm_now_ms();
+    double t0 = dm_now_ms();
     dm_seam_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm};
     dm_seam_map map;
     dm_seam_map_stats s;
-    if (dm_seam_map_bake(&mesh, &opt, &map, &s, &err) != DM_OK) {
+    if (dm_seam_map_bake(mesh, &opt, &map, &s, &err) != DM_OK) {
         fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
-        dm_mesh_free(&mesh);
+        dm_mesh_free(mesh);
         return DM_EXIT_PROCESS;
     }
     t.bake_ms = dm_now_ms() - t0;
     if (!dm_cli_finite(map.texels, 4 * (size_t)map.size * (size_t)map.size, "seam map")) {
         dm_seam_map_free(&map);
-        dm_mesh_free(&mesh);
+        dm_mesh_free(mesh);
         return DM_EXIT_PROCESS;
     }
     if (a.c.verbose)
@@ -221,9 +163,9 @@ int main(int argc, char **argv)
 
     /* Write. */
     t0 = dm_now_ms();
-    rc = write_map(&a, mesh_hash, &profile, profile_hash, reach_mm, &map, &s);
+    rc = write_map(&a, in.mesh_hash, &in.profile, in.profile_hash, reach_mm, &map, &s);
     t.write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, &mesh, &map, &s, reach_mm, reach_from, &t);
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, mesh, &map, &s, reach_mm, in.reach_from, &t);
     else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, reach %.3f mm, %lld seam edges (%lld cut, %lld boundary), %lld gutter texels continued, "
                "%lld lost, %lld ended, farthest %.3f mm\n",
@@ -231,6 +173,6 @@ int main(int argc, char **argv)
                (long long)s.boundary_edges, (long long)s.continued_texels, (long long)s.lost_texels,
                (long long)s.ended_texels, s.max_distance_mm);
     dm_seam_map_free(&map);
-    dm_mesh_free(&mesh);
+    dm_mesh_free(mesh);
     return rc;
 }

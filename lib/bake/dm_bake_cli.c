@@ -2,7 +2,12 @@
 #include "bake/dm_bake_cli.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "bake/dm_seam_map.h"
+#include "bake/dm_stretch.h"
+#include "mesh/dm_mesh_plausible.h"
 
 #include "core/dm_cli.h"
 #include "core/dm_output.h"
@@ -84,13 +89,105 @@ bool dm_bake_cli_mesh(const dm_bake_cli *a, dm_mesh *mesh, char hash[DM_HASH_HEX
     return true;
 }
 
-void dm_bake_cli_prov(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
-                      dm_provenance *prov)
+void dm_bake_cli_prov_height(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
+                             int64_t height, dm_provenance *prov)
 {
     dm_prov_init(prov, tool);
     snprintf(prov->input_hash, sizeof prov->input_hash, "%s", mesh_hash);
     if (a->mesh_name) dm_prov_add_string(prov, "mesh_name", a->mesh_name);
     dm_prov_add_int(prov, "width", (int)a->size);
-    dm_prov_add_int(prov, "height", (int)a->size);
+    dm_prov_add_int(prov, "height", height);
     dm_prov_add_double(prov, "mm_per_unit", a->mm_per_unit);
+}
+
+void dm_bake_cli_prov(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
+                      dm_provenance *prov)
+{
+    dm_bake_cli_prov_height(a, tool, mesh_hash, a->size, prov);
+}
+
+bool dm_bake_cli_reach_option(int argc, char **argv, int *i, double *reach_mm, bool *ok)
+{
+    const char *s = argv[*i], *v;
+    if (strcmp(s, "--reach-mm") != 0) return false;
+    *ok = (v = dm_cli_value(argc, argv, i)) &&
+          dm_cli_double(s, v, DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, reach_mm);
+    return true;
+}
+
+const char *dm_bake_cli_reach_conflict(const dm_bake_cli *a, double reach_opt)
+{
+    return a->profile && reach_opt >= 0.0 ? "--reach-mm and --profile exclude each other" : NULL;
+}
+
+double dm_bake_cli_reach(double reach_opt, const dm_profile *profile, char *from, size_t from_size)
+{
+    const double v = profile->variance_mm2[profile->count - 1];
+    if (reach_opt >= 0.0) {
+        snprintf(from, from_size, "--reach-mm");
+        return reach_opt;
+    }
+    snprintf(from, from_size, "3 sigma of %s's widest Gaussian, %g mm^2", profile->name, v);
+    return dm_seam_map_reach_mm(v);
+}
+
+void dm_bake_cli_reach_prov(double reach_opt, double reach_mm, const dm_profile *profile, const char *profile_hash,
+                            dm_provenance *prov)
+{
+    const bool from_profile = reach_opt < 0.0;
+    dm_prov_add_double(prov, "reach_mm", reach_mm);
+    dm_prov_add_string(prov, "profile", from_profile ? profile->name : "");
+    dm_prov_add_string(prov, "profile_hash", from_profile ? profile_hash : "");
+    if (from_profile) dm_prov_add_double(prov, "largest_variance_mm2", profile->variance_mm2[profile->count - 1]);
+}
+
+bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, float *planes[4])
+{
+    float *all = malloc(4 * count * sizeof *all);
+    if (!all) {
+        fprintf(stderr, "error: %s: out of memory for the %zu-texel planes\n", output, count);
+        return false;
+    }
+    for (int c = 0; c < 4; ++c) planes[c] = all + (size_t)c * count;
+    for (size_t x = 0; x < count; ++x)
+        for (int c = 0; c < 4; ++c) planes[c][x] = texels[4 * x + (size_t)c];
+    return true;
+}
+
+int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in)
+{
+    double t0 = dm_now_ms();
+    if (!dm_bake_cli_profile(a, &in->profile, in->profile_hash)) return DM_EXIT_LOAD;
+    in->reach_mm = dm_bake_cli_reach(reach_opt, &in->profile, in->reach_from, sizeof in->reach_from);
+    if (!dm_bake_cli_mesh(a, &in->mesh, in->mesh_hash)) return DM_EXIT_LOAD;
+    in->load_ms = dm_now_ms() - t0;
+    char plausible[1024];
+    if (dm_mesh_plausible(&in->mesh, a->mm_per_unit, a->mesh, plausible, sizeof plausible)) fputs(plausible, stderr);
+    if (a->verbose)
+        fprintf(stderr, "loaded %s: %d triangles in %.1f ms\n", a->mesh, in->mesh.triangle_count, in->load_ms);
+    return DM_EXIT_OK;
+}
+
+int dm_bake_cli_parse_reach(int argc, char **argv, const char *tool, int64_t size_default, int64_t size_max,
+                            bool threads, void (*usage)(FILE *out), dm_bake_cli *a, double *reach_opt)
+{
+    *a = (dm_bake_cli){.size = size_default, .mm_per_unit = DM_STRETCH_MM_PER_UNIT_DEFAULT};
+    *reach_opt = -1.0;
+    for (int i = 1; i < argc; ++i) {
+        const char *s = argv[i];
+        bool ok = true;
+        if (dm_cli_version(s, tool)) exit(0);
+        if (!strcmp(s, "-h") || !strcmp(s, "--help")) {
+            usage(stdout);
+            return DM_EXIT_OK;
+        } else if (dm_bake_cli_reach_option(argc, argv, &i, reach_opt, &ok)) {
+            if (!ok) return DM_EXIT_USAGE;
+        } else if (!threads && !strcmp(s, "--threads")) { /* shared by the other bakers */
+            fprintf(stderr, "error: --threads: %s bakes on one thread (see --help)\n", tool);
+            return DM_EXIT_USAGE;
+        } else if (!dm_bake_cli_option(argc, argv, &i, size_max, a)) {
+            return DM_EXIT_USAGE;
+        }
+    }
+    return dm_bake_cli_finish(a, dm_bake_cli_reach_conflict(a, *reach_opt), usage);
 }

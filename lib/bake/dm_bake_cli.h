@@ -1,8 +1,10 @@
 /* dm_bake_cli.h — what the mesh bake tools (dermis-bake-stretch, dermis-bake-curvature,
- * dermis-bake-seams) share on their command line: the operand MESH and the options -o,
- * --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet; their checks;
- * the loading of the profile and the mesh with their content hashes; and the provenance
- * entries they all write. Each tool keeps its own --help text and its own options
+ * dermis-bake-seams, dermis-bake-thin) share on their command line: the operand MESH and the
+ * options -o, --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet;
+ * their checks; the loading of the profile and the mesh with their content hashes; the
+ * provenance entries they all write; the reach of the two maps that reach across the surface
+ * (--reach-mm, or 3 sigma of the profile's widest Gaussian); the EXR planes of an
+ * interleaved map. Each tool keeps its own --help text and its own options
  * (dermis-bake-seams refuses --threads before this parser sees it: its bake is one pass). */
 #ifndef DM_BAKE_CLI_H
 #define DM_BAKE_CLI_H
@@ -50,9 +52,55 @@ bool dm_bake_cli_profile(const dm_bake_cli *a, dm_profile *profile, char hash[DM
 bool dm_bake_cli_mesh(const dm_bake_cli *a, dm_mesh *mesh, char hash[DM_HASH_HEX_SIZE]);
 
 /* Provenance for tool: input_hash the mesh's, then mesh_name (when given), width, height
- * (size) and mm_per_unit; the tool adds its own after. */
+ * (size, or the given height) and mm_per_unit; the tool adds its own after. */
 void dm_bake_cli_prov(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
                       dm_provenance *prov);
+void dm_bake_cli_prov_height(const dm_bake_cli *a, const char *tool, const char mesh_hash[DM_HASH_HEX_SIZE],
+                             int64_t height, dm_provenance *prov);
+
+/* --- the reach (dermis-bake-seams, dermis-bake-thin) ------------------------------------ */
+
+#define DM_BAKE_CLI_REACH_MIN_MM 1e-3
+#define DM_BAKE_CLI_REACH_MAX_MM 1e3
+/* Whether argv[*i] is --reach-mm; then its value (advancing *i) into *reach_mm, *ok false for
+ * a bad one (said on stderr). */
+bool dm_bake_cli_reach_option(int argc, char **argv, int *i, double *reach_mm, bool *ok);
+/* The whole command line of a reach tool: -h/--help (usage on stdout: DM_EXIT_OK), --version
+ * (prints and exits 0), --reach-mm, --threads refused when the bake is one pass (!threads),
+ * the shared options, then dm_bake_cli_finish with the reach's conflict. a gets the defaults
+ * first (size_default, the stretch map's mm per unit: the maps are baked for the same scene),
+ * *reach_opt −1 (from the profile). -1 to go on, else the exit code. */
+int dm_bake_cli_parse_reach(int argc, char **argv, const char *tool, int64_t size_default, int64_t size_max,
+                            bool threads, void (*usage)(FILE *out), dm_bake_cli *a, double *reach_opt);
+/* "--reach-mm and --profile exclude each other" when both are given (reach_opt ≥ 0), else NULL. */
+const char *dm_bake_cli_reach_conflict(const dm_bake_cli *a, double reach_opt);
+/* reach_opt when ≥ 0, else 3 σ of the profile's widest Gaussian (dm_seam_map_reach_mm);
+ * from[from_size] says which, for --report. */
+double dm_bake_cli_reach(double reach_opt, const dm_profile *profile, char *from, size_t from_size);
+/* reach_mm, profile and profile_hash ("" when --reach-mm gave it) and, from the profile,
+ * largest_variance_mm2. */
+void dm_bake_cli_reach_prov(double reach_opt, double reach_mm, const dm_profile *profile, const char *profile_hash,
+                            dm_provenance *prov);
+
+/* What a reach tool loads: the profile, the reach from it (or --reach-mm) and what set it, the
+ * mesh, each with its content hash, and how long it took. */
+typedef struct dm_bake_cli_inputs {
+    dm_profile profile;
+    char profile_hash[DM_HASH_HEX_SIZE];
+    double reach_mm;
+    char reach_from[128];
+    dm_mesh mesh;
+    char mesh_hash[DM_HASH_HEX_SIZE];
+    double load_ms;
+} dm_bake_cli_inputs;
+/* Loads them (dm_bake_cli_profile, dm_bake_cli_reach, dm_bake_cli_mesh), says on stderr what
+ * dm_mesh_plausible finds and, with -v, the load time. DM_EXIT_OK (free in->mesh with
+ * dm_mesh_free) or DM_EXIT_LOAD (said on stderr, nothing to free). */
+int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in);
+
+/* The four channels of count interleaved texels as four planes, in planes[0] (one malloc:
+ * free(planes[0])). false, said on stderr naming output, when out of memory. */
+bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, float *planes[4]);
 
 #ifdef __cplusplus
 }

@@ -412,14 +412,8 @@ static void texel_rows(void *vctx, size_t begin, size_t end)
                 c->mask[at] = 0.0f;
                 continue;
             }
-            const float *uv = c->m->uvs + 6 * (size_t)t;
-            double x = (i + 0.5) / c->width, y = (j + 0.5) / c->height;
-            double ax = uv[0], ay = uv[1], bx = uv[2], by = uv[3], cx = uv[4], cy = uv[5];
-            double d = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay); /* signed: mirrored UVs work alike */
-            double b1 = ((x - ax) * (cy - ay) - (cx - ax) * (y - ay)) / d;
-            double b2 = ((bx - ax) * (y - ay) - (x - ax) * (by - ay)) / d;
-            b1 = fmin(1.0, fmax(0.0, b1)); /* the centre is inside up to snapping */
-            b2 = fmin(1.0 - b1, fmax(0.0, b2));
+            double b1, b2;
+            dm_uv_raster_barycentrics(c->m, t, (i + 0.5) / c->width, (j + 0.5) / c->height, &b1, &b2);
             double b0 = 1.0 - b1 - b2;
             const uint32_t *v = c->m->indices + 3 * (size_t)t;
             double value = b0 * c->h[v[0]] + b1 * c->h[v[1]] + b2 * c->h[v[2]];

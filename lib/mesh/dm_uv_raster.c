@@ -194,3 +194,14 @@ dm_result dm_uv_raster(const dm_mesh *m, const uint8_t *skip, int width, int hei
     if (stats) *stats = st;
     return DM_OK;
 }
+
+void dm_uv_raster_barycentrics(const dm_mesh *m, int32_t t, double u, double v, double *b1, double *b2)
+{
+    const float *uv = m->uvs + 6 * (size_t)t;
+    double ax = uv[0], ay = uv[1], bx = uv[2], by = uv[3], cx = uv[4], cy = uv[5];
+    double d = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+    double l1 = ((u - ax) * (cy - ay) - (cx - ax) * (v - ay)) / d;
+    double l2 = ((bx - ax) * (v - ay) - (u - ax) * (by - ay)) / d;
+    *b1 = fmin(1.0, fmax(0.0, l1));
+    *b2 = fmin(1.0 - *b1, fmax(0.0, l2));
+}

@@ -42,6 +42,12 @@ typedef struct dm_uv_raster_stats {
 dm_result dm_uv_raster(const dm_mesh *m, const uint8_t *skip, int width, int height, int thread_count,
                        int32_t *triangle_of, dm_uv_raster_stats *stats, dm_error *err);
 
+/* The barycentrics of the UV point (u, v) in triangle t's UV image: *b1, *b2 those of corners
+ * 1 and 2 (corner 0 gets 1 − b1 − b2), clamped into the triangle, since a covered texel's
+ * centre is inside only up to the 1/256-texel snapping. Signed, so mirrored UVs work alike.
+ * t must have UV area (dm_uv_raster covers texels only with such triangles). */
+void dm_uv_raster_barycentrics(const dm_mesh *m, int32_t t, double u, double v, double *b1, double *b2);
+
 #ifdef __cplusplus
 }
 #endif

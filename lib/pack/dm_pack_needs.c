@@ -31,6 +31,8 @@ static const dm_pack_need needs[] = {
      "chart coverage mask (gutter handling)", false},
     {"seam", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "seam map: per gutter texel a blur reaches, where the surface continues across the UV seam (u, v, 1, mm)", true},
+    {"thin", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
+     "thin-part map: per texel up to 2 surfaces across a thin part or a fold (u, v, mm, 1), N x 2N", true},
     {"sss.kernel", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_SCREEN_SPACE,
      "separable 1-D kernel fitted to the profile (taps x 1: rgb weights, a = offset mm)", false},
     {"sss.preintegrated", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,

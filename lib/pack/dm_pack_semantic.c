@@ -165,6 +165,38 @@ static dm_result seam(const ctx *c)
     return r != DM_OK ? r : texels_in(c, comp);
 }
 
+/* N × 2N, candidate k of texel (i, j) in row k·N + j: u', v' in [0, 1], d in [0, reach] mm with
+ * reach 3 σ of the scene profile's widest Gaussian (what the packer bakes with, as
+ * bake/dm_seam_map.h's dm_seam_map_reach_mm; float rounding let through), the flag exactly 0
+ * or 1, and a texel without a candidate all zeros. */
+static dm_result thin(const ctx *c)
+{
+    const dm_pack_entry *e = c->e;
+    dm_result r = single(c);
+    if (r != DM_OK) return r;
+    if (e->height != 2 * e->width)
+        return FAIL(c, DM_ERR_FORMAT, "%dx%d, expected N x 2N (two candidates per texel, one above the other)",
+                    e->width, e->height);
+    const dm_profile *pf = &c->scene->profile;
+    const double reach = 3.0 * sqrt(fmax(pf->variance_mm2[pf->count - 1], 0.0)) * (1 + 1e-6);
+    const range comp[4] = {{0.0, 1.0, false, "a UV across the thin part"},
+                           {0.0, 1.0, false, "a UV across the thin part"},
+                           {0.0, reach, false, "mm across, within 3 sigma of the profile's widest Gaussian"},
+                           {0.0, 1.0, false, "1 a candidate, 0 none"}};
+    if ((r = texels_in(c, comp)) != DM_OK) return r;
+    const float *v = e->data;
+    for (uint64_t t = 0; t < (uint64_t)e->width * (uint64_t)e->height; ++t) {
+        const float *px = v + 4 * t;
+        if (px[3] == 1.0f || (px[3] == 0.0f && px[0] == 0.0f && px[1] == 0.0f && px[2] == 0.0f)) continue;
+        return FAIL(c, DM_ERR_RANGE,
+                    "texel (%" PRIu64 ", %" PRIu64 ") is (%g, %g, %g, %g), expected a candidate (u, v, mm, 1) or "
+                    "none (0, 0, 0, 0)",
+                    t % (uint64_t)e->width, t / (uint64_t)e->width, (double)px[0], (double)px[1], (double)px[2],
+                    (double)px[3]);
+    }
+    return DM_OK;
+}
+
 static dm_result kernel(const ctx *c)
 {
     const dm_pack_entry *e = c->e;
@@ -253,7 +285,7 @@ static const struct rule {
     {"mesh.vertices", vertices},       {"albedo", single},           {"normal", single},
     {"specular", single},              {"roughness", single},        {"lut.beckmann", single},
     {"lut.rho_dt", directional},       {"lut.env_brdf", directional}, {"stretch", stretch},
-    {"stretch.mask", single},          {"seam", seam},          {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
+    {"stretch.mask", single},          {"seam", seam},          {"thin", thin},               {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
     {"sss.curvature", single},         {"env.sh", sh},               {"env.specular", specular},
     {"env.background", background},
 };

@@ -1,7 +1,8 @@
 /* dm_pack_build.c — the pack-building pipeline (dm_pack_build.h): the scene, the step table
  * and its runner, --explain's listing. What the steps share: dm_pack_build_job.c. The steps:
  * dm_pack_build_steps.c (scene, maps, LUTs, profile, kernels, mesh) and dm_pack_build_bake.c
- * (stretch, pre-integrated table, curvature, environments). */
+ * (stretch, pre-integrated table, curvature, environments), dm_pack_build_seam.c and
+ * dm_pack_build_thin.c (the seam and thin-part maps). */
 #include "packer/dm_pack_build.h"
 
 #include <stdio.h>
@@ -35,6 +36,7 @@ static const step steps[] = {
     {"profile", {"profile"}, dmpb_step_profile},
     {"stretch", {"stretch", "stretch.mask"}, dmpb_step_stretch},
     {"seam map", {"seam"}, dmpb_step_seam},
+    {"thin-part map", {"thin"}, dmpb_step_thin},
     {"screen-space kernel", {"sss.kernel"}, dmpb_step_ss_kernel},
     {"pre-integrated table", {"sss.preintegrated"}, dmpb_step_preintegrated},
     {"curvature", {"sss.curvature"}, dmpb_step_curvature},

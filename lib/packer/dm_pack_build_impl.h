@@ -9,6 +9,11 @@
 /* The entry into the writer, with its report row. */
 dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, size_t size, const dm_provenance *prov,
                    const char *source, dm_error *err);
+/* An RGBA32F texture baked from the scene's mesh ("baked from MESH" in the report), its four
+ * channels named. */
+dm_result dmpb_add_mesh_rgba32f(dm_pack_build *j, const char *entry, int width, int height,
+                                const char *const channels[4], const float *texels, const dm_provenance *prov,
+                                dm_error *err);
 const char *dmpb_base_name(const char *path);
 /* The scene's mesh, loaded once (the mesh, stretch and curvature steps and the albedo from the
  * skin share it; dm_pack_build_job.c). */
@@ -39,6 +44,7 @@ dm_result dmpb_step_directional(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_stretch(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_seam(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_thin(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_preintegrated(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_curvature(dm_pack_build *j, dm_error *err);

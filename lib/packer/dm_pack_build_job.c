@@ -32,6 +32,18 @@ dm_result dmpb_add(dm_pack_build *j, const dm_pack_entry *d, const void *data, s
     return DM_OK;
 }
 
+dm_result dmpb_add_mesh_rgba32f(dm_pack_build *j, const char *entry, int width, int height,
+                                const char *const channels[4], const float *texels, const dm_provenance *prov,
+                                dm_error *err)
+{
+    char src[200];
+    snprintf(src, sizeof src, "baked from %.150s", dmpb_base_name(j->scene.mesh));
+    dm_pack_entry d = dm_pack_texture_entry(entry, DM_TEX_RGBA32F, width, height);
+    d.channel_count = 4;
+    for (int c = 0; c < 4; ++c) snprintf(d.channels[c], sizeof d.channels[c], "%s", channels[c]);
+    return dmpb_add(j, &d, texels, sizeof *texels * 4 * (size_t)width * (size_t)height, prov, src, err);
+}
+
 const char *dmpb_base_name(const char *path)
 {
     const char *s = strrchr(path, '/');

@@ -22,13 +22,8 @@ dm_result dmpb_step_seam(dm_pack_build *j, dm_error *err)
     dm_prov_add_int(&p, "seam_edges", st.seam_edges);
     dm_prov_add_int(&p, "continued_texels", st.continued_texels);
     dm_prov_add_int(&p, "lost_texels", st.lost_texels);
-    char src[200];
-    snprintf(src, sizeof src, "baked from %.150s", dmpb_base_name(j->scene.mesh));
-    dm_pack_entry d = dm_pack_texture_entry("seam", DM_TEX_RGBA32F, n, n);
-    d.channel_count = 4;
     static const char *const ch[4] = {"u", "v", "continued", "mm"};
-    for (int c = 0; c < 4; ++c) snprintf(d.channels[c], sizeof d.channels[c], "%s", ch[c]);
-    r = dmpb_add(j, &d, map.texels, sizeof *map.texels * 4 * (size_t)n * (size_t)n, &p, src, err);
+    r = dmpb_add_mesh_rgba32f(j, "seam", n, n, ch, map.texels, &p, err);
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
         fprintf(stderr, "seam map: %lld seam edges, %lld gutter texels continued, %lld lost\n",
                 (long long)st.seam_edges, (long long)st.continued_texels, (long long)st.lost_texels);

@@ -6,7 +6,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "reference/dm_raycast.h"
+#include "mesh/dm_raycast.h"
 #include "reference/dm_ref_shade.h"
 #include "reference/dm_ref_surface.h"
 #include "core/dm_parallel.h"

@@ -33,7 +33,7 @@
 #include <stdint.h>
 
 #include "mesh/dm_mesh.h"
-#include "reference/dm_raycast.h"
+#include "mesh/dm_raycast.h"
 #include "reference/dm_ref_texture.h"
 #include "pack/dm_pack.h"
 #include "core/dm_profile.h"

@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "reference/dm_raycast.h"
+#include "mesh/dm_raycast.h"
 
 #define PI 3.14159265358979323846
 enum { NU = 64, NV = 32 };

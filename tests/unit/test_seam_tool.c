@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "../common/expect_tool.h"
+#include "../common/reach_tool.h"
 #include "../common/tmpdir.h"
 #include "bake/dm_seam_map.h"
 #include "image/dm_exr.h"
@@ -33,33 +34,7 @@ static void bake_head(double reach_mm, dm_seam_map *map, dm_seam_map_stats *st)
     dm_mesh_free(&m);
 }
 
-static void read_exr(const char *name, dm_exr_image *img)
-{
-    dm_error err = {0};
-    cr_assert_eq(dm_exr_read(test_path_in(dir, name), img, &err), DM_OK, "%s", err.detail);
-}
-
-static int64_t prov_int(const dm_exr_image *img, const char *name)
-{
-    const dm_param *p = dm_prov_find(&img->prov, name);
-    cr_assert(p && p->type == DM_PARAM_INT, "provenance has no int '%s'", name);
-    return p->i;
-}
-
-static double prov_double(const dm_exr_image *img, const char *name)
-{
-    const dm_param *p = dm_prov_find(&img->prov, name);
-    /* a whole number reads back as an int (dm_prov_from_json), which keeps d too */
-    cr_assert(p && p->type != DM_PARAM_STRING, "provenance has no number '%s'", name);
-    return p->d;
-}
-
-static const char *prov_string(const dm_exr_image *img, const char *name)
-{
-    const dm_param *p = dm_prov_find(&img->prov, name);
-    cr_assert(p && p->type == DM_PARAM_STRING, "provenance has no string '%s'", name);
-    return p->s;
-}
+static void read_exr(const char *name, dm_exr_image *img) { reach_tool_read(dir, name, img); }
 
 Test(seam_tool, writes_the_bake_as_named_channels_with_provenance_and_identical_reruns, .init = setup, .timeout = 120)
 {
@@ -178,51 +153,11 @@ Test(seam_tool, reach_from_the_option_or_the_profile, .init = setup, .timeout = 
 
 Test(seam_tool, usage_errors_say_what_is_wrong, .init = setup)
 {
-    static const struct {
-        const char *args, *says;
-    } bad[] = {
-        {HEAD, "no output given (-o OUT.exr)"},
-        {"-o s.exr", "no MESH given"},
-        {HEAD " -o s.exr --size 8", "--size: '8' is not an integer in [16, 16384]"},
-        {HEAD " -o s.exr --size 20000", "--size"},
-        {HEAD " -o s.exr --mm-per-unit 0", "--mm-per-unit"},
-        {HEAD " -o s.exr --reach-mm 0", "--reach-mm: '0'"},
-        {HEAD " -o s.exr --reach-mm 5000", "--reach-mm"},
-        {HEAD " -o s.exr --reach-mm far", "--reach-mm: 'far'"},
-        {HEAD " -o s.exr --reach-mm", "--reach-mm needs a value"},
-        {HEAD " -o s.exr --reach-mm 4 --profile p.json", "--reach-mm and --profile exclude each other"},
-        {HEAD " -o s.exr -v --quiet", "--quiet conflicts with -v"},
-        {HEAD " -o s.exr --report --quiet", "--quiet conflicts with --report"},
-        {HEAD " -o s.exr --threads 2", "--threads"},
-        {HEAD " -o s.exr --levels 3", "unknown option '--levels'"},
-        {HEAD " " HEAD " -o s.exr", "one mesh expected"},
-        {HEAD " -o s.png", ".exr"},
-    };
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
-        char cmd[1024];
-        snprintf(cmd, sizeof cmd, TOOL " %s", bad[k].args);
-        test_expect_tool(dir, 30, cmd, 1, "error:", bad[k].says);
-    }
-    test_expect_tool(dir, 10, TOOL " --help", 0, "Usage: dermis-bake-seams MESH -o OUT.exr", "--reach-mm MM");
-    test_expect_tool(dir, 10, TOOL " --version", 0, "dermis-bake-seams ", NULL);
-    cr_expect_eq(test_count_files(dir, ".exr"), 0, "a usage error wrote a file");
+    reach_tool_usage_errors(dir, TOOL, "dermis-bake-seams", HEAD);
+    test_expect_tool(dir, 30, TOOL " " HEAD " -o s.exr --threads 2", 1, "error:", "--threads"); /* one pass */
 }
 
-/* Exit 2 for what cannot be loaded, 4 for what cannot be saved; a failed run leaves no
- * file, neither the output nor a temporary. */
 Test(seam_tool, load_and_save_failures_leave_no_file, .init = setup, .timeout = 60)
 {
-    test_expect_tool(dir, 30, TOOL " missing.obj -o s.exr --size 16", 2, "error:", "missing.obj");
-    test_expect_tool(dir, 30, TOOL " " HEAD " -o s.exr --size 16 --profile missing.json", 2, "error:", "missing.json");
-    FILE *f = fopen(test_path_in(dir, "t.stl"), "w"); /* a mesh without UVs */
-    cr_assert_not_null(f);
-    fputs("solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n"
-          "endsolid t\n",
-          f);
-    fclose(f);
-    test_expect_tool(dir, 30, TOOL " t.stl -o s.exr --size 16", 2, "error:", "no texture coordinates");
-    /* a folder that cannot be made (root writes anywhere else): refused before any work */
-    test_expect_tool(dir, 30, TOOL " " HEAD " -o /dev/null/d/s.exr --size 16", 4, "error:", "/dev/null/d/s.exr");
-    cr_expect_eq(test_count_files(dir, ".exr"), 0, "a failed run left an output");
-    cr_expect_eq(test_count_files(dir, ".tmp"), 0, "a failed run left a temporary");
+    reach_tool_failures_leave_no_file(dir, TOOL, HEAD);
 }

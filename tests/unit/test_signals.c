@@ -170,3 +170,9 @@ Test(signals, pack_render_reference_check_any_moment, .timeout = 600)
     const double at_check[] = {5, 100};
     sweep("dermis-check", args, at_check, 2);
 }
+
+Test(signals, thin_any_moment, .timeout = 300)
+{
+    const double at[] = {5, 100, 300, -1};
+    sweep("dermis-bake-thin", HEAD " -o t.exr --size 1024 --threads 2 --quiet", at, 4);
+}

@@ -1,5 +1,8 @@
 /* dm_raycast.h — ray casting against a triangle mesh, in millimetres: a thin C wrapper over
- * Embree 3 (<embree3/rtcore.h>) for the ground truth (shadow rays, primary rays).
+ * Embree 3 (<embree3/rtcore.h>) for the ground truth (shadow rays, primary rays) and the
+ * thin-part bake (bake/dm_thin_map.h: rays through the skin and across folds). It lives in
+ * lib/mesh because it needs only the mesh and core, so the bakers below the reference may
+ * use it.
  *
  * The mesh is copied into Embree as float positions in mm (mesh units × mm_per_unit); the
  * caller's mesh is not kept. The scene is built with RTC_SCENE_FLAG_ROBUST (watertight

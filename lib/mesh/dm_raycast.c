@@ -1,4 +1,4 @@
-#include "reference/dm_raycast.h"
+#include "mesh/dm_raycast.h"
 
 #include <assert.h>
 #include <embree3/rtcore.h>

@@ -1,0 +1,43 @@
+/* dm_pack_build_thin.c — the pack's thin-part map (bake/dm_thin_map.h): at the scene's
+ * irradiance size, rays reaching 3 σ of the profile's widest Gaussian; one RGBA32F texture of
+ * N × 2N, candidate k of texel (i, j) in row k·N + j. */
+#include <stdio.h>
+
+#include "bake/dm_seam_map.h"
+#include "bake/dm_thin_map.h"
+#include "packer/dm_pack_build_impl.h"
+
+dm_result dmpb_step_thin(dm_pack_build *j, dm_error *err)
+{
+    dm_result r = dmpb_ensure_mesh(j, err);
+    if (r != DM_OK) return r;
+    const int n = j->scene.irradiance_size;
+    const dm_profile *pf = &j->scene.profile;
+    dm_thin_map_options o = {n, j->scene.mm_per_unit, dm_seam_map_reach_mm(pf->variance_mm2[pf->count - 1]),
+                             j->opt->threads};
+    dm_thin_map map;
+    dm_thin_map_stats st;
+    if ((r = dm_thin_map_bake(&j->mesh, &o, &map, &st, err)) != DM_OK) return r;
+    dm_provenance p;
+    dmpb_mesh_prov(j, &p, "thin-part map: per texel up to 2 surfaces across a thin part or a fold (u, v, mm, 1); "
+                          "candidate k in rows k*N..(k+1)*N-1");
+    dm_prov_add_int(&p, "size", n);
+    dm_prov_add_double(&p, "reach_mm", o.reach_mm);
+    dm_prov_add_int(&p, "covered_texels", st.covered_texels);
+    dm_prov_add_int(&p, "one_candidate_texels", st.one_candidate_texels);
+    dm_prov_add_int(&p, "two_candidate_texels", st.two_candidate_texels);
+    dm_prov_add_int(&p, "dropped_texels", st.dropped_texels);
+    dm_prov_add_double(&p, "dropped_weight_sum", st.dropped_weight_sum);
+    dm_prov_add_double(&p, "dropped_weight_max", st.dropped_weight_max);
+    dm_prov_add_int(&p, "zero_uv_area_hits", st.zero_uv_area_hits);
+    dm_prov_add_int(&p, "lost_hits", st.lost_hits);
+    dm_prov_add_double(&p, "max_distance_mm", st.max_distance_mm);
+    dm_prov_add_double(&p, "mean_distance_mm", st.mean_distance_mm);
+    static const char *const ch[4] = {"u", "v", "mm", "candidate"};
+    r = dmpb_add_mesh_rgba32f(j, "thin", n, DM_THIN_MAP_CANDIDATES * n, ch, map.texels, &p, err);
+    if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
+        fprintf(stderr, "thin map: %lld texels with one surface across, %lld with two, %lld dropped more\n",
+                (long long)st.one_candidate_texels, (long long)st.two_candidate_texels, (long long)st.dropped_texels);
+    dm_thin_map_free(&map);
+    return r;
+}

@@ -1,0 +1,186 @@
+/* dermis-bake-thin — mesh → thin-part map (EXR, N × 2N): per covered texel, up to two points
+ * of the surface across a thin part or a fold (bake/dm_thin_map.h), for texture-space
+ * diffusion to carry light through ears and across lips (issue #29 point 2).
+ * Pipeline: parse → load → bake → write. */
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_bake_cli.h"
+#include "bake/dm_seam_map.h"
+#include "bake/dm_stretch.h"
+#include "bake/dm_thin_map.h"
+#include "image/dm_exr.h"
+#include "mesh/dm_mesh.h"
+#include "core/dm_cli.h"
+#include "core/dm_hash.h"
+#include "core/dm_profile.h"
+#include "core/dm_prov.h"
+
+#define TOOL "dermis-bake-thin"
+
+typedef struct args {
+    dm_bake_cli c;   /* the shared options (bake/dm_bake_cli.h) */
+    double reach_mm; /* < 0: from the profile */
+} args;
+
+static void usage(FILE *f)
+{
+    dm_profile gems3;
+    dm_profile_gems3_skin(&gems3);
+    double v = gems3.variance_mm2[gems3.count - 1];
+    fprintf(f,
+            "Usage: " TOOL " MESH -o OUT.exr [--size N] [--mm-per-unit MM] [--reach-mm MM | --profile FILE]\n"
+            "                        [--mesh NAME] [--threads N] [--report] [-v | --quiet]\n"
+            "Bakes the thin-part map of MESH (OBJ, PLY, OFF, STL, OM, glTF 2.0 .gltf/.glb; with UVs): for every\n"
+            "covered texel, rays from its surface point through the part (-n) and across a fold (+n), with a\n"
+            "ring of four tilted 30 degrees around each, find the surfaces facing back within reach; the two\n"
+            "heaviest distinct ones (weight exp(-d^2 / (2 v_max))) are kept, so texture-space diffusion can\n"
+            "add the light that crosses ears, nostril walls, eyelids and lips. One float EXR of N x 2N:\n"
+            "candidate k of texel (i, j) in row k*N + j, channels thin.u, thin.v (the UV across), thin.mm (the\n"
+            "distance in mm) and thin.candidate (1, or 0: none, every channel 0).\n"
+            "\n"
+            "Options:\n"
+            "  -o, --output FILE    output EXR (required)\n"
+            "  --size N             texels along u and v, N (default %d, range 16..%d); the EXR is N x 2N\n"
+            "  --mm-per-unit MM     millimetres per mesh unit (default %g, the Lee Perry-Smith head;\n"
+            "                       range 1e-6..1e6)\n"
+            "  --reach-mm MM        how far the rays reach (default: 3 sigma of the profile's widest Gaussian,\n"
+            "                       %.3g for gems3-skin; range %g..%g)\n"
+            "  --profile FILE       profile JSON whose widest Gaussian sets --reach-mm (default built-in\n"
+            "                       gems3-skin, widest variance %g mm^2)\n"
+            "  --mesh NAME          glTF: bake only the meshes of this name (default: every mesh of\n"
+            "                       the default scene, merged, node transforms applied)\n"
+            "  --threads N          bake threads (default 0 = all cores, range 0..64); the output is the\n"
+            "                       same for any N\n"
+            "  --report             print covered texels, texels with one and two candidates, the weight\n"
+            "                       dropped, zero-UV-area and lost hits, distances and timings on stdout\n"
+            "  -v, --verbose        stage timings on stderr\n"
+            "  --quiet              print nothing but errors (conflicts with -v and --report)\n"
+            "  -h, --help           this text\n"
+            "\n"
+            "Exit codes: 0 success, 1 usage error, 2 cannot load the mesh or profile,\n"
+            "            3 processing failed, 4 cannot save the output.\n"
+            "Example: " TOOL " LeePerrySmith.obj -o thin.exr --size 1024 --report\n",
+            DM_THIN_MAP_SIZE_DEFAULT, DM_THIN_MAP_SIZE_MAX, DM_STRETCH_MM_PER_UNIT_DEFAULT, dm_seam_map_reach_mm(v),
+            DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
+}
+
+typedef struct timings {
+    double load_ms, bake_ms, write_ms;
+} timings;
+
+static void print_report(const char *mesh_path, const dm_mesh *m, const dm_thin_map *map, const dm_thin_map_stats *s,
+                         double reach_mm, const char *reach_from, const timings *t)
+{
+    printf("mesh            %s: %d vertices, %d triangles (%lld faces in the file)\n", mesh_path, m->vertex_count,
+           m->triangle_count, (long long)m->polygon_count);
+    printf("size            %dx%d (%d candidates per texel, one above the other)\n", map->size,
+           DM_THIN_MAP_CANDIDATES * map->size, DM_THIN_MAP_CANDIDATES);
+    printf("reach           %.3f mm (%s)\n", reach_mm, reach_from);
+    printf("covered texels  %lld: %lld with one candidate, %lld with two\n", (long long)s->covered_texels,
+           (long long)s->one_candidate_texels, (long long)s->two_candidate_texels);
+    printf("dropped         %lld texels had more surfaces across: weight %.4f in all, %.4f at most\n",
+           (long long)s->dropped_texels, s->dropped_weight_sum, s->dropped_weight_max);
+    printf("hits            %lld on zero-UV-area triangles, %lld lost (landed on no covered texel)\n",
+           (long long)s->zero_uv_area_hits, (long long)s->lost_hits);
+    printf("distance        %.3f mm at most, %.3f mm mean\n", s->max_distance_mm, s->mean_distance_mm);
+    printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
+}
+
+static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
+                     double reach_mm, const dm_thin_map *map, const dm_thin_map_stats *s)
+{
+    dm_error err = {0};
+    const int w = map->size, h = DM_THIN_MAP_CANDIDATES * map->size;
+    dm_provenance prov;
+    dm_bake_cli_prov_height(&a->c, TOOL, mesh_hash, h, &prov);
+    dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
+    dm_prov_add_string(&prov, "method", "rays along -n, +n and a 30-degree ring of 4 around each; the two heaviest "
+                                        "distinct surfaces facing back");
+    dm_prov_add_string(&prov, "units", "thin.u/.v: UV across; thin.mm: distance mm; thin.candidate: 1 or 0 (none); "
+                                       "candidate k in rows k*N..(k+1)*N-1");
+    dm_prov_add_int(&prov, "covered_texels", s->covered_texels);
+    dm_prov_add_int(&prov, "one_candidate_texels", s->one_candidate_texels);
+    dm_prov_add_int(&prov, "two_candidate_texels", s->two_candidate_texels);
+    dm_prov_add_int(&prov, "dropped_texels", s->dropped_texels);
+    dm_prov_add_double(&prov, "dropped_weight_sum", s->dropped_weight_sum);
+    dm_prov_add_double(&prov, "dropped_weight_max", s->dropped_weight_max);
+    dm_prov_add_int(&prov, "zero_uv_area_hits", s->zero_uv_area_hits);
+    dm_prov_add_int(&prov, "lost_hits", s->lost_hits);
+    dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
+    dm_prov_add_double(&prov, "mean_distance_mm", s->mean_distance_mm);
+
+    float *planes[4];
+    if (!dm_bake_cli_planes(map->texels, (size_t)w * (size_t)h, a->c.output, planes)) return DM_EXIT_SAVE;
+    dm_exr_channel ch[4] = {{"thin.u", planes[0], DM_EXR_FLOAT},
+                            {"thin.v", planes[1], DM_EXR_FLOAT},
+                            {"thin.mm", planes[2], DM_EXR_FLOAT},
+                            {"thin.candidate", planes[3], DM_EXR_HALF}}; /* 0 and 1 are exact in half */
+    int rc = DM_EXIT_OK;
+    if (dm_exr_write(a->c.output, w, h, ch, 4, &prov, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        rc = DM_EXIT_SAVE;
+    }
+    free(planes[0]);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    args a;
+    int rc = dm_bake_cli_parse_reach(argc, argv, TOOL, DM_THIN_MAP_SIZE_DEFAULT, DM_THIN_MAP_SIZE_MAX, true, usage, &a.c,
+                                     &a.reach_mm);
+    if (rc >= 0) return rc;
+    if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
+
+    /* Load. */
+    timings t = {0};
+    dm_bake_cli_inputs in;
+    if ((rc = dm_bake_cli_load_reach(&a.c, a.reach_mm, &in)) != DM_EXIT_OK) return rc;
+    t.load_ms = in.load_ms;
+    const double reach_mm = in.reach_mm;
+    dm_mesh *mesh = &in.mesh;
+
+    /* Process. */
+    dm_error err = {0};
+    double t0 = dm_now_ms();
+    dm_thin_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm,
+                               .threads = (int)a.c.threads};
+    dm_thin_map map;
+    dm_thin_map_stats s;
+    if (dm_thin_map_bake(mesh, &opt, &map, &s, &err) != DM_OK) {
+        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
+        dm_mesh_free(mesh);
+        return DM_EXIT_PROCESS;
+    }
+    t.bake_ms = dm_now_ms() - t0;
+    if (!dm_cli_finite(map.texels, 4 * DM_THIN_MAP_CANDIDATES * (size_t)map.size * (size_t)map.size, "thin map")) {
+        dm_thin_map_free(&map);
+        dm_mesh_free(mesh);
+        return DM_EXIT_PROCESS;
+    }
+    if (a.c.verbose)
+        fprintf(stderr, "baked %dx%d, reach %.3f mm: %lld texels with a candidate in %.1f ms\n", map.size,
+                DM_THIN_MAP_CANDIDATES * map.size, reach_mm, (long long)(s.one_candidate_texels + s.two_candidate_texels),
+                t.bake_ms);
+    if (!a.c.quiet && s.zero_uv_area_hits > 0)
+        fprintf(stderr, "warning: %s: %lld rays met a triangle of zero UV area: no candidate from them\n", a.c.mesh,
+                (long long)s.zero_uv_area_hits);
+
+    /* Write. */
+    t0 = dm_now_ms();
+    rc = write_map(&a, in.mesh_hash, &in.profile, in.profile_hash, reach_mm, &map, &s);
+    t.write_ms = dm_now_ms() - t0;
+    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, mesh, &map, &s, reach_mm, in.reach_from, &t);
+    else if (rc == DM_EXIT_OK && !a.c.quiet)
+        printf("%s: %dx%d, reach %.3f mm, %lld covered texels: %lld with one candidate, %lld with two, %lld dropped "
+               "more (weight %.3f), farthest %.3f mm\n",
+               a.c.output, map.size, DM_THIN_MAP_CANDIDATES * map.size, reach_mm, (long long)s.covered_texels,
+               (long long)s.one_candidate_texels, (long long)s.two_candidate_texels, (long long)s.dropped_texels,
+               s.dropped_weight_sum, s.max_distance_mm);
+    dm_thin_map_free(&map);
+    dm_mesh_free(mesh);
+    return rc;
+}
