@@ -88,7 +88,6 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_
 static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
                      double reach_mm, const dm_seam_map *map, const dm_seam_map_stats *s)
 {
-    dm_error err = {0};
     dm_provenance prov;
     dm_bake_cli_prov(&a->c, TOOL, mesh_hash, &prov);
     dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
@@ -105,20 +104,8 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
     dm_prov_add_int(&prov, "ended_texels", s->ended_texels);
     dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
 
-    float *planes[4];
-    if (!dm_bake_cli_planes(map->texels, (size_t)map->size * (size_t)map->size, a->c.output, planes))
-        return DM_EXIT_SAVE;
-    dm_exr_channel ch[4] = {{"seam.u", planes[0], DM_EXR_FLOAT},
-                            {"seam.v", planes[1], DM_EXR_FLOAT},
-                            {"seam.continued", planes[2], DM_EXR_HALF}, /* 0 and 1 are exact in half */
-                            {"seam.mm", planes[3], DM_EXR_FLOAT}};
-    int rc = DM_EXIT_OK;
-    if (dm_exr_write(a->c.output, map->size, map->size, ch, 4, &prov, &err) != DM_OK) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        rc = DM_EXIT_SAVE;
-    }
-    free(planes[0]);
-    return rc;
+    static const char *const names[4] = {"seam.u", "seam.v", "seam.continued", "seam.mm"};
+    return dm_bake_cli_write_rgba(a->c.output, map->texels, map->size, map->size, names, 1u << 2, &prov); /* the flag in half */
 }
 
 int main(int argc, char **argv)

@@ -92,7 +92,6 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_thin_
 static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
                      double reach_mm, const dm_thin_map *map, const dm_thin_map_stats *s)
 {
-    dm_error err = {0};
     const int w = map->size, h = DM_THIN_MAP_CANDIDATES * map->size;
     dm_provenance prov;
     dm_bake_cli_prov_height(&a->c, TOOL, mesh_hash, h, &prov);
@@ -112,19 +111,8 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
     dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
     dm_prov_add_double(&prov, "mean_distance_mm", s->mean_distance_mm);
 
-    float *planes[4];
-    if (!dm_bake_cli_planes(map->texels, (size_t)w * (size_t)h, a->c.output, planes)) return DM_EXIT_SAVE;
-    dm_exr_channel ch[4] = {{"thin.u", planes[0], DM_EXR_FLOAT},
-                            {"thin.v", planes[1], DM_EXR_FLOAT},
-                            {"thin.mm", planes[2], DM_EXR_FLOAT},
-                            {"thin.candidate", planes[3], DM_EXR_HALF}}; /* 0 and 1 are exact in half */
-    int rc = DM_EXIT_OK;
-    if (dm_exr_write(a->c.output, w, h, ch, 4, &prov, &err) != DM_OK) {
-        fprintf(stderr, "error: %s\n", err.detail);
-        rc = DM_EXIT_SAVE;
-    }
-    free(planes[0]);
-    return rc;
+    static const char *const names[4] = {"thin.u", "thin.v", "thin.mm", "thin.candidate"};
+    return dm_bake_cli_write_rgba(a->c.output, map->texels, w, h, names, 1u << 3, &prov); /* the flag in half */
 }
 
 int main(int argc, char **argv)

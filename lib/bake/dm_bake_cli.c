@@ -7,6 +7,7 @@
 
 #include "bake/dm_seam_map.h"
 #include "bake/dm_stretch.h"
+#include "image/dm_exr.h"
 #include "mesh/dm_mesh_plausible.h"
 
 #include "core/dm_cli.h"
@@ -141,17 +142,29 @@ void dm_bake_cli_reach_prov(double reach_opt, double reach_mm, const dm_profile 
     if (from_profile) dm_prov_add_double(prov, "largest_variance_mm2", profile->variance_mm2[profile->count - 1]);
 }
 
-bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, float *planes[4])
+int dm_bake_cli_write_rgba(const char *output, const float *texels, int w, int h, const char *const names[4],
+                           unsigned half_mask, const dm_provenance *prov)
 {
+    size_t count = (size_t)w * (size_t)h;
     float *all = malloc(4 * count * sizeof *all);
     if (!all) {
         fprintf(stderr, "error: %s: out of memory for the %zu-texel planes\n", output, count);
-        return false;
+        return DM_EXIT_SAVE;
     }
-    for (int c = 0; c < 4; ++c) planes[c] = all + (size_t)c * count;
-    for (size_t x = 0; x < count; ++x)
-        for (int c = 0; c < 4; ++c) planes[c][x] = texels[4 * x + (size_t)c];
-    return true;
+    dm_exr_channel ch[4];
+    for (int c = 0; c < 4; ++c) {
+        float *plane = all + (size_t)c * count;
+        for (size_t x = 0; x < count; ++x) plane[x] = texels[4 * x + (size_t)c];
+        ch[c] = (dm_exr_channel){names[c], plane, half_mask >> c & 1u ? DM_EXR_HALF : DM_EXR_FLOAT};
+    }
+    dm_error err = {0};
+    int rc = DM_EXIT_OK;
+    if (dm_exr_write(output, w, h, ch, 4, prov, &err) != DM_OK) {
+        fprintf(stderr, "error: %s\n", err.detail);
+        rc = DM_EXIT_SAVE;
+    }
+    free(all);
+    return rc;
 }
 
 int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in)

@@ -98,9 +98,12 @@ typedef struct dm_bake_cli_inputs {
  * dm_mesh_free) or DM_EXIT_LOAD (said on stderr, nothing to free). */
 int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in);
 
-/* The four channels of count interleaved texels as four planes, in planes[0] (one malloc:
- * free(planes[0])). false, said on stderr naming output, when out of memory. */
-bool dm_bake_cli_planes(const float *texels, size_t count, const char *output, float *planes[4]);
+/* Writes w × h interleaved RGBA texels (rows bottom-up) as an EXR of four channels named
+ * names[0..3], float but those whose bit is set in half_mask (flags whose 0 and 1 half holds
+ * exactly), with prov, through a temporary renamed into place. DM_EXIT_OK, or DM_EXIT_SAVE
+ * said on stderr naming output (out of memory, or the write failed). */
+int dm_bake_cli_write_rgba(const char *output, const float *texels, int w, int h, const char *const names[4],
+                           unsigned half_mask, const dm_provenance *prov);
 
 #ifdef __cplusplus
 }

@@ -187,3 +187,33 @@ Test(thin, the_cpu_and_gl_paths_agree, .timeout = 120)
     free(cpu), free(gl), free(map);
     dm_pack_close(&sp.pack);
 }
+
+/* dermis-pack bakes the sheet's map itself (bake/dm_thin_map.h): every texel of the closed
+ * form's has its candidate, the point straight across to float precision (u′, v′ 1e-5, i.e.
+ * 1 µm; d 1e-5 mm), and nothing where the closed form has none but the texels along the
+ * charts' rims (the rays from a rim texel may hit the other plate just past its edge). */
+Test(thin, dermis_pack_bakes_the_sheets_map, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    const dm_texture *t = &sp.assets.thin;
+    cr_assert(t->texels && t->format == DM_TEX_RGBA32F && t->width == IRR && t->height == 2 * IRR, "no thin map packed");
+    float *want = thin_sheet_map(1.0, IRR);
+    const float *got = t->texels;
+    int matched = 0;
+    for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
+        const float *w = want + 4 * i, *g = got + 4 * i;
+        if (w[3] > 0.5f) {
+            cr_assert(g[3] > 0.5f, "texel %zu: no candidate", i);
+            cr_assert(fabsf(g[0] - w[0]) < 1e-5f && fabsf(g[1] - w[1]) < 1e-5f && fabsf(g[2] - w[2]) < 1e-5f,
+                      "texel %zu: (%g, %g, %g), expected (%g, %g, %g)", i, g[0], g[1], g[2], w[0], w[1], w[2]);
+            ++matched;
+        }
+        cr_assert(!(got[4 * ((size_t)IRR * IRR + i) + 3] > 0.5f) || w[3] > 0.5f, "texel %zu: a second surface?", i);
+    }
+    cr_assert_gt(matched, 10000);
+    free(want);
+    dm_pack_close(&sp.pack);
+}
