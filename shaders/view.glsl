@@ -7,7 +7,11 @@
 // alpha = chart coverage), 5 a scalar map's red channel (curvature; alpha 1), 4 copy u_src
 // to the screen, 6 show the source map's scalar (the stretch as mm per texel,
 // 1 / (width sqrt(s_u s_v)); a scalar map's red) through the turbo colour scale from u_lo
-// (blue) to u_hi (red), near black outside the charts. Values x u_scale, no tonemap.
+// (blue) to u_hi (red), near black outside the charts; with u_flagged the source is mode 7's
+// (value, flag, 0, coverage): the flagged texels through the scale, the other covered ones grey.
+// 7 a seam or thin-part map at the irradiance grid into (mm, flag, 0, chart coverage): the
+// seam map's (u', v', continued, mm), the thin map's layer 0 (u', v', mm, candidate; its
+// nearer point). Values x u_scale, no tonemap.
 uniform int u_mode;
 uniform float u_scale;
 uniform vec2 u_size;     // texels of the view target (modes 0..3)
@@ -19,6 +23,8 @@ uniform sampler2D u_depth;
 uniform sampler2D u_cover; // modes 0, 3: the texture-space G-buffer's positions (w: coverage)
 uniform float u_lo, u_hi; // mode 6: the colour scale's ends
 uniform bool u_stretch;   // mode 6: u_src holds the stretch (u, v), not a scalar
+uniform bool u_flagged;   // mode 6: u_src is mode 7's (value, flag, 0, coverage)
+uniform bool u_map_thin;  // mode 7: the thin-part map (else the seam map)
 // Turbo colour map (Mikhailov 2019, polynomial fit), t in [0, 1]; the same polynomial as the
 // legend's on the CPU (dm_render_turbo).
 vec3 turbo(float t)
@@ -52,11 +58,12 @@ void main()
         ivec2 at = min(ivec2(v_uv * vec2(n)), n - 1);
         vec4 t = texelFetch(u_src, at, 0);
         float s = u_stretch ? 1.0 / max(float(n.x) * sqrt(max(t.r * t.g, 0.0)), 1e-30) : t.r;
-        bool ok = u_stretch ? t.r * t.g > 0.0 && (!u_has_mask || texture(u_mask, v_uv).r >= 0.5) : !isnan(s);
+        bool ok = u_stretch ? t.r * t.g > 0.0 && (!u_has_mask || texture(u_mask, v_uv).r >= 0.5)
+                : u_flagged ? t.g > 0.5 : !isnan(s);
         // the display readback sRGB-encodes: decode, so the picture shows the legend's colours
         vec3 c = turbo((s - u_lo) / max(u_hi - u_lo, 1e-30));
         c = mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
-        o_color = vec4(ok ? c : vec3(0.01), 1.0);
+        o_color = vec4(ok ? c : vec3(u_flagged && t.a > 0.5 ? 0.05 : 0.01), 1.0);
         return;
     }
     ivec2 ij = ivec2(gl_FragCoord.xy);
@@ -69,6 +76,10 @@ void main()
     } else if (u_mode == 3) {
         c = dm_diffusion(gl_FragCoord.xy / u_size);
         a = coverage(ij);
+    } else if (u_mode == 7) {
+        vec4 t = texelFetch(u_src, ij, 0);
+        o_color = vec4(u_map_thin ? vec3(t.b, t.a, 0.0) : vec3(t.a, t.b, 0.0), coverage(ij)); // not scaled
+        return;
     } else if (u_mode == 5) {
         c = vec3(texelFetch(u_src, ij, 0).r);
     } else if (u_mode == 1) {

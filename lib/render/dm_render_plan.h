@@ -62,11 +62,15 @@ typedef enum dm_view {
                          * each level coverage-normalised and the weights normalised per
                          * channel, exactly as the final pass samples it */
     DM_VIEW_CURVATURE,  /* the pre-integrated technique's mean curvature map (1/mm) */
+    DM_VIEW_SEAM,       /* the seam map: the gutter texels it continues, coloured by mm beyond the
+                         * chart's edge; the charts grey */
+    DM_VIEW_THIN,       /* the thin-part map: the texels with a point across, coloured by its
+                         * distance (the nearer of up to two), mm; the rest of the charts grey */
     DM_VIEW_COUNT
 } dm_view;
 
 /* "final", "irradiance", "blur", "stretch", "shadow", "specular", "diffuse", "uv",
- * "wireframe", "diffusion", "curvature"; NULL when out of range. */
+ * "wireframe", "diffusion", "curvature", "seam", "thin"; NULL when out of range. */
 const char *dm_view_name(dm_view v);
 /* Parses "final", "irradiance", "blur3", "stretch0", "shadow1", ... (index defaults 0,
  * blur defaults to the last level). Returns false for an unknown name. */

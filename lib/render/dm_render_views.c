@@ -10,10 +10,14 @@
 void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const char **quantity)
 {
     dm_view view = r->f.plan.view;
-    bool scaled = view == DM_VIEW_STRETCH || view == DM_VIEW_CURVATURE;
+    bool scaled = view == DM_VIEW_STRETCH || view == DM_VIEW_CURVATURE || view == DM_VIEW_SEAM || view == DM_VIEW_THIN;
     *lo = scaled ? r->view.lo : 0.0f, *hi = scaled ? r->view.hi : 0.0f;
     if (quantity)
-        *quantity = view == DM_VIEW_STRETCH ? "mm per texel" : view == DM_VIEW_CURVATURE ? "mean curvature, 1/mm" : NULL;
+        *quantity = view == DM_VIEW_STRETCH     ? "mm per texel"
+                    : view == DM_VIEW_CURVATURE ? "mean curvature, 1/mm"
+                    : view == DM_VIEW_SEAM      ? "seam map: mm beyond the edge of the chart (0 to 3 sigma of the widest Gaussian)"
+                    : view == DM_VIEW_THIN      ? "thin-part map: mm across, the nearer point (0 to 3 sigma of the widest Gaussian)"
+                                                : NULL;
 }
 
 float dm_renderer_view_gain(const dm_renderer *r)

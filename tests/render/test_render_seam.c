@@ -197,3 +197,38 @@ Test(seam, a_map_of_another_size_is_left_out, .timeout = 120)
     free(with), free(without);
     dm_pack_close(&cut.pack);
 }
+
+/* The debug view "seam" (DM_VIEW_SEAM): per texel (mm beyond the chart's edge, continued, 0,
+ * chart coverage) of the pack's seam map: the continued gutter texels flagged at their
+ * distance and off the charts, the rest unflagged. */
+Test(seam, the_debug_view_shows_the_map, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    plate_pack cut;
+    pack_plate(dir, "cut", &(seam_plate){0.01, 0.01, 0, 0}, &cut);
+    dm_osmesa *ctx = NULL;
+    dm_renderer *r = NULL;
+    dm_error err = {0};
+    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_create(&cut.assets, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR}, &r, &err),
+                 DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_SEAM}, &err), DM_OK, "%s", err.detail);
+    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
+    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    const float *map = cut.assets.seam.texels;
+    int flagged = 0;
+    for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
+        const float *p = px + 4 * i, *m = map + 4 * i;
+        cr_assert(p[1] == m[2] && p[0] == m[3], "texel %zu: (%g mm, %g), the map's (%g, %g)", i, p[0], p[1], m[3], m[2]);
+        if (m[2] > 0.5f) {
+            cr_assert_eq(p[3], 0.0f, "texel %zu: continued but on a chart", i);
+            ++flagged;
+        }
+    }
+    cr_assert_gt(flagged, 100);
+    free(px);
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(ctx);
+    dm_pack_close(&cut.pack);
+}

@@ -217,3 +217,49 @@ Test(thin, dermis_pack_bakes_the_sheets_map, .timeout = 120)
     free(want);
     dm_pack_close(&sp.pack);
 }
+
+/* The debug view "thin" (DM_VIEW_THIN): at the irradiance grid, per texel (mm across, flag,
+ * 0, chart coverage) of the map's nearer point: on the sheet every chart texel flagged at
+ * s mm; and its legend runs from 0 to 3 sigma of the widest Gaussian. */
+Test(thin, the_debug_view_shows_the_map, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    float *map = thin_sheet_map(1.0, IRR);
+    dm_render_assets a = sp.assets;
+    a.thin = (dm_texture){DM_TEX_RGBA32F, IRR, 2 * IRR, map};
+    dm_osmesa *ctx = NULL;
+    dm_renderer *r = NULL;
+    dm_error err = {0};
+    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR}, &r, &err), DM_OK,
+                 "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_THIN}, &err), DM_OK, "%s", err.detail);
+    int w, h;
+    dm_renderer_view_size(r, &w, &h);
+    cr_assert(w == IRR && h == IRR);
+    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
+    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    int flagged = 0;
+    for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
+        const float *p = px + 4 * i, *m = map + 4 * i;
+        cr_assert_eq(p[1], m[3], "texel %zu: flag %g, the map's %g", i, p[1], m[3]);
+        cr_assert_eq(p[0], m[2], "texel %zu: %g mm, the map's %g", i, p[0], m[2]);
+        if (m[3] > 0.5f) {
+            cr_assert_eq(p[3], 1.0f, "texel %zu: a point across off the charts", i);
+            ++flagged;
+        }
+    }
+    cr_assert_gt(flagged, 10000);
+    float lo, hi;
+    const char *q;
+    dm_renderer_view_scale(r, &lo, &hi, &q);
+    double reach = 3 * sqrt(sp.profile.variance_mm2[sp.profile.count - 1]);
+    cr_assert(lo == 0.0f && fabs(hi - reach) < 1e-5 && q && strstr(q, "thin-part map"), "%g..%g %s", lo, hi, q);
+    free(px), free(map);
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(ctx);
+    dm_pack_close(&sp.pack);
+}

@@ -25,7 +25,7 @@ static void list_views(dm_viewer *v)
                                         "blur3",    "blur4",    "blur5",    "blur6",      "blur7",   "stretch0",
                                         "stretch1", "stretch2", "stretch3", "stretch4",   "stretch5", "stretch6",
                                         "stretch7", "shadow0",  "shadow1",  "shadow2",    "shadow3", "uv",
-                                        "wireframe", "curvature"};
+                                        "wireframe", "curvature", "seam",   "thin"};
     v->view_count = 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0] && v->view_count < DM_VIEWER_MAX_VIEWS; ++i) {
         dm_view view;
@@ -35,6 +35,7 @@ static void list_views(dm_viewer *v)
         if (!dm_view_parse(names[i], &view, &k) || dm_render_plan_build(&v->scene, view, k, &plan, &e) != DM_OK)
             continue;
         if (view == DM_VIEW_STRETCH && k >= v->assets.stretch_level_count) continue;
+        if ((view == DM_VIEW_SEAM && !v->assets.seam.texels) || (view == DM_VIEW_THIN && !v->assets.thin.texels)) continue;
         snprintf(v->view_names[v->view_count++], sizeof v->view_names[0], "%s", names[i]);
     }
 }

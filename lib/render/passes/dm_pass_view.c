@@ -1,7 +1,8 @@
 /* dm_pass_view.c — texture debug views (irradiance, blurK, stretchK, shadowK, diffusion,
- * curvature): the texels at their own size into the frame's "view" target, then stretched over
- * the screen; the stretch and curvature maps through a colour scale whose range
- * (dm_renderer_view_scale) a legend names. The pass binds its two targets itself. */
+ * curvature, seam, thin): the texels at their own size into the frame's "view" target, then
+ * stretched over the screen; the stretch and curvature maps, and the seam and thin-part maps'
+ * distances, through a colour scale whose range (dm_renderer_view_scale) a legend names. The
+ * pass binds its two targets itself. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -18,6 +19,11 @@ static GLuint view_source(const dmr_frame *f, int *w, int *h, int *cov_shift)
     if (pl->view == DM_VIEW_SHADOW) {
         *w = *h = f->shadow_edge;
         return f->shadow_tex[k];
+    }
+    if (pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN) { /* at the irradiance grid (thin: layer 0's rows) */
+        *w = *h = f->irr_edge;
+        tex = pl->view == DM_VIEW_SEAM ? f->tex_seam : f->tex_thin;
+        return tex ? tex : f->tex_black;
     }
     if (pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE) {
         tex = pl->view == DM_VIEW_CURVATURE ? f->preint.curvature : f->tex_stretch[k < f->stretch_count ? k : f->stretch_count - 1];
@@ -104,8 +110,9 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         dmr_draw_fullscreen(f);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     } else {
-        bool stretch = pl->view == DM_VIEW_STRETCH;
-        dmg_u1i(p, "u_mode", stretch ? 1 : pl->view == DM_VIEW_CURVATURE ? 5 : pl->view == DM_VIEW_DIFFUSION ? 3 : 0);
+        bool stretch = pl->view == DM_VIEW_STRETCH, map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN;
+        dmg_u1i(p, "u_mode", map ? 7 : stretch ? 1 : pl->view == DM_VIEW_CURVATURE ? 5 : pl->view == DM_VIEW_DIFFUSION ? 3 : 0);
+        dmg_u1i(p, "u_map_thin", pl->view == DM_VIEW_THIN);
         dmg_bind(UNIT_SRC, GL_TEXTURE_2D, src);
         dmg_bind(UNIT_COVER, GL_TEXTURE_2D, f->ts_cover_tex ? f->ts_cover_tex : f->tex_black);
         if (stretch) {
@@ -114,9 +121,14 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         }
         dmr_draw_fullscreen(f);
     }
-    /* display copy; stretch and curvature through the colour scale (range cached per map) */
-    bool scalar = pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE;
-    if (scalar && v->range_of != src) {
+    /* display copy; stretch and curvature through the colour scale (range cached per map); the
+     * seam and thin maps through it from 0 to the reach (3 sigma of the widest Gaussian) */
+    bool map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN;
+    bool scalar = pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE || map;
+    if (map) {
+        v->lo = 0.0f, v->hi = (float)(3.0 * sqrt(f->profile.variance_mm2[f->profile.count - 1]));
+        v->range_of = 0;
+    } else if (scalar && v->range_of != src) {
         scalar_range(v, f, src, w, h, pl->view == DM_VIEW_STRETCH);
         v->range_of = src;
     }
@@ -129,7 +141,8 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
     glViewport((f->width - vw) / 2, (f->height - vh) / 2, vw > 0 ? vw : 1, vh > 0 ? vh : 1);
     glUseProgram(p);
     dmg_u1i(p, "u_mode", scalar ? 6 : 4);
-    dmg_bind(UNIT_SRC, GL_TEXTURE_2D, scalar ? src : f->view_tex);
+    dmg_u1i(p, "u_flagged", map);
+    dmg_bind(UNIT_SRC, GL_TEXTURE_2D, scalar && !map ? src : f->view_tex);
     if (scalar) {
         dmg_u1f(p, "u_lo", v->lo);
         dmg_u1f(p, "u_hi", v->hi);

@@ -66,6 +66,9 @@ void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, do
     int x = 8 * s, y = height - lh + 6 * s, bar_w = width - 16 * s > 32 ? width - 16 * s : width;
     y = dm_render_colour_bar(rgba, width, height, x, y, bar_w, 12 * s, s, lo, hi, general, false);
     char line[160];
-    snprintf(line, sizeof line, "%s (1ST TO 99TH PERCENTILE OVER THE CHARTS)", quantity ? quantity : "VALUE");
+    /* a quantity that names its own range (a closing parenthesis) keeps it */
+    size_t n = quantity ? strlen(quantity) : 0;
+    if (n && quantity[n - 1] == ')') snprintf(line, sizeof line, "%s", quantity);
+    else snprintf(line, sizeof line, "%s (1ST TO 99TH PERCENTILE OVER THE CHARTS)", quantity ? quantity : "VALUE");
     dm_font_draw(rgba, width, height, x, y, s, c_text, line);
 }
