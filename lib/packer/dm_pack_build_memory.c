@@ -14,6 +14,10 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
         m->stretch_size = n * n * (24 * levels + 6);
         m->pack_size += n * n * (8 * levels + 1);
     }
+    /* the seam map (RGBA32F, N²) and the thin-part map (RGBA32F, N × 2N): entries the size of the
+     * grid, written like the chain */
+    if (dm_pack_build_wants(b, "seam")) m->pack_size += n * n * 16;
+    if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32;
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;
@@ -28,13 +32,13 @@ dm_result dm_pack_build_memory_check(const dm_pack_build *b, dm_error *err)
 {
     dm_pack_build_memory m;
     dm_pack_build_memory_estimate(b, &m);
-    char what[160], detail[320], base[32], step[32], pk[32];
+    char what[160], detail[400], base[32], step[32], pk[32];
     dm_memory_size_text(m.base_size, base, sizeof base);
     dm_memory_size_text(m.stretch_size > m.curvature_size ? m.stretch_size : m.curvature_size, step, sizeof step);
     dm_memory_size_text(m.pack_size, pk, sizeof pk);
     snprintf(what, sizeof what, "%.100s (irradiance_size %d)", b->scene_path, b->scene.irradiance_size);
     if (m.pack_size)
-        snprintf(detail, sizeof detail, "%s %s; its %s in the pack, held twice while written and verified; maps and bakes %s",
+        snprintf(detail, sizeof detail, "%s %s; the grid-sized entries (the chain, the seam and thin-part maps) %s in the pack, held twice while written and verified; maps and bakes %s",
                  m.stretch_size ? "the stretch chain" : "the curvature map", step, pk, base);
     else
         snprintf(detail, sizeof detail, "maps and bakes %s", base);

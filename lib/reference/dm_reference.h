@@ -157,7 +157,8 @@ dm_result dm_reference_atlas_targets(const dm_mesh *mesh, const dm_reference_atl
  *                  (mapped and read whole when verified)
  *   texture space  the larger of: the irradiance pass, the renderer's own estimate at N
  *                  (render/dm_render_memory.h: its driver and the pack's textures included;
- *                  0 with --irradiance FILE) + the atlas N² x 16; and base + the convolution,
+ *                  0 with --irradiance FILE) + the atlas N² x 16 + the pack (open beside it:
+ *                  its seam and thin-part maps alone are N² x 48); and base + the convolution,
  *                  N² x (16 atlas + 16 lookup + 20 targets + 4 raster + 48 texel elements,
  *                  built then sorted + 12 results + 16 planes [+ 24 K levels])
  *   frame          base + the larger of: the CPU irradiance, A² x 16 + F² x 20 (the fine atlas

@@ -24,7 +24,8 @@ void dm_reference_memory_estimate(const dm_pack *pack, const dm_reference_memory
     if (o->texture_space > 0) {
         /* the irradiance pass: the renderer (its driver and the pack's textures counted there) and the atlas */
         uint64_t n2 = sq(o->texture_space);
-        m->irradiance_size = o->irradiance_render_size + n2 * 16;
+        /* the pack stays open beside the renderer: its entries are read from it */
+        m->irradiance_size = o->irradiance_render_size + n2 * 16 + (uint64_t)pack->size;
         m->convolution_size = n2 * (16 + 16 + 20 + 4 + 48 + 12 + 16 + 24 * (uint64_t)(o->level_count > 0 ? o->level_count : 0));
         m->total_size = max_u64(m->irradiance_size, m->base_size + m->convolution_size);
         return;
