@@ -160,3 +160,21 @@ Test(view_skin, pack_skin_starts_the_sliders_and_screen_space_refuses, .timeout 
     cr_expect(strstr(out, "screen-space technique made its kernel from the profile") != NULL, "unclear:\n%s", out);
     free(out);
 }
+
+/* The sliders and scripts carry floats: each range's ends as floats (blood 0.1f is above 0.1)
+ * are taken as the ends, not refused as out of range; past them is refused, naming the range. */
+Test(view_skin, the_ends_of_every_range_are_taken, .timeout = 120)
+{
+    need_display();
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    char *out = run_view(dir, "--synthetic sphere",
+                         "0 set blood 0.1\n0.05 set melanin 0.5\n0.1 set epidermis 2\n0.15 set epidermis 0.001\n"
+                         "0.2 set melanin 0\n0.25 set blood 0\n",
+                         0);
+    cr_expect(strstr(out, "0 failed, 0 GL errors") != NULL, "an end refused:\n%s", out);
+    free(out);
+    out = run_view(dir, "--synthetic sphere", "0 set blood 0.1001\n", 3);
+    cr_expect(strstr(out, "expected a value in [0, 0.1]") != NULL, "%s", out);
+    free(out);
+}

@@ -47,14 +47,21 @@ void dm_viewer_skin_init(dm_viewer *v)
     k->available = true;
 }
 
+/* The sliders and scripts carry floats: a range's end as a float (0.1f is above 0.1) is that
+ * end, not a value out of range. */
+static double snap(double v, double lo, double hi)
+{
+    return v > hi && (float)v == (float)hi ? hi : v < lo && (float)v == (float)lo ? lo : v;
+}
+
 bool dm_viewer_skin_set(dm_viewer *v, const char *name, double value)
 {
     dm_viewer_skin *k = &v->skin;
     if (!k->available) return dm_viewer_set_status(v, true, "%s: the skin sliders are off: %s", name, k->off_reason), false;
     dm_skin_params p = k->now;
-    if (!strcmp(name, "melanin")) p.melanin_fraction = value;
-    else if (!strcmp(name, "blood")) p.blood_fraction = value;
-    else if (!strcmp(name, "epidermis")) p.epidermis_mm = value;
+    if (!strcmp(name, "melanin")) p.melanin_fraction = snap(value, 0.0, DM_SKIN_MELANIN_MAX);
+    else if (!strcmp(name, "blood")) p.blood_fraction = snap(value, 0.0, DM_SKIN_BLOOD_MAX);
+    else if (!strcmp(name, "epidermis")) p.epidermis_mm = snap(value, DM_SKIN_EPIDERMIS_MIN_MM, DM_SKIN_EPIDERMIS_MAX_MM);
     else return dm_viewer_set_status(v, true, "'%s' is not a skin slider (melanin, blood, epidermis)", name), false;
     double t0 = now_ms();
     dm_error err = {0};
