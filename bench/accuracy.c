@@ -228,6 +228,24 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
     return 0;
 }
 
+/* The signed bias per region and channel, Σ a (render − ref) / Σ a ref over the texels both
+ * cover (a: the texel's mm²), on stderr: whether a region's error is light missing (< 0) or
+ * too much (> 0), which the mean |error| does not say. */
+static void print_bias(const char *row, const float *ref, const float *px, const float *area, const uint8_t *label,
+                       size_t n)
+{
+    static const char *const names[DM_REF_REGION_COUNT] = {"smooth", "seam", "thin"};
+    for (int g = 0; g < DM_REF_REGION_COUNT; ++g) {
+        double d[3] = {0, 0, 0}, t[3] = {0, 0, 0};
+        for (size_t i = 0; i < n; ++i) {
+            if (label[i] != g || !(ref[4 * i + 3] >= 0.5f && px[4 * i + 3] >= 0.5f) || !(area[i] > 0)) continue;
+            for (int c = 0; c < 3; ++c) d[c] += area[i] * ((double)px[4 * i + c] - ref[4 * i + c]), t[c] += area[i] * ref[4 * i + c];
+        }
+        fprintf(stderr, "accuracy bench: %s: %s signed bias %+.2f / %+.2f / %+.2f %%\n", row, names[g],
+                t[0] > 0 ? 100 * d[0] / t[0] : 0, t[1] > 0 ? 100 * d[1] / t[1] : 0, t[2] > 0 ? 100 * d[2] / t[2] : 0);
+    }
+}
+
 /* Per texel at size N: the region label and the area (mm²) of each of the reference's
  * own targets (common/atlas_regions.h). */
 static int label_atlas(const dm_ref_regions *rg, const dm_mesh *m, sized *z)
@@ -430,6 +448,7 @@ int main(int argc, char **argv)
             rows[c].ok[REG_ALL] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, NULL, -1, n, &rows[c].st[REG_ALL], &err) == DM_OK;
             for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
                 rows[c].ok[g] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, zz->label, g, n, &rows[c].st[g], &err) == DM_OK;
+            print_bias(rows[c].s.name, zz->ref.rgba, px, zz->area, zz->label, n);
             free(px);
         }
         dm_renderer_destroy(rows[c].r);
