@@ -61,8 +61,10 @@ static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
                  err.detail);
 }
 
-/* The diffusion view (irr², RGBA) with the given thin-part map texels (NULL: none) of n × 2n. */
-static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, bool *used)
+/* A texture view (irr², RGBA) with the given thin-part map texels (NULL: none) of n × 2n;
+ * whether the renderer used the map, and the view's colour scale when lo is not NULL. */
+static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, dm_view view, bool *used,
+                        float *lo, float *hi, const char **quantity)
 {
     dm_render_assets a = sp->assets;
     a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
@@ -73,8 +75,9 @@ static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_b
     cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR, .blur_path = path},
                                     &r, &err),
                  DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = view}, &err), DM_OK, "%s", err.detail);
     *used = dm_renderer_thin_map(r);
+    if (lo) dm_renderer_view_scale(r, lo, hi, quantity);
     int w, h;
     dm_renderer_view_size(r, &w, &h);
     cr_assert(w == IRR && h == IRR);
@@ -83,6 +86,11 @@ static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_b
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     return px;
+}
+
+static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, bool *used)
+{
+    return view_with(sp, map, n, path, DM_VIEW_DIFFUSION, used, NULL, NULL, NULL);
 }
 
 static const float *at(const float *px, int bottom, double x, double y)
@@ -228,20 +236,10 @@ Test(thin, the_debug_view_shows_the_map, .timeout = 120)
     sheet_pack sp;
     pack_sheet(dir, 1.0, &sp);
     float *map = thin_sheet_map(1.0, IRR);
-    dm_render_assets a = sp.assets;
-    a.thin = (dm_texture){DM_TEX_RGBA32F, IRR, 2 * IRR, map};
-    dm_osmesa *ctx = NULL;
-    dm_renderer *r = NULL;
-    dm_error err = {0};
-    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR}, &r, &err), DM_OK,
-                 "%s", err.detail);
-    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_THIN}, &err), DM_OK, "%s", err.detail);
-    int w, h;
-    dm_renderer_view_size(r, &w, &h);
-    cr_assert(w == IRR && h == IRR);
-    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
-    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    bool used;
+    float lo, hi;
+    const char *q;
+    float *px = view_with(&sp, map, IRR, DM_BLUR_PATH_AUTO, DM_VIEW_THIN, &used, &lo, &hi, &q);
     int flagged = 0;
     for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
         const float *p = px + 4 * i, *m = map + 4 * i;
@@ -253,13 +251,8 @@ Test(thin, the_debug_view_shows_the_map, .timeout = 120)
         }
     }
     cr_assert_gt(flagged, 10000);
-    float lo, hi;
-    const char *q;
-    dm_renderer_view_scale(r, &lo, &hi, &q);
     double reach = 3 * sqrt(sp.profile.variance_mm2[sp.profile.count - 1]);
     cr_assert(lo == 0.0f && fabs(hi - reach) < 1e-5 && q && strstr(q, "thin-part map"), "%g..%g %s", lo, hi, q);
     free(px), free(map);
-    dm_renderer_destroy(r);
-    dm_osmesa_destroy(ctx);
     dm_pack_close(&sp.pack);
 }

@@ -68,6 +68,19 @@ Test(skin_weights, offline_fit_of_the_same_variances)
         }
 }
 
+/* The free fit of p (variances searched), and the live weights at its variances with their
+ * errors by the free fit's measure (the plan made for those variances). */
+static void free_and_live(const dm_skin_params *p, dm_fit_result *fr, dm_profile *live, double e[3])
+{
+    dm_profile_source src;
+    cr_assert_eq(dm_profile_source_skin(p, &src, NULL), DM_OK);
+    cr_assert_eq(dm_profile_fit(&src, NULL, "free", fr, NULL), DM_OK);
+    /* the dense profile the free fit sees is normalised with the default streams */
+    make_plan_streams(fr->profile.variance_mm2, fr->profile.count, DM_SKIN_AD_STREAMS_DEFAULT);
+    cr_assert_eq(dm_skin_weights_fit(&plan, p, "live", live, NULL), DM_OK);
+    cr_assert_eq(dm_profile_fit_error(&src, live, NULL, e, NULL), DM_OK);
+}
+
 /* A free fit (variances searched, r-domain quadrature on the dense profile) and the live
  * weights at the free fit's variances minimise the same error (Parseval: dm_skin_freq.h) on
  * different quadratures, so they agree to the quadratures' and the dense profile's
@@ -76,21 +89,16 @@ Test(skin_weights, offline_fit_of_the_same_variances)
 Test(skin_weights, free_fit_reproduced_at_its_variances, .timeout = 120)
 {
     /* the Caucasian exemplar and a mid-pigmented skin (Cm 0.063), both in DJ2006's 0.25 mm
-     * epidermis; the gallery's thin epidermis: thin_epidermis_free_and_live_fits below */
+     * epidermis; the gallery's thin epidermis: thin_epidermis_free_fits below */
     const char *names[] = {"caucasian", "Cm 0.063"};
     for (size_t i = 0; i < 2; ++i) {
         dm_skin_params p = preset("caucasian");
         if (i) p.melanin_fraction = 0.063;
-        dm_profile_source src;
         dm_fit_result fr;
-        cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
-        cr_assert_eq(dm_profile_fit(&src, NULL, "free", &fr, NULL), DM_OK);
-        /* the dense profile the free fit sees is normalised with the default streams */
-        make_plan_streams(fr.profile.variance_mm2, fr.profile.count, DM_SKIN_AD_STREAMS_DEFAULT);
         dm_profile live;
-        cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
-        double e[3], d = max_weight_difference(&live, &fr.profile), de = 0.0;
-        cr_assert_eq(dm_profile_fit_error(&src, &live, NULL, e, NULL), DM_OK);
+        double e[3];
+        free_and_live(&p, &fr, &live, e);
+        double d = max_weight_difference(&live, &fr.profile), de = 0.0;
         for (int c = 0; c < 3; ++c) de = fmax(de, e[c] - fr.error_relative[c]);
         printf("%s: free-fit variances, live − free weights %.2e, error live − free %.2e (free max %.4f)\n",
                names[i], d, de, fr.error_relative_max);
@@ -115,15 +123,10 @@ Test(skin_weights, thin_epidermis_free_fits, .timeout = 300)
         snprintf(name, sizeof name, "fitzpatrick-%d", i);
         dm_skin_params p = preset(name);
         cr_assert(p.epidermis_mm < 0.1);
-        dm_profile_source src;
         dm_fit_result fr;
-        cr_assert_eq(dm_profile_source_skin(&p, &src, NULL), DM_OK);
-        cr_assert_eq(dm_profile_fit(&src, NULL, "free", &fr, NULL), DM_OK);
-        make_plan_streams(fr.profile.variance_mm2, fr.profile.count, DM_SKIN_AD_STREAMS_DEFAULT);
         dm_profile live;
-        cr_assert_eq(dm_skin_weights_fit(&plan, &p, "live", &live, NULL), DM_OK);
         double e[3], worst = 0.0;
-        cr_assert_eq(dm_profile_fit_error(&src, &live, NULL, e, NULL), DM_OK);
+        free_and_live(&p, &fr, &live, e);
         for (int c = 0; c < 3; ++c) worst = fmax(worst, e[c]);
         printf("%s: free error %.2e, live error at its variances %.2e, weights differ by %.2e\n", name,
                fr.error_relative_max, worst, max_weight_difference(&live, &fr.profile));
