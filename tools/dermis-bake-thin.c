@@ -100,16 +100,7 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
                                         "distinct surfaces facing back");
     dm_prov_add_string(&prov, "units", "thin.u/.v: UV across; thin.mm: distance mm; thin.candidate: 1 or 0 (none); "
                                        "candidate k in rows k*N..(k+1)*N-1");
-    dm_prov_add_int(&prov, "covered_texels", s->covered_texels);
-    dm_prov_add_int(&prov, "one_candidate_texels", s->one_candidate_texels);
-    dm_prov_add_int(&prov, "two_candidate_texels", s->two_candidate_texels);
-    dm_prov_add_int(&prov, "dropped_texels", s->dropped_texels);
-    dm_prov_add_double(&prov, "dropped_weight_sum", s->dropped_weight_sum);
-    dm_prov_add_double(&prov, "dropped_weight_max", s->dropped_weight_max);
-    dm_prov_add_int(&prov, "zero_uv_area_hits", s->zero_uv_area_hits);
-    dm_prov_add_int(&prov, "lost_hits", s->lost_hits);
-    dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
-    dm_prov_add_double(&prov, "mean_distance_mm", s->mean_distance_mm);
+    dm_thin_map_stats_prov(s, &prov);
 
     static const char *const names[4] = {"thin.u", "thin.v", "thin.mm", "thin.candidate"};
     return dm_bake_cli_write_rgba(a->c.output, map->texels, w, h, names, 1u << 3, &prov); /* the flag in half */

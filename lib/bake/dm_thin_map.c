@@ -256,3 +256,17 @@ void dm_thin_map_free(dm_thin_map *map)
     free(map->dropped);
     memset(map, 0, sizeof *map);
 }
+
+void dm_thin_map_stats_prov(const dm_thin_map_stats *s, dm_provenance *p)
+{
+    dm_prov_add_int(p, "covered_texels", s->covered_texels);
+    dm_prov_add_int(p, "one_candidate_texels", s->one_candidate_texels);
+    dm_prov_add_int(p, "two_candidate_texels", s->two_candidate_texels);
+    dm_prov_add_int(p, "dropped_texels", s->dropped_texels);
+    dm_prov_add_double(p, "dropped_weight_sum", s->dropped_weight_sum);
+    dm_prov_add_double(p, "dropped_weight_max", s->dropped_weight_max);
+    dm_prov_add_int(p, "zero_uv_area_hits", s->zero_uv_area_hits);
+    dm_prov_add_int(p, "lost_hits", s->lost_hits);
+    dm_prov_add_double(p, "max_distance_mm", s->max_distance_mm);
+    dm_prov_add_double(p, "mean_distance_mm", s->mean_distance_mm);
+}

@@ -40,6 +40,7 @@
 
 #include <stdint.h>
 
+#include "core/dm_prov.h"
 #include "core/dm_result.h"
 #include "mesh/dm_mesh.h"
 
@@ -90,6 +91,9 @@ typedef struct dm_thin_map {
 dm_result dm_thin_map_bake(const dm_mesh *m, const dm_thin_map_options *opt, dm_thin_map *out,
                            dm_thin_map_stats *stats, dm_error *err);
 void dm_thin_map_free(dm_thin_map *map);
+/* The stats as provenance keys (covered_texels, one_candidate_texels, …, mean_distance_mm):
+ * what the pack entry and dermis-bake-thin's EXR both record. */
+void dm_thin_map_stats_prov(const dm_thin_map_stats *s, dm_provenance *p);
 
 #ifdef __cplusplus
 }

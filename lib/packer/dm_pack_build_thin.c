@@ -23,16 +23,7 @@ dm_result dmpb_step_thin(dm_pack_build *j, dm_error *err)
                           "candidate k in rows k*N..(k+1)*N-1");
     dm_prov_add_int(&p, "size", n);
     dm_prov_add_double(&p, "reach_mm", o.reach_mm);
-    dm_prov_add_int(&p, "covered_texels", st.covered_texels);
-    dm_prov_add_int(&p, "one_candidate_texels", st.one_candidate_texels);
-    dm_prov_add_int(&p, "two_candidate_texels", st.two_candidate_texels);
-    dm_prov_add_int(&p, "dropped_texels", st.dropped_texels);
-    dm_prov_add_double(&p, "dropped_weight_sum", st.dropped_weight_sum);
-    dm_prov_add_double(&p, "dropped_weight_max", st.dropped_weight_max);
-    dm_prov_add_int(&p, "zero_uv_area_hits", st.zero_uv_area_hits);
-    dm_prov_add_int(&p, "lost_hits", st.lost_hits);
-    dm_prov_add_double(&p, "max_distance_mm", st.max_distance_mm);
-    dm_prov_add_double(&p, "mean_distance_mm", st.mean_distance_mm);
+    dm_thin_map_stats_prov(&st, &p);
     static const char *const ch[4] = {"u", "v", "mm", "candidate"};
     r = dmpb_add_mesh_rgba32f(j, "thin", n, DM_THIN_MAP_CANDIDATES * n, ch, map.texels, &p, err);
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)

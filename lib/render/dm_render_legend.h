@@ -28,9 +28,11 @@ int dm_render_colour_bar(uint8_t *rgba, int width, int height, int x, int y, int
 
 /* A scalar view's picture with its legend: the top `height - dm_render_scalar_legend_height`
  * rows keep the picture (scaled to fit, left as drawn), the strip below gets the colour bar
- * from lo to hi and the quantity's name. */
+ * from lo to hi, the quantity's name and where the range comes from (NULL: the 1st to 99th
+ * percentile over the charts). */
 int dm_render_scalar_legend_height(int width);
-void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, double hi, const char *quantity);
+void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, double hi, const char *quantity,
+                             const char *range);
 
 #ifdef __cplusplus
 }

@@ -15,8 +15,8 @@ void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const ch
     if (quantity)
         *quantity = view == DM_VIEW_STRETCH     ? "mm per texel"
                     : view == DM_VIEW_CURVATURE ? "mean curvature, 1/mm"
-                    : view == DM_VIEW_SEAM      ? "seam map: mm beyond the edge of the chart (0 to 3 sigma of the widest Gaussian)"
-                    : view == DM_VIEW_THIN      ? "thin-part map: mm across, the nearer point (0 to 3 sigma of the widest Gaussian)"
+                    : view == DM_VIEW_SEAM      ? "seam map: mm beyond the edge of the chart"
+                    : view == DM_VIEW_THIN      ? "thin-part map: mm across, the nearer point"
                                                 : NULL;
 }
 
@@ -38,7 +38,9 @@ dm_result dm_render_view_with_legend(const dm_renderer *r, void **px, int w, int
     if (!out) return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "cannot allocate the legend");
     memset(out, 0, (size_t)w * lh * 4);
     memcpy(out + (size_t)w * lh * 4, *px, (size_t)w * *h * 4); /* bottom-up: the strip is the first rows */
-    dm_render_scalar_legend(out, w, nh, lo, hi, quantity);
+    dm_view view = r->f.plan.view;
+    dm_render_scalar_legend(out, w, nh, lo, hi, quantity,
+                            view == DM_VIEW_SEAM || view == DM_VIEW_THIN ? "0 TO 3 SIGMA OF THE WIDEST GAUSSIAN" : NULL);
     free(*px);
     *px = out, *h = nh;
     return DM_OK;

@@ -63,7 +63,7 @@ static void pack_plate(const char *dir, const char *name, const seam_plate *p, p
 /* The diffusion view (IRR², RGBA) of the assets, the seam map left out when without_seam. */
 static dm_blur_path blur_path = DM_BLUR_PATH_AUTO; /* llvmpipe: the CPU's */
 
-static float *diffusion_at(const plate_pack *pp, bool without_seam, int irr)
+static float *view_at(const plate_pack *pp, bool without_seam, int irr, dm_view view)
 {
     dm_render_assets a = pp->assets;
     if (without_seam) a.seam = (dm_texture){0};
@@ -73,7 +73,7 @@ static float *diffusion_at(const plate_pack *pp, bool without_seam, int irr)
     cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
     cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = irr, .blur_path = blur_path}, &r, &err),
                  DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = view}, &err), DM_OK, "%s", err.detail);
     cr_assert_eq(dm_renderer_seam_map(r), !without_seam && irr == pp->assets.seam.width);
     int w, h;
     dm_renderer_view_size(r, &w, &h);
@@ -83,6 +83,11 @@ static float *diffusion_at(const plate_pack *pp, bool without_seam, int irr)
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     return px;
+}
+
+static float *diffusion_at(const plate_pack *pp, bool without_seam, int irr)
+{
+    return view_at(pp, without_seam, irr, DM_VIEW_DIFFUSION);
 }
 
 static float *diffusion(const plate_pack *pp, bool without_seam) { return diffusion_at(pp, without_seam, IRR); }
@@ -207,15 +212,7 @@ Test(seam, the_debug_view_shows_the_map, .timeout = 120)
     cr_assert(test_tmpdir(dir, sizeof dir));
     plate_pack cut;
     pack_plate(dir, "cut", &(seam_plate){0.01, 0.01, 0, 0}, &cut);
-    dm_osmesa *ctx = NULL;
-    dm_renderer *r = NULL;
-    dm_error err = {0};
-    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_renderer_create(&cut.assets, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR}, &r, &err),
-                 DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_SEAM}, &err), DM_OK, "%s", err.detail);
-    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
-    cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+    float *px = view_at(&cut, false, IRR, DM_VIEW_SEAM);
     const float *map = cut.assets.seam.texels;
     int flagged = 0;
     for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
@@ -228,7 +225,5 @@ Test(seam, the_debug_view_shows_the_map, .timeout = 120)
     }
     cr_assert_gt(flagged, 100);
     free(px);
-    dm_renderer_destroy(r);
-    dm_osmesa_destroy(ctx);
     dm_pack_close(&cut.pack);
 }

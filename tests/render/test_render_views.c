@@ -445,7 +445,7 @@ Test(views, scalar_legend_draws_the_colour_bar)
     uint8_t *img = calloc(W * H * 4, 1), lo[3], hi[3];
     int lh = dm_render_scalar_legend_height(W);
     cr_assert(lh > 0 && lh < H);
-    dm_render_scalar_legend(img, W, H, 0.5, 2.0, "mm per texel");
+    dm_render_scalar_legend(img, W, H, 0.5, 2.0, "mm per texel", NULL);
     dm_render_turbo(0.0, lo), dm_render_turbo(1.0, hi);
     /* the bar's first row: 6 rows below the strip's top (top-down), x from 8 to W - 8 */
     int row = H - 1 - (H - lh + 6); /* bottom-up memory row */

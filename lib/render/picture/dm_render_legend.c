@@ -58,7 +58,8 @@ static void general(char *out, size_t size, double v)
     snprintf(out, size, "%.3g", v);
 }
 
-void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, double hi, const char *quantity)
+void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, double hi, const char *quantity,
+                             const char *range)
 {
     int s = legend_scale(width), lh = dm_render_scalar_legend_height(width);
     if (lh > height) return;
@@ -66,9 +67,6 @@ void dm_render_scalar_legend(uint8_t *rgba, int width, int height, double lo, do
     int x = 8 * s, y = height - lh + 6 * s, bar_w = width - 16 * s > 32 ? width - 16 * s : width;
     y = dm_render_colour_bar(rgba, width, height, x, y, bar_w, 12 * s, s, lo, hi, general, false);
     char line[160];
-    /* a quantity that names its own range (a closing parenthesis) keeps it */
-    size_t n = quantity ? strlen(quantity) : 0;
-    if (n && quantity[n - 1] == ')') snprintf(line, sizeof line, "%s", quantity);
-    else snprintf(line, sizeof line, "%s (1ST TO 99TH PERCENTILE OVER THE CHARTS)", quantity ? quantity : "VALUE");
+    snprintf(line, sizeof line, "%s (%s)", quantity ? quantity : "VALUE", range ? range : "1ST TO 99TH PERCENTILE OVER THE CHARTS");
     dm_font_draw(rgba, width, height, x, y, s, c_text, line);
 }
