@@ -76,9 +76,9 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_
     printf("reach           %.3f mm beyond an edge (%s)\n", reach_mm, reach_from);
     printf("seam edges      %lld: %lld cut (two sides), %lld boundary, %lld non-manifold\n", (long long)s->seam_edges,
            (long long)s->cut_edges, (long long)s->boundary_edges, (long long)s->nonmanifold_edges);
-    printf("degenerate      %lld edge sides of zero UV area (theirs or across): no continuation from them\n",
+    printf("degenerate      %lld edge sides of zero UV area (or none across): no continuation from them\n",
            (long long)s->degenerate_sides);
-    printf("gutter texels   %lld continued, %lld lost (landed outside every chart), %lld ended (the surface "
+    printf("gutter texels   %lld continued, %lld lost (left the mesh or landed off the charts), %lld ended (the surface "
            "ends: boundary)\n",
            (long long)s->continued_texels, (long long)s->lost_texels, (long long)s->ended_texels);
     printf("max distance    %.3f mm beyond the edge\n", s->max_distance_mm);

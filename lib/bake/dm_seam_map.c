@@ -15,8 +15,9 @@ typedef struct side {
     double p0[3], p1[3], p2[3]; /* A's edge ends and third corner, mm */
     double a0[2], a1[2], a2[2]; /* their UVs in A */
     double inv[2][2];           /* (g − a0) → (λ1, λ2), the barycentrics of p1 and p2 */
-    double b0[2], b1[2], b2[2]; /* the other side: UVs of p0, p1 and its third corner */
-    double q2[3];
+    int32_t tb;                 /* the other side's triangle B */
+    int cb[3];                  /* B's corners at p0 and p1, and its third */
+    double nb[3];               /* unit, in B's plane, normal to the edge, pointing into B */
     bool continues;
 } side;
 
@@ -30,6 +31,8 @@ typedef struct bake {
     float *out;
     dm_seam_map_stats st;
 } bake;
+
+enum { WALK_STEPS_MAX = 4096 }; /* triangles one walk may cross */
 
 static void corner(const bake *b, int32_t t, int c, double p[3], double uv[2])
 {
@@ -52,8 +55,86 @@ static bool uv_degenerate(const double a[2], const double b[2], const double c[2
     return !(fabs(uv_area2(a, b, c)) > 1e-9 * l);
 }
 
-/* Side s of edge e: A = tri[s] from its corner, B = tri[1 − s] with its UVs matched to A's
- * ends by the welded index. false when A has no UV area (then it is skipped). */
+static uint32_t welded(const bake *b, int32_t t, int c) { return b->se->weld[b->m->indices[3 * (size_t)t + c]]; }
+
+/* The corner of triangle t at welded position w, or −1. */
+static int corner_at(const bake *b, int32_t t, uint32_t w)
+{
+    for (int c = 0; c < 3; ++c)
+        if (welded(b, t, c) == w) return c;
+    return -1;
+}
+
+/* The unit vector in t's plane normal to the edge a → b (corners of t), pointing to t's third
+ * corner; false when t has no height over the edge. */
+static bool inward(const bake *b, int32_t t, int ca, int cb, double e_unit[3], double in[3])
+{
+    double pa[3], pb[3], pc[3], uv[2];
+    corner(b, t, ca, pa, uv), corner(b, t, cb, pb, uv), corner(b, t, 3 - ca - cb, pc, uv);
+    double e[3], q[3];
+    for (int k = 0; k < 3; ++k) e[k] = pb[k] - pa[k], q[k] = pc[k] - pa[k];
+    double ee = sqrt(dot3(e, e));
+    if (!(ee > 0)) return false;
+    for (int k = 0; k < 3; ++k) e_unit[k] = e[k] / ee;
+    double kq = dot3(q, e_unit);
+    for (int k = 0; k < 3; ++k) in[k] = q[k] - kq * e_unit[k];
+    double h = sqrt(dot3(in, in));
+    if (!(h > 1e-9 * ee)) return false;
+    for (int k = 0; k < 3; ++k) in[k] /= h;
+    return true;
+}
+
+/* Walks the surface from the point of barycentrics bary in triangle t (on its edge opposite
+ * corner `entry`, or −1) along the unit vector dir (3-D, in t's plane) for len mm: a straight
+ * line in the unfolded triangles, crossing each edge into the triangle across it
+ * (dm_seam_edges.adj) with dir turned about the edge into that triangle's plane — the
+ * straightest geodesic, exact on a developable surface. On return t and bary are where it
+ * ends; false when it leaves the mesh (a boundary or non-manifold edge), meets a triangle
+ * with no area, or crosses more than WALK_STEPS_MAX triangles. */
+static bool walk(const bake *b, int32_t *t, double bary[3], int entry, double dir[3], double len)
+{
+    for (int step = 0; step < WALK_STEPS_MAX; ++step) {
+        double p[3][3], uv[2], e1[3], e2[3];
+        for (int c = 0; c < 3; ++c) corner(b, *t, c, p[c], uv);
+        for (int k = 0; k < 3; ++k) e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
+        double g11 = dot3(e1, e1), g12 = dot3(e1, e2), g22 = dot3(e2, e2), det = g11 * g22 - g12 * g12;
+        if (!(det > 1e-12 * g11 * g22)) return false;
+        double r1 = dot3(dir, e1), r2 = dot3(dir, e2);
+        double dl[3];
+        dl[1] = (g22 * r1 - g12 * r2) / det, dl[2] = (g11 * r2 - g12 * r1) / det, dl[0] = -dl[1] - dl[2];
+        int k_out = -1;
+        double s_out = INFINITY;
+        for (int k = 0; k < 3; ++k) {
+            if (k == entry || !(dl[k] < 0)) continue;
+            double s = fmax(bary[k], 0.0) / -dl[k];
+            if (s < s_out) s_out = s, k_out = k;
+        }
+        if (k_out < 0 || s_out >= len) {
+            for (int k = 0; k < 3; ++k) bary[k] += len * dl[k];
+            return true;
+        }
+        len -= s_out;
+        int ca = (k_out + 1) % 3, cb = (k_out + 2) % 3;
+        double tau = bary[cb] + s_out * dl[cb], sum = bary[ca] + s_out * dl[ca] + tau;
+        tau = fmin(fmax(tau / sum, 0.0), 1.0);
+        int32_t nt = b->se->adj[3 * (size_t)*t + ca];
+        if (nt < 0) return false;
+        int na = corner_at(b, nt, welded(b, *t, ca)), nb = corner_at(b, nt, welded(b, *t, cb));
+        double eu[3], in[3], eu_n[3], in_n[3];
+        if (na < 0 || nb < 0 || !inward(b, *t, ca, cb, eu, in) || !inward(b, nt, na, nb, eu_n, in_n)) return false;
+        double along = dot3(dir, eu), across = -dot3(dir, in); /* > 0: leaving t */
+        for (int k = 0; k < 3; ++k) dir[k] = along * eu[k] + fmax(across, 0.0) * in_n[k];
+        double dn = sqrt(dot3(dir, dir));
+        if (!(dn > 0)) return false;
+        for (int k = 0; k < 3; ++k) dir[k] /= dn;
+        *t = nt, entry = 3 - na - nb;
+        bary[na] = 1 - tau, bary[nb] = tau, bary[entry] = 0;
+    }
+    return false;
+}
+
+/* Side s of edge e: A = tri[s] from its corner, B = tri[1 − s]. false when A has no UV area
+ * (then it is skipped) or B has no height over the edge. */
 static bool side_of(const bake *b, const dm_seam_edge *e, int s, side *o)
 {
     int32_t ta = e->tri[s];
@@ -65,35 +146,38 @@ static bool side_of(const bake *b, const dm_seam_edge *e, int s, side *o)
     o->inv[0][0] = e2[1] / det, o->inv[0][1] = -e2[0] / det, o->inv[1][0] = -e1[1] / det, o->inv[1][1] = e1[0] / det;
     o->continues = e->sides == 2;
     if (!o->continues) return true;
-    int32_t tb = e->tri[1 - s];
-    int cb = e->corner[1 - s];
-    double pb0[3], pb1[3], ub0[2], ub1[2];
-    corner(b, tb, cb, pb0, ub0), corner(b, tb, (cb + 1) % 3, pb1, ub1), corner(b, tb, (cb + 2) % 3, o->q2, o->b2);
-    uint32_t wa0 = b->se->weld[b->m->indices[3 * (size_t)ta + c]];
-    uint32_t wb0 = b->se->weld[b->m->indices[3 * (size_t)tb + cb]];
-    bool same = wa0 == wb0;
-    memcpy(o->b0, same ? ub0 : ub1, sizeof o->b0), memcpy(o->b1, same ? ub1 : ub0, sizeof o->b1);
-    if (uv_degenerate(o->b0, o->b1, o->b2)) return false;
-    return true;
+    o->tb = e->tri[1 - s];
+    o->cb[0] = corner_at(b, o->tb, welded(b, ta, c)), o->cb[1] = corner_at(b, o->tb, welded(b, ta, (c + 1) % 3));
+    o->cb[2] = 3 - o->cb[0] - o->cb[1];
+    double eu[3];
+    return o->cb[0] >= 0 && o->cb[1] >= 0 && inward(b, o->tb, o->cb[0], o->cb[1], eu, o->nb);
 }
 
-/* UV' across the edge for P_g = p0 + λ1 E + λ2 F (A's plane); false when B is too thin to
- * say which way is in. */
-static bool unfold(const side *o, double l1, double l2, double *d_mm, double uv[2])
+/* UV' across the edge for P_g = p0 + λ1 E + λ2 F (A's plane): P_g's offset from the edge,
+ * turned about the edge into B's plane (its part along E kept, its distance d from the edge's
+ * line along nb), walked on the surface from the edge point nearest it (the ends kept a hair
+ * inside the edge). false when the walk leaves the mesh or ends on a triangle with no UV area. */
+static bool unfold(const bake *b, const side *o, double l1, double l2, double *d_mm, double uv[2])
 {
-    double E[3], F[3], Q[3], w[3];
-    for (int k = 0; k < 3; ++k) E[k] = o->p1[k] - o->p0[k], F[k] = o->p2[k] - o->p0[k], Q[k] = o->q2[k] - o->p0[k];
+    double E[3], F[3], w[3];
+    for (int k = 0; k < 3; ++k) E[k] = o->p1[k] - o->p0[k], F[k] = o->p2[k] - o->p0[k];
     double ee = dot3(E, E);
     double t = l1 + l2 * dot3(F, E) / ee; /* P_g − p0 = λ1 E + λ2 F, projected on E */
     for (int k = 0; k < 3; ++k) w[k] = l1 * E[k] + l2 * F[k] - t * E[k];
-    double d = sqrt(dot3(w, w));
-    double kq = dot3(Q, E) / ee, qp[3];
-    for (int k = 0; k < 3; ++k) qp[k] = Q[k] - kq * E[k];
-    double h = sqrt(dot3(qp, qp)); /* B's height over the edge */
-    if (!(h > 1e-9 * sqrt(ee))) return false;
-    double mu2 = d / h, mu1 = t - mu2 * kq, mu0 = 1 - mu1 - mu2;
-    for (int k = 0; k < 2; ++k) uv[k] = mu0 * o->b0[k] + mu1 * o->b1[k] + mu2 * o->b2[k];
+    double d = sqrt(dot3(w, w)), tc = fmin(fmax(t, 1e-6), 1 - 1e-6), v[3];
+    for (int k = 0; k < 3; ++k) v[k] = (t - tc) * E[k] + d * o->nb[k];
+    double len = sqrt(dot3(v, v));
     *d_mm = d;
+    if (!(len > 0)) return false;
+    for (int k = 0; k < 3; ++k) v[k] /= len;
+    int32_t t_end = o->tb;
+    double bary[3];
+    bary[o->cb[0]] = 1 - tc, bary[o->cb[1]] = tc, bary[o->cb[2]] = 0;
+    if (!walk(b, &t_end, bary, o->cb[2], v, len)) return false;
+    double q[3], u[3][2];
+    for (int c = 0; c < 3; ++c) corner(b, t_end, c, q, u[c]);
+    if (uv_degenerate(u[0], u[1], u[2])) return false;
+    for (int k = 0; k < 2; ++k) uv[k] = bary[0] * u[0][k] + bary[1] * u[1][k] + bary[2] * u[2][k];
     return true;
 }
 
@@ -139,7 +223,7 @@ static void run_side(bake *b, const side *o)
             b->best[x] = rank;
             float *px = b->out + 4 * x;
             double d = 0, uv[2];
-            if (!o->continues || !unfold(o, l1, l2, &d, uv)) {
+            if (!o->continues || !unfold(b, o, l1, l2, &d, uv)) {
                 px[0] = px[1] = px[2] = 0, px[3] = o->continues ? -2.0f : -1.0f; /* lost / ended, resolved below */
                 continue;
             }

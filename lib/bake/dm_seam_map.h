@@ -16,19 +16,24 @@
  *     of that side with the edge P0→P1 and third corner P2: A's affine map UV → 3-D (mm)
  *     extended to g gives P_g in A's plane. g is beyond the edge when its barycentric of
  *     P2 is < 0. Its distance to the edge segment, in mm, is the candidate's rank.
- *  2. Unfolding: t = (P_g − P0)·E/|E|², d = |P_g − P0 − tE| (E = P1 − P0); the point
- *     P' = P0 + tE + d·n_B, n_B the unit vector in the other side's triangle B, normal to E,
- *     pointing into B: the geodesic across the edge, exact for a developable surface.
- *     P' in B's barycentrics gives UV' from B's UVs (extended affinely beyond B when d is
- *     more than B's height).
+ *  2. Continuing: t = (P_g − P0)·E/|E|², d = |P_g − P0 − tE| (E = P1 − P0). From the edge
+ *     point at t (clamped a hair inside the edge) the offset (t − t_c)E + d·n_B, n_B the unit
+ *     vector in the other side's triangle B, normal to E, pointing into B, is walked on the
+ *     surface: a straight line in B, and across each edge it meets into the triangle on the
+ *     other side (dm_seam_edges.adj, whatever its chart), turned about that edge into its
+ *     plane — the straightest geodesic, exact for a developable surface, however many
+ *     triangles the reach spans and however their texel density varies. UV' is the end
+ *     triangle's UVs at the end point. A walk that meets a boundary or non-manifold edge, or
+ *     ends on a triangle with no UV area, leaves g empty and is counted as lost.
  *  3. The nearest candidate (mm) within reach_mm wins (ties: the edge listed first); a
  *     boundary or non-manifold edge's side competes too and, when nearest or tied (1e-9
  *     relative: beyond a seam's end where it meets the boundary), leaves g empty (the
  *     surface ends there). A winning continuation whose UV' lands on an uncovered texel
  *     (or outside [0, 1)²) leaves g empty and is counted.
- * Covered texels are never written. Zero-UV-area triangles (on either side) give no
- * continuation and are counted. Each texel: (u', v', 1, d mm) when continued, else
- * (0, 0, 0, 0). Deterministic, no threads (a few ms for the head at 1024²).
+ * Covered texels are never written. A zero-UV-area triangle on the chart's side, or a B
+ * with no height over the edge, gives no continuation and is counted; the walk crosses
+ * zero-UV-area triangles (3-D alone). Each texel: (u', v', 1, d mm) when continued, else
+ * (0, 0, 0, 0). Deterministic, no threads (tens of ms for the head at 1024²).
  */
 #ifndef DM_SEAM_MAP_H
 #define DM_SEAM_MAP_H
@@ -55,9 +60,9 @@ typedef struct dm_seam_map_stats {
     int64_t cut_edges;          /* with two sides: a continuation exists */
     int64_t boundary_edges;     /* one side: the surface ends */
     int64_t nonmanifold_edges;
-    int64_t degenerate_sides;   /* a side whose triangle, or its other side's, has no UV area */
+    int64_t degenerate_sides;   /* a side whose triangle has no UV area, or whose B has no height */
     int64_t continued_texels;   /* gutter texels given a continuation */
-    int64_t lost_texels;        /* nearest continuation landed outside every chart */
+    int64_t lost_texels;        /* nearest continuation left the mesh or landed outside every chart */
     int64_t ended_texels;       /* nearest edge is a boundary / non-manifold: left empty */
     double max_distance_mm;     /* farthest continued texel beyond its edge */
 } dm_seam_map_stats;

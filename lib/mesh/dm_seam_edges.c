@@ -39,7 +39,8 @@ dm_result dm_seam_edges_find(const dm_mesh *m, dm_seam_edges *out, dm_error *err
     half *e = malloc(sizeof *e * (ec + 1));
     out->weld = malloc(sizeof *out->weld * (nv + 1));
     out->edges = malloc(sizeof *out->edges * (ec + 1));
-    if (!order || !e || !out->weld || !out->edges) {
+    out->adj = malloc(sizeof *out->adj * (ec + 1));
+    if (!order || !e || !out->weld || !out->edges || !out->adj) {
         free(order), free(e), dm_seam_edges_free(out);
         return dm_fail(err, DM_ERR_OUT_OF_MEMORY, "seam edges: out of memory (%d triangles)", m->triangle_count);
     }
@@ -61,9 +62,14 @@ dm_result dm_seam_edges_find(const dm_mesh *m, dm_seam_edges *out, dm_error *err
             e[3 * t + c] = (half){a, b, (int32_t)t, (int8_t)c, {ua[0], ua[1]}, {ub[0], ub[1]}};
         }
     qsort(e, ec, sizeof *e, half_cmp);
+    for (size_t i = 0; i < ec; ++i) out->adj[i] = -1;
     for (size_t i = 0; i < ec;) {
         size_t j = i + 1;
         while (j < ec && e[j].a == e[i].a && e[j].b == e[i].b) ++j;
+        if (j - i == 2 && e[i].a != e[i].b) {
+            out->adj[3 * (size_t)e[i].tri + e[i].corner] = e[i + 1].tri;
+            out->adj[3 * (size_t)e[i + 1].tri + e[i + 1].corner] = e[i].tri;
+        }
         bool seam = j - i != 2 || memcmp(e[i].uva, e[i + 1].uva, sizeof e[i].uva) ||
                     memcmp(e[i].uvb, e[i + 1].uvb, sizeof e[i].uvb);
         if (seam && e[i].a != e[i].b) {
@@ -81,6 +87,6 @@ dm_result dm_seam_edges_find(const dm_mesh *m, dm_seam_edges *out, dm_error *err
 
 void dm_seam_edges_free(dm_seam_edges *s)
 {
-    free(s->edges), free(s->weld);
+    free(s->edges), free(s->weld), free(s->adj);
     memset(s, 0, sizeof *s);
 }

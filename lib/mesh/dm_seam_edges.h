@@ -15,6 +15,11 @@
  * boundary or a non-manifold edge tri[1] is −1 (tri[0] is the lowest-indexed triangle).
  * Order: by welded ends (a < b), so the list does not depend on the triangle order's
  * accidents beyond the welding; deterministic, no threads.
+ *
+ * Beside the seams, the welded adjacency of every triangle: adj[3t + c] is the triangle across
+ * t's edge from corner c to (c + 1) % 3 when exactly two triangles have that edge (a seam's
+ * cut or not), else −1 (a boundary, a non-manifold edge, or an edge of no length): what a walk
+ * along the surface crosses (dm_seam_map.h).
  */
 #ifndef DM_SEAM_EDGES_H
 #define DM_SEAM_EDGES_H
@@ -42,6 +47,7 @@ typedef struct dm_seam_edges {
     int64_t boundary_edges;     /* of them with one side */
     int64_t nonmanifold_edges;  /* of them with three or more */
     uint32_t *weld;             /* vertex_count entries: each vertex's welded index */
+    int32_t *adj;               /* 3·triangle_count entries: the triangle across each edge, or −1 */
 } dm_seam_edges;
 
 /* Finds the seam edges of a valid mesh. DM_ERR_OUT_OF_MEMORY. Free with dm_seam_edges_free

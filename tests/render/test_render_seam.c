@@ -103,7 +103,7 @@ static const float *at(const float *px, const double uv[2])
  * edges by 8 mm; both charts. */
 static double seam_error(const seam_plate *p, const float *cut, const float *uncut, double band, int *count)
 {
-    const seam_plate whole = {p->a, p->a, 0, 1};
+    const seam_plate whole = {.a = p->a, .b = p->a, .uncut = 1};
     double sum = 0;
     *count = 0;
     for (int right = 0; right < 2; ++right)
@@ -133,7 +133,7 @@ static void cut_against_whole(const seam_plate *cut_p, double *e_with, double *e
 {
     char dir[64];
     cr_assert(test_tmpdir(dir, sizeof dir));
-    const seam_plate whole_p = {cut_p->a, cut_p->a, 0, 1};
+    const seam_plate whole_p = {.a = cut_p->a, .b = cut_p->a, .uncut = 1};
     plate_pack cut, whole;
     pack_plate(dir, "cut", cut_p, &cut);
     pack_plate(dir, "whole", &whole_p, &whole);
@@ -180,7 +180,7 @@ Test(seam, a_mesh_without_seams_renders_the_same_bit_for_bit, .timeout = 120)
 {
     char dir[64];
     cr_assert(test_tmpdir(dir, sizeof dir));
-    const seam_plate whole_p = {0.01, 0.01, 0, 1};
+    const seam_plate whole_p = {.a = 0.01, .b = 0.01, .uncut = 1};
     plate_pack whole;
     pack_plate(dir, "whole", &whole_p, &whole);
     float *with = diffusion(&whole, false), *without = diffusion(&whole, true);

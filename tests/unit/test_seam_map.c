@@ -1,6 +1,7 @@
-/* The seam map (bake/dm_seam_map.h): on a flat plate cut into two affine charts the
- * unfolded continuation is exact, so every continued gutter texel must land on the other
- * chart's point for it to float precision; and the hard cases of issue #29 point 6 — charts
+/* The seam map (bake/dm_seam_map.h): on a flat plate cut into two charts the walked
+ * continuation is exact, so every continued gutter texel must land on the other chart's point
+ * for it to float precision — also where that chart's texel density changes from triangle to
+ * triangle, which extending the first triangle's map across the seam got wrong; and the hard cases of issue #29 point 6 — charts
  * of very different texel density, a mirrored chart, a seam meeting the mesh's boundary,
  * zero-UV-area triangles, a mesh with no seam at all — and the head itself. */
 #include <criterion/criterion.h>
@@ -28,10 +29,10 @@ static void bake_plate(const seam_plate *p, dm_mesh *m, dm_seam_map *map, dm_sea
 /* Every gutter texel beyond the left chart's seam edge and within reach (clear of the plate's
  * top and bottom boundary by a texel) is continued onto the right chart's point for it; every
  * texel beyond the left chart's outer edge (the mesh boundary) is left empty. */
-static void check_left_chart(const seam_plate *p, const dm_seam_map *map)
+static int check_left_chart(const seam_plate *p, const dm_seam_map *map)
 {
     double texel_mm = 1.0 / (N * p->a);
-    int checked = 0;
+    int checked = 0, beyond_one_cell = 0;
     for (int j = 0; j < N; ++j)
         for (int i = 0; i < N; ++i) {
             double x = ((i + 0.5) / N - 0.05) / p->a, y = ((j + 0.5) / N - 0.1) / p->a;
@@ -43,13 +44,15 @@ static void check_left_chart(const seam_plate *p, const dm_seam_map *map)
             if (!(beyond > 0 && beyond < REACH - texel_mm)) continue;
             cr_assert_eq(px[2], 1.0f, "texel (%d, %d), %.2f mm beyond the seam, not continued", i, j, beyond);
             double uv[2];
-            seam_plate_uv(p, 1, x, y, uv);
+            seam_plate_uv_surface(p, 1, x, y, uv);
             cr_assert(fabs(px[0] - uv[0]) < 2e-6 && fabs(px[1] - uv[1]) < 2e-6,
                       "texel (%d, %d): (%.7f, %.7f), the surface is at (%.7f, %.7f)", i, j, px[0], px[1], uv[0], uv[1]);
             cr_assert(fabs(px[3] - beyond) < 1e-4, "distance %.5f mm, expected %.5f", px[3], beyond);
             ++checked;
+            beyond_one_cell += beyond > SEAM_PLATE_L / SEAM_PLATE_CELLS;
         }
     cr_assert_gt(checked, 200, "only %d texels checked", checked);
+    return beyond_one_cell;
 }
 
 /* The same from the right chart back into the left: for a texel beyond the right chart's
@@ -75,7 +78,7 @@ static void check_right_chart(const seam_plate *p, const dm_seam_map *map)
 
 Test(seam_map, a_cut_plate_continues_onto_the_other_chart_exactly)
 {
-    seam_plate p = {0.01, 0.01, 0, 0};
+    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -91,7 +94,7 @@ Test(seam_map, a_cut_plate_continues_onto_the_other_chart_exactly)
 
 Test(seam_map, charts_of_very_different_texel_density)
 {
-    seam_plate p = {0.01, 0.02, 0, 0}; /* the right chart at twice the texels per mm */
+    seam_plate p = {.a = 0.01, .b = 0.02, .mirrored = 0, .uncut = 0}; /* the right chart at twice the texels per mm */
     dm_mesh m;
     dm_seam_map map;
     bake_plate(&p, &m, &map, NULL);
@@ -103,9 +106,27 @@ Test(seam_map, charts_of_very_different_texel_density)
     dm_seam_map_free(&map), dm_mesh_free(&m);
 }
 
+/* The right chart's texel density grows along x, triangle column by column (u at the grid's
+ * vertices b·(ξ + ξ²/L): 1.125 b per mm over the first column, 1.375 b over the second). A
+ * texel more than a column (5 mm) beyond the seam must land where the surface is, in the
+ * second column's map: extending the first column's triangle across the seam would put it
+ * 0.25 b per mm beyond (2e-3 at 6 mm, half a texel) off. */
+Test(seam_map, a_chart_whose_texel_density_varies_is_walked_triangle_by_triangle)
+{
+    seam_plate p = {.a = 0.01, .b = 0.01, .warp = 1.0};
+    dm_mesh m;
+    dm_seam_map map;
+    dm_seam_map_stats st;
+    bake_plate(&p, &m, &map, &st);
+    int far = check_left_chart(&p, &map);
+    cr_assert_gt(far, 60, "%d texels beyond the first column", far);
+    cr_assert_lt(st.lost_texels, st.continued_texels / 10);
+    dm_seam_map_free(&map), dm_mesh_free(&m);
+}
+
 Test(seam_map, a_mirrored_chart)
 {
-    seam_plate p = {0.01, 0.015, 1, 0};
+    seam_plate p = {.a = 0.01, .b = 0.015, .mirrored = 1, .uncut = 0};
     dm_mesh m;
     dm_seam_map map;
     bake_plate(&p, &m, &map, NULL);
@@ -117,7 +138,7 @@ Test(seam_map, a_mirrored_chart)
  * and a texel whose nearest edge is the boundary is left empty (the surface ends). */
 Test(seam_map, a_seam_at_the_mesh_boundary)
 {
-    seam_plate p = {0.01, 0.01, 0, 0};
+    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -136,7 +157,7 @@ Test(seam_map, a_seam_at_the_mesh_boundary)
 
 Test(seam_map, zero_uv_area_triangles_give_no_continuation_and_no_nan)
 {
-    seam_plate p = {0.01, 0.01, 0, 0};
+    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
     dm_mesh m;
     seam_plate_mesh(&p, &m);
     /* collapse the right chart's triangles along the seam (column N/2) to a point in UV */
@@ -165,7 +186,7 @@ Test(seam_map, zero_uv_area_triangles_give_no_continuation_and_no_nan)
 
 Test(seam_map, a_mesh_without_seams_gives_an_empty_map)
 {
-    seam_plate p = {0.01, 0.01, 0, 1};
+    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 1};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -179,7 +200,7 @@ Test(seam_map, a_mesh_without_seams_gives_an_empty_map)
 
 Test(seam_map, bad_options_are_refused)
 {
-    seam_plate p = {0.01, 0.01, 0, 0};
+    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
     dm_mesh m;
     seam_plate_mesh(&p, &m);
     dm_seam_map map;
@@ -192,7 +213,9 @@ Test(seam_map, bad_options_are_refused)
 }
 
 /* The head: the seams dm_ref_regions counts (375), every continuation on a covered texel of
- * another place of the atlas, the same bytes twice. */
+ * another place of the atlas, the same bytes twice; and its counts pinned (11720 continued,
+ * 1025 lost at 512²: extending the first triangle across the seam instead of the walk gave
+ * 11341 and 1404). */
 Test(seam_map, the_head)
 {
     dm_mesh m;
@@ -207,7 +230,8 @@ Test(seam_map, the_head)
     cr_assert_eq(memcmp(a.texels, b.texels, sizeof *a.texels * 4 * H * H), 0);
     cr_assert_eq(st.seam_edges, 375);
     cr_assert_eq(st.boundary_edges, 0);
-    cr_assert_gt(st.continued_texels, 1000);
+    cr_assert_eq(st.continued_texels, 11720);
+    cr_assert_eq(st.lost_texels, 1025);
     int32_t *tri = malloc(sizeof *tri * H * H);
     cr_assert_eq(dm_uv_raster(&m, NULL, H, H, 1, tri, NULL, &err), DM_OK);
     for (size_t x = 0; x < (size_t)H * H; ++x) {
