@@ -153,7 +153,7 @@ static void cut_against_whole(const seam_plate *cut_p, double *e_with, double *e
 Test(seam, the_blur_crosses_a_cut_as_if_the_plate_were_whole, .timeout = 120)
 {
     double with, without;
-    cut_against_whole(&(seam_plate){0.01, 0.01, 0, 0}, &with, &without);
+    cut_against_whole(&(seam_plate){.a = 0.01, .b = 0.01}, &with, &without);
     cr_expect_lt(with, 0.005, "with the seam map: %.3f %%", 100 * with);
     cr_expect_gt(without, 5 * with, "without: %.3f %%, with: %.3f %%", 100 * without, 100 * with);
 }
@@ -161,7 +161,7 @@ Test(seam, the_blur_crosses_a_cut_as_if_the_plate_were_whole, .timeout = 120)
 Test(seam, the_blur_crosses_into_a_mirrored_chart, .timeout = 120)
 {
     double with, without;
-    cut_against_whole(&(seam_plate){0.01, 0.01, 1, 0}, &with, &without);
+    cut_against_whole(&(seam_plate){.a = 0.01, .b = 0.01, .mirrored = 1}, &with, &without);
     cr_expect_lt(with, 0.005, "with the seam map: %.3f %%", 100 * with);
     cr_expect_gt(without, 5 * with, "without: %.3f %%, with: %.3f %%", 100 * without, 100 * with);
 }
@@ -171,7 +171,7 @@ Test(seam, the_blur_in_gl_crosses_a_cut_too, .timeout = 120)
 {
     double with, without;
     blur_path = DM_BLUR_PATH_GL;
-    cut_against_whole(&(seam_plate){0.01, 0.01, 0, 0}, &with, &without);
+    cut_against_whole(&(seam_plate){.a = 0.01, .b = 0.01}, &with, &without);
     cr_expect_lt(with, 0.005, "with the seam map: %.3f %%", 100 * with);
     cr_expect_gt(without, 5 * with, "without: %.3f %%, with: %.3f %%", 100 * without, 100 * with);
 }
@@ -196,7 +196,7 @@ Test(seam, a_map_of_another_size_is_left_out, .timeout = 120)
     char dir[64];
     cr_assert(test_tmpdir(dir, sizeof dir));
     plate_pack cut;
-    pack_plate(dir, "cut", &(seam_plate){0.01, 0.01, 0, 0}, &cut);
+    pack_plate(dir, "cut", &(seam_plate){.a = 0.01, .b = 0.01}, &cut);
     float *with = diffusion_at(&cut, false, IRR / 2), *without = diffusion_at(&cut, true, IRR / 2);
     cr_assert_eq(memcmp(with, without, sizeof *with * 4 * (IRR / 2) * (IRR / 2)), 0);
     free(with), free(without);
@@ -211,7 +211,7 @@ Test(seam, the_debug_view_shows_the_map, .timeout = 120)
     char dir[64];
     cr_assert(test_tmpdir(dir, sizeof dir));
     plate_pack cut;
-    pack_plate(dir, "cut", &(seam_plate){0.01, 0.01, 0, 0}, &cut);
+    pack_plate(dir, "cut", &(seam_plate){.a = 0.01, .b = 0.01}, &cut);
     float *px = view_at(&cut, false, IRR, DM_VIEW_SEAM);
     const float *map = cut.assets.seam.texels;
     int flagged = 0;

@@ -78,7 +78,7 @@ static void check_right_chart(const seam_plate *p, const dm_seam_map *map)
 
 Test(seam_map, a_cut_plate_continues_onto_the_other_chart_exactly)
 {
-    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
+    seam_plate p = {.a = 0.01, .b = 0.01};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -94,7 +94,7 @@ Test(seam_map, a_cut_plate_continues_onto_the_other_chart_exactly)
 
 Test(seam_map, charts_of_very_different_texel_density)
 {
-    seam_plate p = {.a = 0.01, .b = 0.02, .mirrored = 0, .uncut = 0}; /* the right chart at twice the texels per mm */
+    seam_plate p = {.a = 0.01, .b = 0.02}; /* the right chart at twice the texels per mm */
     dm_mesh m;
     dm_seam_map map;
     bake_plate(&p, &m, &map, NULL);
@@ -126,7 +126,7 @@ Test(seam_map, a_chart_whose_texel_density_varies_is_walked_triangle_by_triangle
 
 Test(seam_map, a_mirrored_chart)
 {
-    seam_plate p = {.a = 0.01, .b = 0.015, .mirrored = 1, .uncut = 0};
+    seam_plate p = {.a = 0.01, .b = 0.015, .mirrored = 1};
     dm_mesh m;
     dm_seam_map map;
     bake_plate(&p, &m, &map, NULL);
@@ -138,7 +138,7 @@ Test(seam_map, a_mirrored_chart)
  * and a texel whose nearest edge is the boundary is left empty (the surface ends). */
 Test(seam_map, a_seam_at_the_mesh_boundary)
 {
-    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
+    seam_plate p = {.a = 0.01, .b = 0.01};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -157,7 +157,7 @@ Test(seam_map, a_seam_at_the_mesh_boundary)
 
 Test(seam_map, zero_uv_area_triangles_give_no_continuation_and_no_nan)
 {
-    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
+    seam_plate p = {.a = 0.01, .b = 0.01};
     dm_mesh m;
     seam_plate_mesh(&p, &m);
     /* collapse the right chart's triangles along the seam (column N/2) to a point in UV */
@@ -186,7 +186,7 @@ Test(seam_map, zero_uv_area_triangles_give_no_continuation_and_no_nan)
 
 Test(seam_map, a_mesh_without_seams_gives_an_empty_map)
 {
-    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 1};
+    seam_plate p = {.a = 0.01, .b = 0.01, .uncut = 1};
     dm_mesh m;
     dm_seam_map map;
     dm_seam_map_stats st;
@@ -200,7 +200,7 @@ Test(seam_map, a_mesh_without_seams_gives_an_empty_map)
 
 Test(seam_map, bad_options_are_refused)
 {
-    seam_plate p = {.a = 0.01, .b = 0.01, .mirrored = 0, .uncut = 0};
+    seam_plate p = {.a = 0.01, .b = 0.01};
     dm_mesh m;
     seam_plate_mesh(&p, &m);
     dm_seam_map map;
