@@ -147,8 +147,9 @@ static void base_build(base *s, int technique)
         memset(add(s, "stretch.mask", "texture", "r8", 4, 4, 1, 16)->data, 255, 16);
     } else if (technique == 1) {
         dm_ssss_kernel k;
-        blob *kb = add(s, "sss.kernel", "texture", "rgba32f", 7, 1, 1, 7 * 16);
+        blob *kb = add(s, "sss.kernel", "texture", "rgba32f", 7, DM_SSSS_ROWS, 1, 7 * DM_SSSS_ROWS * 16);
         if (dm_ssss_kernel_fit(&p, 7, &k, NULL) == DM_OK) dm_ssss_kernel_texels(&k, (float *)(void *)kb->data);
+        kb->extra = "\"t_range\": [0.02, 2.56]"; /* DM_SSSS_ROW0_MM_PER_PX and 2^7 times it */
     } else {
         fill(add(s, "sss.preintegrated", "texture", "rgba32f", 4, 2, 1, 4 * 2 * 16),
              (const float[]){0.5f, 0.4f, 0.3f, 1}, 4);
@@ -314,12 +315,15 @@ static void oracle(const dm_pack *pack)
         } else if (!strcmp(e->name, "sss.curvature")) {
             all_in(e, -FLT_MAX, FLT_MAX, 0);
         } else if (!strcmp(e->name, "sss.kernel")) {
-            double sum[3] = {0, 0, 0};
-            for (int a = 0; a < e->width; ++a) {
-                for (int c = 0; c < 3; ++c) expect(f[4 * a + c] >= 0), sum[c] += f[4 * a + c];
-                expect(fabsf(f[4 * a + 3]) <= DM_SSSS_OFFSET_MAX_MM && (!a || f[4 * a + 3] > f[4 * a - 1]));
+            for (int r = 0; r < e->height; ++r) {
+                const float *g = f + 4 * (size_t)r * e->width;
+                double sum[3] = {0, 0, 0};
+                for (int a = 0; a < e->width; ++a) {
+                    for (int c = 0; c < 3; ++c) expect(g[4 * a + c] >= 0), sum[c] += g[4 * a + c];
+                    expect(!a || g[4 * a + 3] > g[4 * a - 1]);
+                }
+                for (int c = 0; c < 3; ++c) expect(fabs(sum[c] - 1) <= 1e-4);
             }
-            for (int c = 0; c < 3; ++c) expect(fabs(sum[c] - 1) <= 1e-4);
         }
     }
 }

@@ -1,7 +1,11 @@
 // ss_blur.glsl - one pass of the screen-space separable subsurface blur (Jimenez et al. 2015;
 // lib/render/passes/dm_pass_ssss.c). u_src: rgb = diffuse irradiance x albedo^mix, a = eye depth in
-// mesh units (0: no skin). The kernel's offsets are mm on the surface: pixels = mm x
-// u_px_per_mm / depth. Follow-surface: a tap whose depth differs from the centre's by more than
+// mesh units (0: no skin). The kernel has a row per size of pixel (core/dm_ssss_kernel.h), its
+// offsets in pixels at the row's size (whole pixels near the centre, so a fetch reads one pixel):
+// the pixel's size, depth / u_px_per_mm mm, gives its row coordinate u = log2(depth) u_row.x +
+// u_row.y, and the taps are those of the rows around it, interpolated; off the table's ends the
+// end row's offsets are stretched by the sizes' ratio (as a kernel in mm; a table of one row,
+// from a pack made before the rows, is always so). Follow-surface: a tap whose depth differs from the centre's by more than
 // its lateral distance fades to the centre's value (fully at twice it), so nothing bleeds
 // across silhouettes and the weights still sum to 1. common.glsl's full-screen triangle sits
 // at the far plane and the depth test (GREATER) keeps it to skin pixels.
@@ -13,8 +17,9 @@ uniform sampler2D u_aux;
 uniform sampler2D u_spec;
 uniform vec2 u_dir;
 uniform vec2 u_texel;
-uniform vec4 u_kernel[DM_SS_TAPS]; // rgb weight, a = offset mm
-uniform float u_px_per_mm;         // pixels per mm at eye depth 1 mesh unit
+uniform vec4 u_kernel[DM_SS_TAPS * DM_SS_ROWS]; // row after row: rgb weight, a = offset px
+uniform float u_px_per_mm;                       // pixels per mm at eye depth 1 mesh unit
+uniform vec2 u_row;                              // row coordinate = log2(depth) x + y
 uniform float u_ss_mm_per_unit;
 uniform int u_mode;
 #ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle (at the far plane) */
@@ -28,13 +33,20 @@ void main()
     vec4 c = texelFetch(u_src, q, 0);
     vec3 sum = vec3(0.0);
     if (c.a > 0.0) {
-        float px_per_mm = u_px_per_mm / c.a;
+        float mm_per_px = c.a / u_px_per_mm;
+        float u = log2(c.a) * u_row.x + u_row.y;
+        float uc = clamp(u, 0.0, float(DM_SS_ROWS - 1));
+        float stretch = exp2((uc - u) / u_row.x); // 1 within the table
+        int r0 = min(int(uc), DM_SS_ROWS - 1) * DM_SS_TAPS;
+        int r1 = min(int(uc) + 1, DM_SS_ROWS - 1) * DM_SS_TAPS;
+        float f = uc - floor(uc);
         for (int i = 0; i < DM_SS_TAPS; ++i) {
-            float o_mm = u_kernel[i].a;
-            vec4 t = texture(u_src, v_uv + u_dir * (o_mm * px_per_mm) * u_texel);
+            vec4 k = mix(u_kernel[r0 + i], u_kernel[r1 + i], f);
+            float o_px = k.a * stretch, o_mm = o_px * mm_per_px;
+            vec4 t = texture(u_src, v_uv + u_dir * o_px * u_texel);
             float dz_mm = abs(t.a - c.a) * u_ss_mm_per_unit;
             float s = t.a > 0.0 ? clamp(dz_mm / (abs(o_mm) + 1e-3) - 1.0, 0.0, 1.0) : 1.0;
-            sum += u_kernel[i].rgb * mix(t.rgb, c.rgb, s);
+            sum += k.rgb * mix(t.rgb, c.rgb, s);
         }
     }
 #ifndef DM_SS_COMBINE

@@ -22,12 +22,14 @@ static inline int edge_table(FILE *md)
                 "size of pixel (`tests/common/edge_plate.h`), against the profile's own edge computed in double "
                 "precision: E·A^(1−mix)·(a₀^mix + (a₁^mix − a₀^mix)·ESF(x)), ESF the integral of the profile's "
                 "line-spread function (its marginal). Largest error over a row, in %% of the step, R / G / B. "
-                "The kernel is the line-spread function's bin masses (`lib/core/dm_ssss_kernel.h`); before issue "
-                "#29 it was the rank-1 factor of the 2-D profile, and 17 taps gave 8.18 / 4.40 / 4.50 %% at 0.1 "
-                "mm/px, 5.89 / 0.78 / 1.70 %% at 0.34 and 4.96 / 1.72 / 3.02 %% at 0.75 (the red edge half as wide "
-                "as the profile's). `tests/render/test_render_ss_edge.c` holds 17 taps to 3 %% at 0.34 mm/px, and "
-                "at 0.1 to 3 %% in red and green, 3.5 %% in blue. Bench: `bench/ss_edge.c` writes this section "
-                "alone (`ss_edge.md`), in a second.\n\n"
+                "The kernels are one per size of pixel, near taps on whole pixels weighing the line-spread "
+                "function's mass over each (`lib/core/dm_ssss_kernel.h`, since issue #29 point 4); before, one "
+                "kernel of the line-spread function's bin masses at Jimenez's taps gave at 17 taps 3.49 / 5.22 / "
+                "6.73 %% at 0.075 mm/px, 2.69 / 2.71 / 3.36 %% at 0.1, 1.20 / 0.93 / 2.49 %% at 0.34 and 0.54 / "
+                "2.96 / 3.52 %% at 0.75, and the rank-1 factor of the 2-D profile before issue #29 8.18 / 4.40 / "
+                "4.50 %% at 0.1 (the red edge half as wide as the profile's). `tests/render/test_render_ss_edge.c` "
+                "holds 17 taps to 2 %% at 0.075 and 0.1 mm/px and 1 %% at 0.34 and 0.75. Bench: `bench/ss_edge.c` "
+                "writes this section ""alone (`ss_edge.md`), in a second.\n\n"
                 "| taps | mm per pixel | where | largest error %% R / G / B |\n|---:|---:|---|---:|\n",
             edge_plate_lo[0], edge_plate_lo[1], edge_plate_lo[2], edge_plate_hi[0], edge_plate_hi[1], edge_plate_hi[2]);
     for (size_t t = 0; t < sizeof taps / sizeof taps[0]; ++t)

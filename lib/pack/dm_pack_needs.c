@@ -34,7 +34,7 @@ static const dm_pack_need needs[] = {
     {"thin", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "thin-part map: per texel up to 2 surfaces across a thin part or a fold (u, v, mm, 1), N x 2N", true},
     {"sss.kernel", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_SCREEN_SPACE,
-     "separable 1-D kernel fitted to the profile (taps x 1: rgb weights, a = offset mm)", false},
+     "separable 1-D kernels fitted to the profile, one row per size of pixel (taps x rows: rgb weights, a = offset px; t_range: the rows' mm per pixel)", false},
     {"sss.preintegrated", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,
      "pre-integrated diffuse D(N.L, curvature) for the profile (Penner 2011; rgb, a = 1)", false},
     {"sss.curvature", DM_PACK_TEXTURE, DM_TEX_R32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,

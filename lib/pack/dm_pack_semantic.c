@@ -202,12 +202,15 @@ static dm_result kernel(const ctx *c)
     const dm_pack_entry *e = c->e;
     dm_result r = single(c);
     if (r != DM_OK) return r;
-    if (e->height != 1 || e->width < 3 || e->width > DM_SSSS_MAX_TAPS || e->width % 2 == 0)
-        return FAIL(c, DM_ERR_FORMAT, "%dx%d, expected taps x 1 with an odd number of taps in [3, %d]", e->width,
-                    e->height, DM_SSSS_MAX_TAPS);
+    const int rows_max = e->has_t_range ? DM_SSSS_MAX_ROWS : 1;
+    if (e->height < 1 || e->height > rows_max || e->width < 3 || e->width > DM_SSSS_MAX_TAPS || e->width % 2 == 0)
+        return FAIL(c, DM_ERR_FORMAT, "%dx%d, expected taps x rows with an odd number of taps in [3, %d] and 1 to %d "
+                    "rows (%s)", e->width, e->height, DM_SSSS_MAX_TAPS, rows_max,
+                    e->has_t_range ? "one per size of pixel" : "1 without \"t_range\", its sizes of pixel");
     dm_ssss_kernel k;
     dm_error inner = {0};
-    if (dm_ssss_kernel_from_texels(e->data, e->width, &k, &inner) != DM_OK) /* "sss.kernel: ..." */
+    if (dm_ssss_kernel_from_texels(e->data, e->width, e->height, e->has_t_range ? e->t_range : NULL, &k, &inner) !=
+        DM_OK) /* "sss.kernel: ..." */
         return FAIL(c, inner.code, "%s", strncmp(inner.detail, "sss.kernel: ", 12) ? inner.detail : inner.detail + 12);
     return DM_OK;
 }

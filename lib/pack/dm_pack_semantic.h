@@ -15,7 +15,9 @@
  *   stretch        1 level, one layer per Gaussian of the scene's profile; every float of
  *                  the blob (u and v of every texel of every layer) in
  *                  (0, DM_PACK_STRETCH_MAX_PER_MM].
- *   sss.kernel     taps × 1, odd taps in [3, DM_SSSS_MAX_TAPS], 1 level, 1 layer, and what
+ *   sss.kernel     taps × rows, odd taps in [3, DM_SSSS_MAX_TAPS], 1 to DM_SSSS_MAX_ROWS rows
+ *                  with "t_range" (their sizes of pixel, mm), 1 row without (a pack made
+ *                  before the rows: offsets in mm), 1 level, 1 layer, and what
  *                  dm_ssss_kernel_from_texels takes (the renderer's own reading).
  *   sss.preintegrated  1 level, 1 layer, height ≥ 2, "t_range" [0, κ_max] with κ_max in
  *                  (0, DM_PACK_CURVATURE_MAX_PER_MM]; every value in [0, DM_PACK_PREINT_MAX].

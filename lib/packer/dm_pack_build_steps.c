@@ -2,6 +2,7 @@
  * profile, the screen-space kernel and the mesh (dm_pack_build.h). */
 #include "packer/dm_pack_build.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -275,30 +276,42 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err)
     return r;
 }
 
-/* The screen-space technique's separable kernel, fitted to the profile's line-spread function
- * (core/dm_ssss_kernel.h); what its 2-D product loses of the profile (fit_error) goes into the
- * entry's provenance and the report's source column. */
+/* The screen-space technique's separable kernels, one row per size of pixel, fitted to the
+ * profile's line-spread function (core/dm_ssss_kernel.h); the largest edge error of the fit and
+ * what the 2-D product loses of the profile (fit_error) over the rows go into the entry's
+ * provenance and the report's source column. */
 dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err)
 {
     dm_ssss_kernel k;
     dm_result r = dm_ssss_kernel_fit(&j->scene.profile, j->scene.screen_taps, &k, err);
     if (r != DM_OK) return r;
-    float texels[DM_SSSS_MAX_TAPS * 4];
+    float texels[DM_SSSS_MAX_ROWS * DM_SSSS_MAX_TAPS * 4];
     dm_ssss_kernel_texels(&k, texels);
+    double edge = 0, fit[3] = {0, 0, 0};
+    for (int row = 0; row < k.rows; ++row) {
+        edge = fmax(edge, k.edge_error[row]);
+        for (int c = 0; c < 3; ++c) fit[c] = fmax(fit[c], k.fit_error[row][c]);
+    }
     dm_provenance p;
     dm_prov_init(&p, DM_PACK_BUILD_TOOL);
     dm_prov_add_string(&p, "source", j->scene.profile_source);
-    dm_prov_add_string(&p, "product", "screen-space separable SSS kernel (Jimenez et al. 2015), the line-spread function's bin masses");
+    dm_prov_add_string(&p, "product", "screen-space separable SSS kernels (Jimenez et al. 2015), one per size of pixel: "
+                                      "the line-spread function's masses over bins of whole pixels");
     dm_prov_add_int(&p, "taps", k.taps);
-    dm_prov_add_double(&p, "range_mm", k.range_mm);
-    dm_prov_add_double(&p, "fit_error_r", k.fit_error[0]);
-    dm_prov_add_double(&p, "fit_error_g", k.fit_error[1]);
-    dm_prov_add_double(&p, "fit_error_b", k.fit_error[2]);
-    char src[160];
-    snprintf(src, sizeof src, "%d taps, +-%.2f mm, 2-D product error %.2f/%.2f/%.2f %% (R/G/B)", k.taps, k.range_mm,
-             100 * k.fit_error[0], 100 * k.fit_error[1], 100 * k.fit_error[2]);
-    dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, 1);
-    return dmpb_add(j, &d, texels, (size_t)k.taps * 4 * sizeof(float), &p, src, err);
+    dm_prov_add_int(&p, "rows", k.rows);
+    dm_prov_add_double(&p, "edge_error_max", edge);
+    dm_prov_add_double(&p, "fit_error_max_r", fit[0]);
+    dm_prov_add_double(&p, "fit_error_max_g", fit[1]);
+    dm_prov_add_double(&p, "fit_error_max_b", fit[2]);
+    char src[200];
+    snprintf(src, sizeof src, "%d taps x %d sizes %g-%g mm/px, edge error <= %.2f %%, 2-D product error <= "
+             "%.1f/%.1f/%.1f %% (R/G/B)", k.taps, k.rows, k.mm_per_px[0], k.mm_per_px[1], 100 * edge, 100 * fit[0],
+             100 * fit[1], 100 * fit[2]);
+    dm_pack_entry d = dm_pack_texture_entry("sss.kernel", DM_TEX_RGBA32F, k.taps, k.rows);
+    d.has_t_range = true; /* the rows' mm per pixel: what the renderer needs of the layout */
+    d.t_range[0] = (float)k.mm_per_px[0];
+    d.t_range[1] = (float)k.mm_per_px[1];
+    return dmpb_add(j, &d, texels, (size_t)k.taps * k.rows * 4 * sizeof(float), &p, src, err);
 }
 
 void dmpb_mesh_prov(const dm_pack_build *j, dm_provenance *p, const char *what)

@@ -112,12 +112,15 @@ typedef struct dm_render_assets {
     dm_texture thin;
     const dm_profile *profile; /* NULL: scene->profile */
 
-    /* screen-space subsurface: the separable kernel dermis-pack fitted to the profile
-     * (core/dm_ssss_kernel.h layout: ss_kernel_taps RGBA float32 texels, rgb = weights,
-     * a = offset mm). NULL: fitted at create from the profile with scene->screen_taps taps
-     * (the same function, so the same kernel). */
+    /* screen-space subsurface: the separable kernels dermis-pack fitted to the profile, one row
+     * per size of pixel (core/dm_ssss_kernel.h layout: ss_kernel_taps × ss_kernel_rows RGBA
+     * float32 texels, rgb = weights, a = offset in pixels at the row's size; the pack entry's
+     * t_range, the first and last row's mm per pixel, in ss_kernel_mm_per_px, NULL for a pack
+     * made before the rows: one row, offsets in mm). NULL: fitted at create from the profile
+     * with scene->screen_taps taps (the same function, so the same kernels). */
     const float *ss_kernel;
-    int ss_kernel_taps;
+    int ss_kernel_taps, ss_kernel_rows;
+    const float *ss_kernel_mm_per_px;
 
     /* pre-integrated subsurface (Penner 2011; bake/dm_preintegrated.h layout): the table
      * D(N.L, curvature), RGBA32F/16F (rgb), s = N.L at texel centres, row j = curvature

@@ -113,7 +113,7 @@ struct dmr_frame {
     float level_weight[DM_PROFILE_MAX_GAUSSIANS][3]; /* profile weights / their sum per channel
                                                       * × level_scale */
     double level_scale[3]; /* dm_renderer_set_profile_weights' scale_rgb; 1 at create */
-    int ss_taps;                                     /* the screen-space kernel's taps (a define) */
+    int ss_taps, ss_rows;                            /* the screen-space kernel's taps and rows (defines) */
 
     /* this frame: lights (turned by the light rotation) and camera */
     float light_pos[DM_SCENE_MAX_LIGHTS][4], light_color[DM_SCENE_MAX_LIGHTS][3];

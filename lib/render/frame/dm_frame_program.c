@@ -97,7 +97,8 @@ static void frame_defines(const dmr_frame *f, const char *extra, char *defines, 
     n += light_defines(f, defines + n, size - n);
     /* appended only when on */
     if (p->screen_space)
-        n += (size_t)snprintf(defines + n, size - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n", f->ss_taps);
+        n += (size_t)snprintf(defines + n, size - n, "#define DM_SCREEN_SPACE 1\n#define DM_SS_TAPS %d\n#define DM_SS_ROWS %d\n",
+                              f->ss_taps, f->ss_rows);
     if (p->pre_integrated) n += (size_t)snprintf(defines + n, size - n, "#define DM_PRE_INTEGRATED 1\n");
     if (p->translucency_active)
         n += (size_t)snprintf(defines + n, size - n, "#define DM_TRANSLUCENCY 1\n#define DM_TRANS_GAUSSIANS %d\n",

@@ -150,10 +150,13 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
     if ((r = texture(pack, "lut.env_brdf", &assets->env_brdf, err)) != DM_OK) return r;
     if ((r = stretch(pack, assets, err)) != DM_OK) return r;
     const dm_pack_entry *k = dm_pack_find(pack, "sss.kernel");
-    if (k) { /* screen-space kernel: taps x 1 RGBA32F texels (core/dm_ssss_kernel.h) */
-        assert(k->format == DM_TEX_RGBA32F && k->height == 1 && k->width >= 3 && k->width <= DM_SSSS_MAX_TAPS);
+    if (k) { /* screen-space kernels: taps x rows RGBA32F texels, t_range their sizes (core/dm_ssss_kernel.h) */
+        assert(k->format == DM_TEX_RGBA32F && k->width >= 3 && k->width <= DM_SSSS_MAX_TAPS && k->height >= 1 &&
+               k->height <= DM_SSSS_MAX_ROWS && (k->has_t_range || k->height == 1));
         assets->ss_kernel = (const float *)k->data;
         assets->ss_kernel_taps = k->width;
+        assets->ss_kernel_rows = k->height;
+        assets->ss_kernel_mm_per_px = k->has_t_range ? k->t_range : NULL;
     }
     if ((r = texture(pack, "sss.preintegrated", &assets->preintegrated, err)) != DM_OK) return r;
     if ((r = texture(pack, "sss.curvature", &assets->curvature, err)) != DM_OK) return r;

@@ -38,15 +38,17 @@ dm_result dmr_ssss_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
     dm_ssss_kernel k;
     dm_result rc;
     if (a->ss_kernel)
-        rc = dm_ssss_kernel_from_texels(a->ss_kernel, a->ss_kernel_taps, &k, err);
+        rc = dm_ssss_kernel_from_texels(a->ss_kernel, a->ss_kernel_taps, a->ss_kernel_rows, a->ss_kernel_mm_per_px, &k,
+                                        err);
     else
         rc = dm_ssss_kernel_fit(&f->profile, f->scene.screen_taps, &k, err);
     if (rc != DM_OK) return rc;
     f->ss_taps = k.taps;
-    for (int i = 0; i < k.taps; ++i) {
-        for (int c = 0; c < 3; ++c) s->kernel[i][c] = k.weight[i][c];
-        s->kernel[i][3] = k.offset_mm[i];
-    }
+    f->ss_rows = k.rows;
+    dm_ssss_kernel_texels(&k, &s->kernel[0][0]);
+    /* one row: any spacing (the coordinate is clamped to 0 and the offsets stretched) */
+    s->rows_per_octave = k.rows > 1 ? (float)((k.rows - 1) / log2(k.mm_per_px[1] / k.mm_per_px[0])) : 1.0f;
+    s->row0_log2_mm_per_px = (float)log2(k.mm_per_px[0]);
     return DM_OK;
 }
 
@@ -119,11 +121,15 @@ void dmr_ss_blur_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_o
     dmg_bind(UNIT_SS_SPEC, GL_TEXTURE_2D, s->spec_tex);
     dmg_u2f(p, "u_dir", along_y ? 0.0f : 1.0f, along_y ? 1.0f : 0.0f);
     dmg_u2f(p, "u_texel", 1.0f / (float)f->width, 1.0f / (float)f->height);
-    glUniform4fv(dmg_loc(p, "u_kernel"), f->ss_taps, &s->kernel[0][0]);
+    glUniform4fv(dmg_loc(p, "u_kernel"), f->ss_taps * f->ss_rows, &s->kernel[0][0]);
     /* pixels per mm at eye depth 1 mesh unit; the shader divides by the pixel's depth */
     float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
     float t = tanf((float)(0.5 * f->scene.fov_y_deg * DM_PI / 180.0));
-    dmg_u1f(p, "u_px_per_mm", sqrtf(blur_scale) * 0.5f * (float)f->height / (t * (float)f->scene.mm_per_unit));
+    float px_per_mm = sqrtf(blur_scale) * 0.5f * (float)f->height / (t * (float)f->scene.mm_per_unit);
+    dmg_u1f(p, "u_px_per_mm", px_per_mm);
+    /* the row coordinate is linear in log2 of the pixel's mm per pixel, depth / px_per_mm:
+     * u = log2(depth)·k + b */
+    dmg_u2f(p, "u_row", s->rows_per_octave, -s->rows_per_octave * (log2f(px_per_mm) + s->row0_log2_mm_per_px));
     dmg_u1f(p, "u_ss_mm_per_unit", (float)f->scene.mm_per_unit);
     static const int modes[DM_VIEW_COUNT] = {[DM_VIEW_SPECULAR] = 1, [DM_VIEW_DIFFUSE] = 2};
     dmg_u1i(p, "u_mode", modes[f->plan.view]);

@@ -8,7 +8,8 @@
 #include "render/frame/dm_frame_pass.h"
 
 typedef struct dmr_ssss {
-    float kernel[DM_SSSS_MAX_TAPS][4]; /* rgb weight, a = offset mm */
+    float kernel[DM_SSSS_MAX_ROWS * DM_SSSS_MAX_TAPS][4]; /* row after row: rgb weight, a = offset px */
+    float rows_per_octave, row0_log2_mm_per_px;           /* row coordinate = (log2 mm/px − row0) · that */
     GLuint diff_tex, aux_tex, spec_tex, fbo, tmp_tex, tmp_fbo;
 } dmr_ssss;
 
