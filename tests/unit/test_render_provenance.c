@@ -34,7 +34,7 @@ Test(render_provenance, every_speed_setting_recorded, .timeout = 120)
     snprintf(cmd, sizeof cmd, DERMIS_BIN "/dermis-render --synthetic sphere --size 64x48 --irradiance 64 -o %s --quiet",
              png);
     cr_assert_eq(test_run(cmd, NULL), 0);
-    const char *plain[] = {"\"shadow_pcf_taps\":4", "\"shadow_size\":1024", "\"blur_reduce_from\":0",
+    const char *plain[] = {"\"shadow_pcf_taps\":4", "\"shadow_size\":2048", "\"blur_reduce_from\":0",
                            "\"blur_reduce_shift\":0", "\"blur_half_float\":0", "\"reuse_texture_space\":0",
                            "\"blur_on\":\"cpu\"", /* llvmpipe, float levels */
                            "\"diffusion_sum\":\"per_texel\""};

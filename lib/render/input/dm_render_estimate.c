@@ -15,7 +15,7 @@ void dmr_resolve_sizes(const dm_render_assets *a, const dm_render_desc *d, dmr_s
     s->width = d->width > 0 ? d->width : a->scene->width;
     s->height = d->height > 0 ? d->height : a->scene->height;
     s->irr_edge = d->irradiance_size > 0 ? d->irradiance_size : a->scene->irradiance_size;
-    s->shadow_edge = d->shadow_size > 0 ? d->shadow_size : 1024;
+    s->shadow_edge = d->shadow_size > 0 ? d->shadow_size : DM_RENDER_SHADOW_SIZE_DEFAULT;
     int shift = d->blur_reduce_shift > 0 ? d->blur_reduce_shift : 1;
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k) {
         bool reduced = d->blur_reduce_from > 0 && k >= d->blur_reduce_from;

@@ -48,7 +48,7 @@ void dm_render_settings_provenance(dm_provenance *p, const dm_render_desc *d, co
     /* every speed/accuracy setting of dm_render_desc, defaults resolved, so a picture says
      * which path made it */
     dm_prov_add_int(p, "shadow_pcf_taps", d->shadow_pcf_taps ? d->shadow_pcf_taps : 4);
-    dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : 1024);
+    dm_prov_add_int(p, "shadow_size", d->shadow_size ? d->shadow_size : DM_RENDER_SHADOW_SIZE_DEFAULT);
     dm_prov_add_int(p, "blur_reduce_from", d->blur_reduce_from);
     dm_prov_add_int(p, "blur_reduce_shift", d->blur_reduce_from ? (d->blur_reduce_shift ? d->blur_reduce_shift : 1) : 0);
     if (r && dm_renderer_plan(r)->view == DM_VIEW_SPECULAR) dm_prov_add_double(p, "view_gain", dm_renderer_view_gain(r));
