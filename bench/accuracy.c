@@ -211,7 +211,12 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
                                   : !dp && !bp && !sk;
             bool frame_ok = ps && ps->i == FRAME_PS && df && !strcmp(df->s, "pixel") && wt &&
                             !strcmp(wt->s, without ? without : "");
-            if ((!tc || tc->i == 1) && truth_ok && (N || frame_ok)) {
+            /* texture space: the renderer's irradiance at this build's shadow map size */
+            char shadow[48];
+            snprintf(shadow, sizeof shadow, ", shadow map %d (", DM_RENDER_SHADOW_SIZE_DEFAULT);
+            const dm_param *ir = dm_prov_find(&ref->prov, "irradiance");
+            bool irr_ok = !N || (ir && strstr(ir->s, shadow));
+            if ((!tc || tc->i == 1) && truth_ok && (N || frame_ok) && irr_ok) {
                 fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
                 return 1;
             }

@@ -86,7 +86,9 @@ static int irradiance_atlas(const ref_args *a, const dm_pack *pack, float *rgba,
             code = -1;
     }
     if (code != -1) fprintf(stderr, "error: %s\n", err.detail);
-    snprintf(source, source_size, "dermis-render irradiance %d (%s)", N, gl && r ? dm_renderer_gl_name(r) : "");
+    /* the shadow map's size in the source: the irradiance, and so the truth, depend on it */
+    snprintf(source, source_size, "dermis-render irradiance %d, shadow map %d (%s)", N, DM_RENDER_SHADOW_SIZE_DEFAULT,
+             gl && r ? dm_renderer_gl_name(r) : "");
     dm_renderer_destroy(r);
     dm_osmesa_destroy(gl);
     return code;
