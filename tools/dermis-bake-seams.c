@@ -94,15 +94,7 @@ static int write_map(const args *a, const char *mesh_hash, const dm_profile *pro
     dm_prov_add_string(&prov, "method", "nearest seam edge, chart extended and unfolded onto the other side");
     dm_prov_add_string(&prov, "units", "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond "
                                        "the edge");
-    dm_prov_add_int(&prov, "seam_edges", s->seam_edges);
-    dm_prov_add_int(&prov, "cut_edges", s->cut_edges);
-    dm_prov_add_int(&prov, "boundary_edges", s->boundary_edges);
-    dm_prov_add_int(&prov, "nonmanifold_edges", s->nonmanifold_edges);
-    dm_prov_add_int(&prov, "degenerate_sides", s->degenerate_sides);
-    dm_prov_add_int(&prov, "continued_texels", s->continued_texels);
-    dm_prov_add_int(&prov, "lost_texels", s->lost_texels);
-    dm_prov_add_int(&prov, "ended_texels", s->ended_texels);
-    dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
+    dm_seam_map_stats_prov(s, &prov);
 
     static const char *const names[4] = {"seam.u", "seam.v", "seam.continued", "seam.mm"};
     return dm_bake_cli_write_rgba(a->c.output, map->texels, map->size, map->size, names, 1u << 2, &prov); /* the flag in half */

@@ -1,15 +1,18 @@
 /* reach_tool.h — what the tests of the two reach tools (dermis-bake-seams, dermis-bake-thin)
  * share: reading their EXR and its provenance, the usage errors of their common command line
- * (bake/dm_bake_cli.h) and the load and save failures that must leave no file. */
+ * (bake/dm_bake_cli.h), the load and save failures that must leave no file, and the pack's
+ * entry of the same map recording the same counts. */
 #ifndef TEST_REACH_TOOL_H
 #define TEST_REACH_TOOL_H
 
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "expect_tool.h"
 #include "tmpdir.h"
 #include "image/dm_exr.h"
+#include "pack/dm_pack.h"
 
 static inline void reach_tool_read(const char *dir, const char *name, dm_exr_image *img)
 {
@@ -104,6 +107,49 @@ static inline void reach_tool_failures_leave_no_file(const char *dir, const char
     test_expect_tool(dir, 30, cmd, 4, "error:", "/dev/null/d/s.exr");
     cr_expect_eq(test_count_files(dir, ".exr"), 0, "a failed run left an output");
     cr_expect_eq(test_count_files(dir, ".tmp"), 0, "a failed run left a temporary");
+}
+
+/* The pack's entry of the tool's map (dermis-pack of a texture-space scene of the head at
+ * irradiance size n, 50 mm per unit, gems3-skin: the tool's defaults at --size n) records in
+ * its provenance each of keys[0..key_count) with the type and value the tool's EXR records:
+ * integers exactly, doubles to 1e-14 relative (the file holds 17 digits, but the pack reader
+ * keeps an entry's provenance as cJSON prints it again, which may keep 15 when they read back
+ * within its own tolerance: 0.64919006824493408 comes back as ...397). */
+static inline void reach_tool_pack_agrees(const char *dir, const char *tool_path, const char *head, int n,
+                                          const char *entry, const char *const *keys, int key_count)
+{
+    FILE *f = fopen(test_path_in(dir, "pack.json"), "w");
+    cr_assert_not_null(f);
+    fprintf(f, "{\"mesh\": {\"path\": \"%s\", \"mm_per_unit\": 50}, "
+               "\"effects\": {\"subsurface\": {\"profile\": \"gems3-skin\", \"irradiance_size\": %d}}, "
+               "\"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1]}]}\n",
+            head, n);
+    fclose(f);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd,
+             DERMIS_BIN "/dermis-pack pack.json -o p.dpk --beckmann-size 16 --lut-size 8 --lut-nodes 8 --quiet && "
+                        "%s %s -o t.exr --size %d --quiet",
+             tool_path, head, n);
+    test_expect_tool(dir, 60, cmd, 0, NULL, NULL);
+
+    dm_error err = {0};
+    dm_pack pack;
+    cr_assert_eq(dm_pack_open(test_path_in(dir, "p.dpk"), &pack, &err), DM_OK, "%s", err.detail);
+    const dm_pack_entry *e = dm_pack_find(&pack, entry);
+    cr_assert_not_null(e, "the pack has no '%s'", entry);
+    dm_provenance packed;
+    cr_assert_eq(dm_prov_from_json(&packed, e->provenance_json, entry, &err), DM_OK, "%s", err.detail);
+    dm_pack_close(&pack);
+    dm_exr_image img;
+    reach_tool_read(dir, "t.exr", &img);
+    for (int k = 0; k < key_count; ++k) {
+        const dm_param *p = dm_prov_find(&packed, keys[k]), *t = dm_prov_find(&img.prov, keys[k]);
+        cr_assert(p && t, "'%s': in the pack %s, in the tool's EXR %s", keys[k], p ? "yes" : "no", t ? "yes" : "no");
+        cr_expect(p->type == t->type && p->i == t->i && fabs(p->d - t->d) <= 1e-14 * fabs(t->d),
+                  "'%s': the pack %lld / %.17g, the tool %lld / %.17g", keys[k], (long long)p->i, p->d, (long long)t->i,
+                  t->d);
+    }
+    dm_exr_free(&img);
 }
 
 #endif

@@ -1,7 +1,8 @@
 /* dermis-bake-seams as a user runs it: the head at 256², its named channels holding the
  * library's bake texel for texel, provenance and identical reruns, --report stating the
  * bake's own counts, the reach from --reach-mm or a profile, the usage errors and exit
- * codes, and no file left behind by a failed run. */
+ * codes, no file left behind by a failed run, and the pack's seam entry recording the same
+ * counts. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -160,4 +161,14 @@ Test(seam_tool, usage_errors_say_what_is_wrong, .init = setup)
 Test(seam_tool, load_and_save_failures_leave_no_file, .init = setup, .timeout = 60)
 {
     reach_tool_failures_leave_no_file(dir, TOOL, HEAD);
+}
+
+/* dermis-pack's seam entry records the counts the tool records, under the same keys
+ * (dm_seam_map_stats_prov), for the same mesh, size and reach. */
+Test(seam_tool, the_packs_seam_entry_records_the_same_counts, .init = setup, .timeout = 60)
+{
+    static const char *const keys[] = {"seam_edges",       "cut_edges",        "boundary_edges",
+                                       "nonmanifold_edges", "degenerate_sides", "continued_texels",
+                                       "lost_texels",       "ended_texels",     "max_distance_mm"};
+    reach_tool_pack_agrees(dir, TOOL, HEAD, N, "seam", keys, (int)(sizeof keys / sizeof keys[0]));
 }

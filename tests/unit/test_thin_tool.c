@@ -1,7 +1,8 @@
 /* dermis-bake-thin as a user runs it: the head at 256 (an EXR of 256 x 512), its named
  * channels holding the library's bake texel for texel, provenance and identical reruns for any
  * thread count, --report stating the bake's own counts, the reach from --reach-mm or a
- * profile, the usage errors and exit codes, and no file left behind by a failed run. */
+ * profile, the usage errors and exit codes, no file left behind by a failed run, and the pack's
+ * thin entry recording the same counts. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -159,4 +160,15 @@ Test(thin_tool, usage_errors_say_what_is_wrong, .init = setup)
 Test(thin_tool, load_and_save_failures_leave_no_file, .init = setup, .timeout = 60)
 {
     reach_tool_failures_leave_no_file(dir, TOOL, HEAD);
+}
+
+/* dermis-pack's thin entry records the counts the tool records, under the same keys
+ * (dm_thin_map_stats_prov), for the same mesh, size and reach. */
+Test(thin_tool, the_packs_thin_entry_records_the_same_counts, .init = setup, .timeout = 60)
+{
+    static const char *const keys[] = {"covered_texels",     "one_candidate_texels", "two_candidate_texels",
+                                       "dropped_texels",     "dropped_weight_sum",   "dropped_weight_max",
+                                       "zero_uv_area_hits",  "lost_hits",            "max_distance_mm",
+                                       "mean_distance_mm"};
+    reach_tool_pack_agrees(dir, TOOL, HEAD, N, "thin", keys, (int)(sizeof keys / sizeof keys[0]));
 }
