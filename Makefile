@@ -162,17 +162,22 @@ $(HOST_LIB): $(call obj,$(HOST_SRC))
 	rm -f $@ && ar rcs $@ $^
 
 # --- executables (the offline side links with g++ for the C++ adapters) -------------
+# A tool's own objects before the archives: make lists a prerequisite from another rule (a
+# tool's command line, below) after the archives, where the linker would no longer look back.
+link_order = $(filter %.o,$^) $(filter-out %.o,$^)
 $(BAKE_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $^ $(BAKE_LIBS) $(CORE_LIBS) -o $@
 $(RENDER_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(LDFLAGS) $^ $(OSMESA_LIBS) $(CORE_LIBS) -lz -o $@
+	$(CC) $(LDFLAGS) $(link_order) $(OSMESA_LIBS) $(CORE_LIBS) -lz -o $@
 $(BOTH_BINS): $(BUILD)/bin/%: $(BUILD)/obj/tools/%.c.o $(RENDER_LIB) $(HOST_LIB) $(BAKE_LIB) $(CORE_LIB)
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) $^ $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
-# dermis-reference's command line lives beside it (tools/ref/), linked before the libraries
+	$(CXX) $(LDFLAGS) $(link_order) $(OSMESA_LIBS) $(BAKE_LIBS) $(CORE_LIBS) -o $@
+# dermis-reference's and dermis-render's command lines live beside them (tools/ref/,
+# tools/render/), linked before the libraries
 $(BUILD)/bin/dermis-reference: $(call obj,$(sort $(wildcard tools/ref/*.c)))
+$(BUILD)/bin/dermis-render: $(call obj,$(sort $(wildcard tools/render/*.c)))
 # The viewer takes the physical skin model from the offline archive (its live sliders,
 # bake/dm_skin_weights.h): plain C over core, so no offline third-party library is linked or
 # loaded (check-layers.sh's link rule reads the binary).

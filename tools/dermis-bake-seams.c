@@ -63,17 +63,12 @@ static void usage(FILE *f)
             DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
 }
 
-typedef struct timings {
-    double load_ms, bake_ms, write_ms;
-} timings;
-
-static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_map *map, const dm_seam_map_stats *s,
-                         double reach_mm, const char *reach_from, const timings *t)
+static void print_report(const dm_bake_cli *c, const dm_bake_cli_inputs *in, const dm_seam_map *map,
+                         const dm_seam_map_stats *s, const dm_bake_cli_times *t)
 {
-    printf("mesh            %s: %d vertices, %d triangles (%lld faces in the file)\n", mesh_path, m->vertex_count,
-           m->triangle_count, (long long)m->polygon_count);
+    dm_bake_cli_report_mesh(c->mesh, &in->mesh);
     printf("size            %dx%d\n", map->size, map->size);
-    printf("reach           %.3f mm beyond an edge (%s)\n", reach_mm, reach_from);
+    printf("reach           %.3f mm beyond an edge (%s)\n", in->reach_mm, in->reach_from);
     printf("seam edges      %lld: %lld cut (two sides), %lld boundary, %lld non-manifold\n", (long long)s->seam_edges,
            (long long)s->cut_edges, (long long)s->boundary_edges, (long long)s->nonmanifold_edges);
     printf("degenerate      %lld edge sides of zero UV area (or none across): no continuation from them\n",
@@ -82,27 +77,17 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_seam_
            "ends: boundary)\n",
            (long long)s->continued_texels, (long long)s->lost_texels, (long long)s->ended_texels);
     printf("max distance    %.3f mm beyond the edge\n", s->max_distance_mm);
-    printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
+    dm_bake_cli_report_times(t);
 }
 
-static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
-                     double reach_mm, const dm_seam_map *map, const dm_seam_map_stats *s)
+static int write_map(const args *a, const dm_bake_cli_inputs *in, const dm_seam_map *map, const dm_seam_map_stats *s)
 {
     dm_provenance prov;
-    dm_bake_cli_prov(&a->c, TOOL, mesh_hash, &prov);
-    dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
-    dm_prov_add_string(&prov, "method", "nearest seam edge, chart extended and unfolded onto the other side");
-    dm_prov_add_string(&prov, "units", "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond "
-                                       "the edge");
-    dm_prov_add_int(&prov, "seam_edges", s->seam_edges);
-    dm_prov_add_int(&prov, "cut_edges", s->cut_edges);
-    dm_prov_add_int(&prov, "boundary_edges", s->boundary_edges);
-    dm_prov_add_int(&prov, "nonmanifold_edges", s->nonmanifold_edges);
-    dm_prov_add_int(&prov, "degenerate_sides", s->degenerate_sides);
-    dm_prov_add_int(&prov, "continued_texels", s->continued_texels);
-    dm_prov_add_int(&prov, "lost_texels", s->lost_texels);
-    dm_prov_add_int(&prov, "ended_texels", s->ended_texels);
-    dm_prov_add_double(&prov, "max_distance_mm", s->max_distance_mm);
+    dm_bake_cli_reach_map_prov(&a->c, TOOL, in, a->reach_mm, map->size,
+                               "nearest seam edge, chart extended and unfolded onto the other side",
+                               "seam.u/.v: continued UV; seam.continued: 1 or 0 (empty); seam.mm: mm beyond the edge",
+                               &prov);
+    dm_seam_map_stats_prov(s, &prov);
 
     static const char *const names[4] = {"seam.u", "seam.v", "seam.continued", "seam.mm"};
     return dm_bake_cli_write_rgba(a->c.output, map->texels, map->size, map->size, names, 1u << 2, &prov); /* the flag in half */
@@ -117,49 +102,42 @@ int main(int argc, char **argv)
     if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
 
     /* Load. */
-    timings t = {0};
     dm_bake_cli_inputs in;
     if ((rc = dm_bake_cli_load_reach(&a.c, a.reach_mm, &in)) != DM_EXIT_OK) return rc;
-    t.load_ms = in.load_ms;
-    const double reach_mm = in.reach_mm;
-    dm_mesh *mesh = &in.mesh;
+    dm_bake_cli_times t = {.load_ms = in.load_ms};
 
     /* Process. */
     dm_error err = {0};
     double t0 = dm_now_ms();
-    dm_seam_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm};
+    dm_seam_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = in.reach_mm};
     dm_seam_map map;
     dm_seam_map_stats s;
-    if (dm_seam_map_bake(mesh, &opt, &map, &s, &err) != DM_OK) {
-        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
-        dm_mesh_free(mesh);
-        return DM_EXIT_PROCESS;
-    }
+    dm_result r = dm_seam_map_bake(&in.mesh, &opt, &map, &s, &err);
     t.bake_ms = dm_now_ms() - t0;
-    if (!dm_cli_finite(map.texels, 4 * (size_t)map.size * (size_t)map.size, "seam map")) {
+    if ((rc = dm_bake_cli_baked(&a.c, r, &err, map.texels, 4 * (size_t)map.size * (size_t)map.size, "seam map"))) {
         dm_seam_map_free(&map);
-        dm_mesh_free(mesh);
-        return DM_EXIT_PROCESS;
+        dm_mesh_free(&in.mesh);
+        return rc;
     }
     if (a.c.verbose)
         fprintf(stderr, "baked %dx%d, reach %.3f mm: %lld seam edges, %lld texels continued in %.1f ms\n", map.size,
-                map.size, reach_mm, (long long)s.seam_edges, (long long)s.continued_texels, t.bake_ms);
+                map.size, in.reach_mm, (long long)s.seam_edges, (long long)s.continued_texels, t.bake_ms);
     if (!a.c.quiet && s.degenerate_sides > 0)
         fprintf(stderr, "warning: %s: %lld seam edge sides touch a triangle of zero UV area: no continuation from them\n",
                 a.c.mesh, (long long)s.degenerate_sides);
 
     /* Write. */
     t0 = dm_now_ms();
-    rc = write_map(&a, in.mesh_hash, &in.profile, in.profile_hash, reach_mm, &map, &s);
+    rc = write_map(&a, &in, &map, &s);
     t.write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, mesh, &map, &s, reach_mm, in.reach_from, &t);
+    if (rc == DM_EXIT_OK && a.c.report) print_report(&a.c, &in, &map, &s, &t);
     else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, reach %.3f mm, %lld seam edges (%lld cut, %lld boundary), %lld gutter texels continued, "
                "%lld lost, %lld ended, farthest %.3f mm\n",
-               a.c.output, map.size, map.size, reach_mm, (long long)s.seam_edges, (long long)s.cut_edges,
+               a.c.output, map.size, map.size, in.reach_mm, (long long)s.seam_edges, (long long)s.cut_edges,
                (long long)s.boundary_edges, (long long)s.continued_texels, (long long)s.lost_texels,
                (long long)s.ended_texels, s.max_distance_mm);
     dm_seam_map_free(&map);
-    dm_mesh_free(mesh);
+    dm_mesh_free(&in.mesh);
     return rc;
 }

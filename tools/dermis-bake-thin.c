@@ -67,18 +67,13 @@ static void usage(FILE *f)
             DM_BAKE_CLI_REACH_MIN_MM, DM_BAKE_CLI_REACH_MAX_MM, v);
 }
 
-typedef struct timings {
-    double load_ms, bake_ms, write_ms;
-} timings;
-
-static void print_report(const char *mesh_path, const dm_mesh *m, const dm_thin_map *map, const dm_thin_map_stats *s,
-                         double reach_mm, const char *reach_from, const timings *t)
+static void print_report(const dm_bake_cli *c, const dm_bake_cli_inputs *in, const dm_thin_map *map,
+                         const dm_thin_map_stats *s, const dm_bake_cli_times *t)
 {
-    printf("mesh            %s: %d vertices, %d triangles (%lld faces in the file)\n", mesh_path, m->vertex_count,
-           m->triangle_count, (long long)m->polygon_count);
+    dm_bake_cli_report_mesh(c->mesh, &in->mesh);
     printf("size            %dx%d (%d candidates per texel, one above the other)\n", map->size,
            DM_THIN_MAP_CANDIDATES * map->size, DM_THIN_MAP_CANDIDATES);
-    printf("reach           %.3f mm (%s)\n", reach_mm, reach_from);
+    printf("reach           %.3f mm (%s)\n", in->reach_mm, in->reach_from);
     printf("covered texels  %lld: %lld with one candidate, %lld with two\n", (long long)s->covered_texels,
            (long long)s->one_candidate_texels, (long long)s->two_candidate_texels);
     printf("dropped         %lld texels had more surfaces across: weight %.4f in all, %.4f at most\n",
@@ -86,20 +81,19 @@ static void print_report(const char *mesh_path, const dm_mesh *m, const dm_thin_
     printf("hits            %lld on zero-UV-area triangles, %lld lost (landed on no covered texel)\n",
            (long long)s->zero_uv_area_hits, (long long)s->lost_hits);
     printf("distance        %.3f mm at most, %.3f mm mean\n", s->max_distance_mm, s->mean_distance_mm);
-    printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
+    dm_bake_cli_report_times(t);
 }
 
-static int write_map(const args *a, const char *mesh_hash, const dm_profile *profile, const char *profile_hash,
-                     double reach_mm, const dm_thin_map *map, const dm_thin_map_stats *s)
+static int write_map(const args *a, const dm_bake_cli_inputs *in, const dm_thin_map *map, const dm_thin_map_stats *s)
 {
     const int w = map->size, h = DM_THIN_MAP_CANDIDATES * map->size;
     dm_provenance prov;
-    dm_bake_cli_prov_height(&a->c, TOOL, mesh_hash, h, &prov);
-    dm_bake_cli_reach_prov(a->reach_mm, reach_mm, profile, profile_hash, &prov);
-    dm_prov_add_string(&prov, "method", "rays along -n, +n and a 30-degree ring of 4 around each; the two heaviest "
-                                        "distinct surfaces facing back");
-    dm_prov_add_string(&prov, "units", "thin.u/.v: UV across; thin.mm: distance mm; thin.candidate: 1 or 0 (none); "
-                                       "candidate k in rows k*N..(k+1)*N-1");
+    dm_bake_cli_reach_map_prov(&a->c, TOOL, in, a->reach_mm, h,
+                               "rays along -n, +n and a 30-degree ring of 4 around each; the two heaviest distinct "
+                               "surfaces facing back",
+                               "thin.u/.v: UV across; thin.mm: distance mm; thin.candidate: 1 or 0 (none); candidate k "
+                               "in rows k*N..(k+1)*N-1",
+                               &prov);
     dm_thin_map_stats_prov(s, &prov);
 
     static const char *const names[4] = {"thin.u", "thin.v", "thin.mm", "thin.candidate"};
@@ -115,34 +109,28 @@ int main(int argc, char **argv)
     if ((rc = dm_bake_cli_output(&a.c))) return rc; /* before any work (core/dm_output.h) */
 
     /* Load. */
-    timings t = {0};
     dm_bake_cli_inputs in;
     if ((rc = dm_bake_cli_load_reach(&a.c, a.reach_mm, &in)) != DM_EXIT_OK) return rc;
-    t.load_ms = in.load_ms;
-    const double reach_mm = in.reach_mm;
-    dm_mesh *mesh = &in.mesh;
+    dm_bake_cli_times t = {.load_ms = in.load_ms};
 
     /* Process. */
     dm_error err = {0};
     double t0 = dm_now_ms();
-    dm_thin_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = reach_mm,
+    dm_thin_map_options opt = {.size = (int)a.c.size, .mm_per_unit = a.c.mm_per_unit, .reach_mm = in.reach_mm,
                                .threads = (int)a.c.threads};
     dm_thin_map map;
     dm_thin_map_stats s;
-    if (dm_thin_map_bake(mesh, &opt, &map, &s, &err) != DM_OK) {
-        fprintf(stderr, "error: %s: %s\n", a.c.mesh, err.detail);
-        dm_mesh_free(mesh);
-        return DM_EXIT_PROCESS;
-    }
+    dm_result r = dm_thin_map_bake(&in.mesh, &opt, &map, &s, &err);
     t.bake_ms = dm_now_ms() - t0;
-    if (!dm_cli_finite(map.texels, 4 * DM_THIN_MAP_CANDIDATES * (size_t)map.size * (size_t)map.size, "thin map")) {
+    if ((rc = dm_bake_cli_baked(&a.c, r, &err, map.texels,
+                                4 * DM_THIN_MAP_CANDIDATES * (size_t)map.size * (size_t)map.size, "thin map"))) {
         dm_thin_map_free(&map);
-        dm_mesh_free(mesh);
-        return DM_EXIT_PROCESS;
+        dm_mesh_free(&in.mesh);
+        return rc;
     }
     if (a.c.verbose)
         fprintf(stderr, "baked %dx%d, reach %.3f mm: %lld texels with a candidate in %.1f ms\n", map.size,
-                DM_THIN_MAP_CANDIDATES * map.size, reach_mm, (long long)(s.one_candidate_texels + s.two_candidate_texels),
+                DM_THIN_MAP_CANDIDATES * map.size, in.reach_mm, (long long)(s.one_candidate_texels + s.two_candidate_texels),
                 t.bake_ms);
     if (!a.c.quiet && s.zero_uv_area_hits > 0)
         fprintf(stderr, "warning: %s: %lld rays met a triangle of zero UV area: no candidate from them\n", a.c.mesh,
@@ -150,16 +138,16 @@ int main(int argc, char **argv)
 
     /* Write. */
     t0 = dm_now_ms();
-    rc = write_map(&a, in.mesh_hash, &in.profile, in.profile_hash, reach_mm, &map, &s);
+    rc = write_map(&a, &in, &map, &s);
     t.write_ms = dm_now_ms() - t0;
-    if (rc == DM_EXIT_OK && a.c.report) print_report(a.c.mesh, mesh, &map, &s, reach_mm, in.reach_from, &t);
+    if (rc == DM_EXIT_OK && a.c.report) print_report(&a.c, &in, &map, &s, &t);
     else if (rc == DM_EXIT_OK && !a.c.quiet)
         printf("%s: %dx%d, reach %.3f mm, %lld covered texels: %lld with one candidate, %lld with two, %lld dropped "
                "more (weight %.3f), farthest %.3f mm\n",
-               a.c.output, map.size, DM_THIN_MAP_CANDIDATES * map.size, reach_mm, (long long)s.covered_texels,
+               a.c.output, map.size, DM_THIN_MAP_CANDIDATES * map.size, in.reach_mm, (long long)s.covered_texels,
                (long long)s.one_candidate_texels, (long long)s.two_candidate_texels, (long long)s.dropped_texels,
                s.dropped_weight_sum, s.max_distance_mm);
     dm_thin_map_free(&map);
-    dm_mesh_free(mesh);
+    dm_mesh_free(&in.mesh);
     return rc;
 }

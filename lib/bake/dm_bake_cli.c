@@ -181,6 +181,36 @@ int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_i
     return DM_EXIT_OK;
 }
 
+int dm_bake_cli_baked(const dm_bake_cli *a, dm_result r, const dm_error *err, const float *texels, size_t float_count,
+                      const char *what)
+{
+    if (r != DM_OK) {
+        fprintf(stderr, "error: %s: %s\n", a->mesh, err->detail);
+        return DM_EXIT_PROCESS;
+    }
+    return dm_cli_finite(texels, float_count, what) ? DM_EXIT_OK : DM_EXIT_PROCESS;
+}
+
+void dm_bake_cli_reach_map_prov(const dm_bake_cli *a, const char *tool, const dm_bake_cli_inputs *in, double reach_opt,
+                                int64_t height, const char *method, const char *units, dm_provenance *prov)
+{
+    dm_bake_cli_prov_height(a, tool, in->mesh_hash, height, prov);
+    dm_bake_cli_reach_prov(reach_opt, in->reach_mm, &in->profile, in->profile_hash, prov);
+    dm_prov_add_string(prov, "method", method);
+    dm_prov_add_string(prov, "units", units);
+}
+
+void dm_bake_cli_report_mesh(const char *path, const dm_mesh *m)
+{
+    printf("mesh            %s: %d vertices, %d triangles (%lld faces in the file)\n", path, m->vertex_count,
+           m->triangle_count, (long long)m->polygon_count);
+}
+
+void dm_bake_cli_report_times(const dm_bake_cli_times *t)
+{
+    printf("time            load %.1f ms, bake %.1f ms, write %.1f ms\n", t->load_ms, t->bake_ms, t->write_ms);
+}
+
 int dm_bake_cli_parse_reach(int argc, char **argv, const char *tool, int64_t size_default, int64_t size_max,
                             bool threads, void (*usage)(FILE *out), dm_bake_cli *a, double *reach_opt)
 {

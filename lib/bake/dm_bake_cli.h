@@ -3,8 +3,9 @@
  * options -o, --size, --mm-per-unit, --profile, --mesh, --threads, --report, -v, --quiet;
  * their checks; the loading of the profile and the mesh with their content hashes; the
  * provenance entries they all write; the reach of the two maps that reach across the surface
- * (--reach-mm, or 3 sigma of the profile's widest Gaussian); the EXR planes of an
- * interleaved map. Each tool keeps its own --help text and its own options
+ * (--reach-mm, or 3 sigma of the profile's widest Gaussian), the bake's outcome, a reach
+ * map's provenance and --report's mesh and time lines; the EXR planes of an interleaved map.
+ * Each tool keeps its own --help text and its own options
  * (dermis-bake-seams refuses --threads before this parser sees it: its bake is one pass). */
 #ifndef DM_BAKE_CLI_H
 #define DM_BAKE_CLI_H
@@ -97,6 +98,26 @@ typedef struct dm_bake_cli_inputs {
  * dm_mesh_plausible finds and, with -v, the load time. DM_EXIT_OK (free in->mesh with
  * dm_mesh_free) or DM_EXIT_LOAD (said on stderr, nothing to free). */
 int dm_bake_cli_load_reach(const dm_bake_cli *a, double reach_opt, dm_bake_cli_inputs *in);
+
+/* The bake's outcome: r's failure (err's message) or a texel that is not finite (of
+ * texels[0..float_count), `what` naming the map), said on stderr with the mesh's name.
+ * DM_EXIT_OK or DM_EXIT_PROCESS. texels is not read when r is not DM_OK. */
+int dm_bake_cli_baked(const dm_bake_cli *a, dm_result r, const dm_error *err, const float *texels, size_t float_count,
+                      const char *what);
+/* The provenance of a reach map whose EXR is height rows high: dm_bake_cli_prov_height's
+ * entries, dm_bake_cli_reach_prov's from in, the bake's method and its channels' units; the
+ * tool adds its bake's counts after. */
+void dm_bake_cli_reach_map_prov(const dm_bake_cli *a, const char *tool, const dm_bake_cli_inputs *in, double reach_opt,
+                                int64_t height, const char *method, const char *units, dm_provenance *prov);
+
+/* A reach tool's times, ms, for --report. */
+typedef struct dm_bake_cli_times {
+    double load_ms, bake_ms, write_ms;
+} dm_bake_cli_times;
+/* --report's first line (the mesh: path, vertices, triangles, faces in the file) and its last
+ * (the times), on stdout; the tool prints its own lines between them. */
+void dm_bake_cli_report_mesh(const char *path, const dm_mesh *m);
+void dm_bake_cli_report_times(const dm_bake_cli_times *t);
 
 /* Writes w × h interleaved RGBA texels (rows bottom-up) as an EXR of four channels named
  * names[0..3], float but those whose bit is set in half_mask (flags whose 0 and 1 half holds

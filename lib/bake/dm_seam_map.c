@@ -291,3 +291,16 @@ void dm_seam_map_free(dm_seam_map *map)
     free(map->texels);
     memset(map, 0, sizeof *map);
 }
+
+void dm_seam_map_stats_prov(const dm_seam_map_stats *s, dm_provenance *p)
+{
+    dm_prov_add_int(p, "seam_edges", s->seam_edges);
+    dm_prov_add_int(p, "cut_edges", s->cut_edges);
+    dm_prov_add_int(p, "boundary_edges", s->boundary_edges);
+    dm_prov_add_int(p, "nonmanifold_edges", s->nonmanifold_edges);
+    dm_prov_add_int(p, "degenerate_sides", s->degenerate_sides);
+    dm_prov_add_int(p, "continued_texels", s->continued_texels);
+    dm_prov_add_int(p, "lost_texels", s->lost_texels);
+    dm_prov_add_int(p, "ended_texels", s->ended_texels);
+    dm_prov_add_double(p, "max_distance_mm", s->max_distance_mm);
+}

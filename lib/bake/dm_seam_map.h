@@ -40,6 +40,7 @@
 
 #include <stdint.h>
 
+#include "core/dm_prov.h"
 #include "core/dm_result.h"
 #include "mesh/dm_mesh.h"
 
@@ -77,6 +78,9 @@ typedef struct dm_seam_map {
 dm_result dm_seam_map_bake(const dm_mesh *m, const dm_seam_map_options *opt, dm_seam_map *out,
                            dm_seam_map_stats *stats, dm_error *err);
 void dm_seam_map_free(dm_seam_map *map);
+/* The stats as provenance keys (seam_edges, cut_edges, …, max_distance_mm): what the pack
+ * entry and dermis-bake-seams's EXR both record. */
+void dm_seam_map_stats_prov(const dm_seam_map_stats *s, dm_provenance *p);
 
 /* 3·√(largest variance) in mm: where a Gaussian's weight beyond is < 0.3 %. */
 double dm_seam_map_reach_mm(double largest_variance_mm2);

@@ -19,9 +19,7 @@ dm_result dmpb_step_seam(dm_pack_build *j, dm_error *err)
     dmpb_mesh_prov(j, &p, "seam map: per gutter texel the UV where the surface continues (u, v, 1, mm beyond)");
     dm_prov_add_int(&p, "size", n);
     dm_prov_add_double(&p, "reach_mm", o.reach_mm);
-    dm_prov_add_int(&p, "seam_edges", st.seam_edges);
-    dm_prov_add_int(&p, "continued_texels", st.continued_texels);
-    dm_prov_add_int(&p, "lost_texels", st.lost_texels);
+    dm_seam_map_stats_prov(&st, &p);
     static const char *const ch[4] = {"u", "v", "continued", "mm"};
     r = dmpb_add_mesh_rgba32f(j, "seam", n, n, ch, map.texels, &p, err);
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
