@@ -240,6 +240,7 @@ int main(int argc, char **argv)
             rc = DM_EXIT_USAGE;
             goto done;
         }
+        if (dm_renderer_thin_map(r)) dm_render_plan_thin_map(&plan); /* as the renderer's: no translucency on top */
         char text[8192];
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);

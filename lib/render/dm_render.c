@@ -61,6 +61,7 @@ static dm_result plan_and_check(dm_renderer *r, const dm_render_assets *a, dm_er
      * (reduced levels would be interpolated twice: to the centres, then to the pixel) */
     f->diffusion_sum = dmr_diffusion_summed(&f->plan, &f->desc);
     if (rc == DM_OK && !f->diffusion_sum) dm_render_plan_sum_per_pixel(&f->plan);
+    if (rc == DM_OK && dmr_tsd_thin_usable(f, a)) dm_render_plan_thin_map(&f->plan); /* no translucency on top */
     if (rc == DM_OK) rc = dmr_frame_check(f, a, err);
     int n;
     const dmr_pass_row *rows = dmr_pass_rows(&n);

@@ -177,3 +177,29 @@ Test(render_plan, explain_names_every_pass_and_every_effect_off)
     cr_expect_eq(dm_render_plan_explain(&p, tiny, sizeof tiny), n); /* truncated, length still reported */
     cr_expect_eq(strlen(tiny), sizeof tiny - 1);
 }
+
+/* With the thin-part map in use (texture-space), translucency adds no light: inactive, gone
+ * from the irradiance pass's description, and explain says why; the screen-space and
+ * pre-integrated plans, which have no map, keep it. */
+Test(render_plan, thin_map_takes_translucency_s_place_in_texture_space)
+{
+    dm_scene s;
+    dm_synth_scene(&s, 4.5f);
+    s.effects[DM_EFFECT_TRANSLUCENCY] = true;
+    dm_render_plan p;
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    int irr = dm_render_plan_find(&p, "irradiance");
+    cr_assert(p.translucency_active && irr >= 0 && strstr(p.passes[irr].why, "[translucency]"));
+    dm_render_plan_thin_map(&p);
+    cr_expect(!p.translucency_active && p.translucency_by_thin_map);
+    cr_expect_null(strstr(p.passes[irr].why, "translucency"), "%s", p.passes[irr].why);
+    char text[8192];
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(strstr(text, "note: translucency adds no light: the thin-part map carries the light"), "%s", text);
+    for (int t = 0; t < 2; ++t) {
+        s.sss_technique = t ? DM_SSS_PRE_INTEGRATED : DM_SSS_SCREEN_SPACE;
+        cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+        dm_render_plan_thin_map(&p);
+        cr_expect(p.translucency_active && !p.translucency_by_thin_map, "%s", dm_sss_technique_name(s.sss_technique));
+    }
+}

@@ -61,6 +61,8 @@ static void add(dm_render_plan *p, dm_pass_kind kind, int index, const char *nam
     va_end(ap);
 }
 
+#define TRANSMITTED " + transmitted light (shadow-map thickness, profile T(d)) [translucency]"
+
 dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, dm_render_plan *p, dm_error *err)
 {
     memset(p, 0, sizeof *p);
@@ -87,7 +89,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
             if (s->lights[i].casts_shadow && p->casting_lights++ < DM_PLAN_MAX_SHADOWS)
                 p->shadow_light[p->shadow_count++] = i;
     p->translucency_active = fx[DM_EFFECT_TRANSLUCENCY] && p->shadow_count > 0;
-    const char *trans = p->translucency_active ? " + transmitted light (shadow-map thickness, profile T(d)) [translucency]" : "";
+    const char *trans = p->translucency_active ? TRANSMITTED : "";
     /* the view's requirements */
     const char *vname = dm_view_name(view);
     if (!vname) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %d: unknown view", (int)view);
@@ -314,7 +316,10 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
         put(&b, "note: %d lights cast; only the first %d get shadow maps\n", p->casting_lights, p->shadow_count);
     if (p->effects[DM_EFFECT_SUBSURFACE])
         put(&b, "subsurface technique: %s\n", dm_sss_technique_name(p->technique));
-    if (p->effects[DM_EFFECT_TRANSLUCENCY] && !p->translucency_active)
+    if (p->translucency_by_thin_map)
+        put(&b, "note: translucency adds no light: the thin-part map carries the light through thin parts "
+                "(texture-space; on top it would count it twice)\n");
+    else if (p->effects[DM_EFFECT_TRANSLUCENCY] && !p->translucency_active)
         put(&b, "note: translucency is inactive: it reads thickness from a shadow map, and no light has one\n");
     if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
         put(&b, "note: shadows on but no light casts: no shadow pass\n");
@@ -327,4 +332,15 @@ void dm_render_plan_sum_per_pixel(dm_render_plan *plan)
     if (i < 0) return;
     memmove(&plan->passes[i], &plan->passes[i + 1], sizeof plan->passes[0] * (size_t)(plan->pass_count - i - 1));
     --plan->pass_count;
+}
+
+void dm_render_plan_thin_map(dm_render_plan *plan)
+{
+    if (!plan->texture_space || !plan->translucency_active) return;
+    plan->translucency_active = false, plan->translucency_by_thin_map = true;
+    const size_t n = strlen(TRANSMITTED);
+    for (int i = 0; i < plan->pass_count; ++i) {
+        char *w = strstr(plan->passes[i].why, TRANSMITTED);
+        if (w) memmove(w, w + n, strlen(w + n) + 1);
+    }
 }

@@ -37,6 +37,12 @@ dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error 
     return rc;
 }
 
+bool dmr_tsd_thin_usable(const dmr_frame *f, const dm_render_assets *a)
+{
+    return f->plan.texture_space && a->thin.texels && f->diffusion_sum && a->thin.width == f->irr_edge &&
+           a->thin.height == 2 * f->irr_edge;
+}
+
 dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
 {
     (void)st;
@@ -57,8 +63,7 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
      * dm_renderer_thin_map): only at the size it was baked for, and only where the levels are
      * summed per texel (a per-pixel sum has no texel to read its candidates at). On the CPU
      * blur path the sum is made in C from the same texels. */
-    if (rc == DM_OK && a->thin.texels && f->diffusion_sum && a->thin.width == f->irr_edge &&
-        a->thin.height == 2 * f->irr_edge)
+    if (rc == DM_OK && dmr_tsd_thin_usable(f, a))
         rc = dmr_upload(f, &a->thin, "thin", false, GL_NEAREST, &f->tex_thin, err);
     return rc;
 }

@@ -15,6 +15,9 @@ typedef struct dmr_tsd {
 } dmr_tsd;
 
 dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error *err);
+/* Whether the renderer uses the pack's thin-part map: texture-space, the levels summed per
+ * texel (f->diffusion_sum), the map baked at this irradiance size. */
+bool dmr_tsd_thin_usable(const dmr_frame *f, const dm_render_assets *a);
 dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err);
 dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err);
 dm_result dmr_tsd_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err);
