@@ -15,6 +15,8 @@ Test(render_tool, exit_codes_and_no_partial_file)
     cr_assert(test_tmpdir(dir, sizeof dir));
     snprintf(log, sizeof log, "%s/log", dir);
     cr_expect_eq(test_run(BIN " " SMALL " --pcf-taps 3", NULL), 1);
+    cr_expect_eq(test_run(BIN " " SMALL " --shadow-size 8", NULL), 1);
+    cr_expect_eq(test_run(BIN " " SMALL " --shadow-size 16384", NULL), 1);
     cr_expect_eq(test_run(BIN " " SMALL " --blur-reduce-shift 2", NULL), 1, "shift without from");
     cr_expect_eq(test_run(BIN " " SMALL " --view nope", NULL), 1);
     cr_expect_eq(test_run(BIN " /nonexistent.dpk -o /tmp/x.png", log), 2);

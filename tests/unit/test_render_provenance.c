@@ -43,10 +43,10 @@ Test(render_provenance, every_speed_setting_recorded, .timeout = 120)
     snprintf(png, sizeof png, "%s/b.png", dir);
     snprintf(cmd, sizeof cmd,
              DERMIS_BIN "/dermis-render --synthetic sphere --size 64x48 --irradiance 64 --pcf-taps 1 "
-                        "--blur-reduce-from 3 --blur-reduce-shift 2 --half-float -o %s --quiet",
+                        "--shadow-size 512 --blur-reduce-from 3 --blur-reduce-shift 2 --half-float -o %s --quiet",
              png);
     cr_assert_eq(test_run(cmd, NULL), 0);
-    const char *set[] = {"\"shadow_pcf_taps\":1", "\"blur_reduce_from\":3", "\"blur_reduce_shift\":2",
+    const char *set[] = {"\"shadow_pcf_taps\":1", "\"shadow_size\":512", "\"blur_reduce_from\":3", "\"blur_reduce_shift\":2",
                          "\"blur_half_float\":1", "\"blur_on\":\"gl\"",
                          "\"diffusion_sum\":\"per_pixel\""}; /* reduced levels: always per pixel */
     for (size_t k = 0; k < sizeof set / sizeof set[0]; ++k)

@@ -51,6 +51,9 @@ void render_usage(FILE *f)
             "                       (0, 100]\n"
             );
     fprintf(f, "Speed/accuracy settings (their measured time and error: bench/results/render.md):\n"
+            "  --shadow-size N      shadow map size, default 2048; 16..8192 (a cast shadow's edge\n"
+            "                       moves with the lookup's offset, 1.5 texels: 4096 halves it,\n"
+            "                       64 MiB a casting light; docs/crevices.md)\n"
             "  --pcf-taps N         shadow filter: 4 (default, the 3x3 PCF exactly), 9 (reference),\n"
             "                       1 (one bilinear compare: harder edges)\n"
             "  --blur-reduce-from K blur levels K and wider at reduced resolution, default off;\n"
@@ -122,6 +125,9 @@ int render_parse(int argc, char **argv, render_args *o)
         } else if (!strcmp(a, "--irradiance")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 8, 8192, &n)) return DM_EXIT_USAGE;
             o->irradiance = (int)n;
+        } else if (!strcmp(a, "--shadow-size")) {
+            if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 16, 8192, &n)) return DM_EXIT_USAGE;
+            o->speed.shadow_size = (int)n;
         } else if (!strcmp(a, "--pcf-taps")) {
             if (!(v = dm_cli_value(argc, argv, &i)) || !dm_cli_int(a, v, 1, 9, &n)) return DM_EXIT_USAGE;
             if (n != 1 && n != 4 && n != 9) {
