@@ -410,7 +410,7 @@ int main(int argc, char **argv)
         as[c] = packs[pk].assets;
         as[c].scene = &rows[c].scene;
         if (s->no_seam) as[c].seam = (dm_texture){0};
-        if (s->no_thin) as[c].thin = (dm_texture){0};
+        if (s->no_thin) as[c].thin = as[c].thin_half = (dm_texture){0};
         if (s->flat_stretch) {
             as[c].stretch_level_count = 1;
             as[c].stretch[0] = (dm_texture){DM_TEX_RG32F, as[c].stretch[0].width, as[c].stretch[0].height, flat};

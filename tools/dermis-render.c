@@ -66,7 +66,7 @@ static int load(const render_args *o, source *src, dm_error *err)
             dm_render_assets_from_pack(&src->pack, &src->scene, &src->profile, &src->pack_assets, err) != DM_OK)
             return DM_EXIT_LOAD;
         if (o->no_seam_map) src->pack_assets.seam = (dm_texture){0};
-        if (o->no_thin_map) src->pack_assets.thin = (dm_texture){0};
+        if (o->no_thin_map) src->pack_assets.thin = src->pack_assets.thin_half = (dm_texture){0};
         src->assets = &src->pack_assets;
         src->s = &src->scene;
         if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
@@ -255,8 +255,9 @@ int main(int argc, char **argv)
                    dm_renderer_thin_map(r) ? "the pack's: the diffusion pass adds the light from across thin parts and "
                                              "folds (up to two points a texel, each level weighted by exp(-d^2/2v))"
                    : !src.assets->thin.texels ? "none in the pack: no light reaches across thin parts and folds"
-                   : src.assets->thin.width != (desc.irradiance_size ? desc.irradiance_size : src.s->irradiance_size)
-                       ? "the pack's is for another irradiance size: not used"
+                   : !dm_render_assets_thin_map(src.assets, desc.irradiance_size ? desc.irradiance_size
+                                                                                  : src.s->irradiance_size)
+                       ? "the pack's are for other irradiance sizes (the scene's and half of it): not used"
                        : "the pack's is not used: the levels are summed per pixel (reduced levels or "
                          "--diffusion-per-pixel), where it has no texel to read");
         if (!o.out && !o.timings && !o.compare_exact) goto done;

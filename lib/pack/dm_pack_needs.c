@@ -33,6 +33,8 @@ static const dm_pack_need needs[] = {
      "seam map: per gutter texel a blur reaches, where the surface continues across the UV seam (u, v, 1, mm)", true},
     {"thin", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "thin-part map: per texel up to 2 surfaces across a thin part or a fold (u, v, mm, 1), N x 2N", true},
+    {"thin.half", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
+     "the thin-part map at half the irradiance size (N/2 x N)", true},
     {"sss.kernel", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_SCREEN_SPACE,
      "separable 1-D kernels fitted to the profile, one row per size of pixel (taps x rows: rgb weights, a = offset px; t_range: the rows' mm per pixel)", false},
     {"sss.preintegrated", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_PRE_INTEGRATED,

@@ -288,7 +288,8 @@ static const struct rule {
     {"mesh.vertices", vertices},       {"albedo", single},           {"normal", single},
     {"specular", single},              {"roughness", single},        {"lut.beckmann", single},
     {"lut.rho_dt", directional},       {"lut.env_brdf", directional}, {"stretch", stretch},
-    {"stretch.mask", single},          {"seam", seam},          {"thin", thin},               {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
+    {"stretch.mask", single},          {"seam", seam},               {"thin", thin},
+    {"thin.half", thin},               {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
     {"sss.curvature", single},         {"env.sh", sh},               {"env.specular", specular},
     {"env.background", background},
 };

@@ -36,7 +36,7 @@ static const step steps[] = {
     {"profile", {"profile"}, dmpb_step_profile},
     {"stretch", {"stretch", "stretch.mask"}, dmpb_step_stretch},
     {"seam map", {"seam"}, dmpb_step_seam},
-    {"thin-part map", {"thin"}, dmpb_step_thin},
+    {"thin-part map", {"thin", "thin.half"}, dmpb_step_thin},
     {"screen-space kernel", {"sss.kernel"}, dmpb_step_ss_kernel},
     {"pre-integrated table", {"sss.preintegrated"}, dmpb_step_preintegrated},
     {"curvature", {"sss.curvature"}, dmpb_step_curvature},

@@ -17,7 +17,7 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
     /* the seam map (RGBA32F, N²) and the thin-part map (RGBA32F, N × 2N): entries the size of the
      * grid, written like the chain */
     if (dm_pack_build_wants(b, "seam")) m->pack_size += n * n * 16;
-    if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32;
+    if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32 + n * n * 8; /* and thin.half, N/2 × N */
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;

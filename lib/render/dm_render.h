@@ -110,6 +110,11 @@ typedef struct dm_render_assets {
      * parallel sheets); used only when N is the irradiance size and the levels are summed per
      * texel (dm_renderer_thin_map says whether it is used). */
     dm_texture thin;
+    /* the thin-part map baked at half the size (the pack's "thin.half", N/2 × N): a renderer
+     * at half the scene's irradiance size (dermis-view's default) uses it, one at the scene's
+     * size the one above (dm_render_assets_thin_map); optional. (No half-size seam map: at
+     * 512² on the head it made the seam region worse, docs/seam-map.md.) */
+    dm_texture thin_half;
     const dm_profile *profile; /* NULL: scene->profile */
 
     /* screen-space subsurface: the separable kernels dermis-pack fitted to the profile, one row
@@ -158,6 +163,11 @@ typedef enum dm_blur_path { DM_BLUR_PATH_AUTO = 0, DM_BLUR_PATH_GL, DM_BLUR_PATH
  * error against the ray-cast truth is 3.77 / 6.47 / 5.81 % at 1024, 2.31 / 3.66 / 3.48 % at
  * 2048 (+3 ms of shadow pass on llvmpipe at 1280x720) and 1.66 / 2.07 / 2.03 % at 4096. */
 enum { DM_RENDER_SHADOW_SIZE_DEFAULT = 2048 };
+
+/* The seam map (N × N) of a baked for irradiance size n, or the thin-part map (N × 2N) — the
+ * pack's own or its half-size one — or NULL when none is. */
+const dm_texture *dm_render_assets_seam_map(const dm_render_assets *a, int n);
+const dm_texture *dm_render_assets_thin_map(const dm_render_assets *a, int n);
 
 /* Options of the renderer itself; zero means default. */
 typedef struct dm_render_desc {

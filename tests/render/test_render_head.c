@@ -184,7 +184,7 @@ static uint8_t *ear_picture(void (*edit)(dm_scene *), bool thin_map)
     if (!thin_map) {
         dm_renderer_destroy(h.r);
         dm_render_assets a = h.assets;
-        a.thin = (dm_texture){0};
+        a.thin = a.thin_half = (dm_texture){0};
         create_renderer(&h, &a);
     }
     render(&h, DM_VIEW_FINAL, 0);

@@ -256,3 +256,46 @@ Test(thin, the_debug_view_shows_the_map, .timeout = 120)
     free(px), free(map);
     dm_pack_close(&sp.pack);
 }
+
+/* The pack holds the map at the scene's size and at half of it ("thin.half", what a renderer
+ * at N/2 — dermis-view's default — reads): at IRR / 2 the pack's own maps light the sheet's
+ * dark bottom from its top, on both blur paths; at IRR / 4 (neither size) they are left out. */
+Test(thin, the_half_size_map_at_half_the_size, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    cr_assert(sp.assets.thin.width == IRR && sp.assets.thin_half.width == IRR / 2 && sp.assets.thin_half.height == IRR,
+              "thin %d, thin.half %dx%d", sp.assets.thin.width, sp.assets.thin_half.width, sp.assets.thin_half.height);
+    for (int p = 0; p < 2; ++p)
+        for (int q = 2; q <= 4; q += 2) {
+            const int n = IRR / q;
+            dm_osmesa *ctx = NULL;
+            dm_renderer *r = NULL;
+            dm_error err = {0};
+            cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+            dm_render_desc d = {.width = 64, .height = 64, .irradiance_size = n, .blur_path = p ? DM_BLUR_PATH_GL : DM_BLUR_PATH_CPU};
+            cr_assert_eq(dm_renderer_create(&sp.assets, &d, &r, &err), DM_OK, "%s", err.detail);
+            cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+            cr_assert_eq(dm_renderer_thin_map(r), q == 2, "at %d", n);
+            float *px = malloc(sizeof *px * 4 * (size_t)n * n);
+            cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+            double uv[2];
+            thin_sheet_uv(1, THIN_SHEET_L / 2, THIN_SHEET_L / 2, uv);
+            const float *bottom = px + 4 * ((size_t)floor(uv[1] * n) * n + (size_t)floor(uv[0] * n));
+            thin_sheet_uv(0, THIN_SHEET_L / 2, THIN_SHEET_L / 2, uv);
+            const float *top = px + 4 * ((size_t)floor(uv[1] * n) * n + (size_t)floor(uv[0] * n));
+            double want[3];
+            across(&sp.profile, 1.0, want);
+            if (q == 2) /* a texel centre off the sheet's middle by up to half a texel: 2 % */
+                cr_expect(fabs(bottom[0] / top[0] / want[0] - 1) < 0.02, "at %d: across %g of the top, expected %g", n,
+                          bottom[0] / top[0], want[0]);
+            else
+                cr_expect_lt(bottom[0], 1e-6f * top[0], "at %d: the bottom is lit without a map", n);
+            free(px);
+            dm_renderer_destroy(r);
+            dm_osmesa_destroy(ctx);
+        }
+    dm_pack_close(&sp.pack);
+}

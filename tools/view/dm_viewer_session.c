@@ -35,7 +35,8 @@ static void list_views(dm_viewer *v)
         if (!dm_view_parse(names[i], &view, &k) || dm_render_plan_build(&v->scene, view, k, &plan, &e) != DM_OK)
             continue;
         if (view == DM_VIEW_STRETCH && k >= v->assets.stretch_level_count) continue;
-        if ((view == DM_VIEW_SEAM && !v->assets.seam.texels) || (view == DM_VIEW_THIN && !v->assets.thin.texels)) continue;
+        if ((view == DM_VIEW_SEAM && !v->assets.seam.texels) ||
+            (view == DM_VIEW_THIN && !v->assets.thin.texels && !v->assets.thin_half.texels)) continue;
         snprintf(v->view_names[v->view_count++], sizeof v->view_names[0], "%s", names[i]);
     }
 }

@@ -85,9 +85,9 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
             count_upload(m, &a->stretch[k], false);
         count_upload(m, &a->stretch_mask, false);
         /* the seam and thin-part maps, uploaded at the size they were baked for (dm_pass_tsd.c) */
-        if (a->seam.width == s->irr_edge && a->seam.height == s->irr_edge) count_upload(m, &a->seam, false);
-        if (in->diffusion_sum && a->thin.width == s->irr_edge && a->thin.height == 2 * s->irr_edge)
-            count_upload(m, &a->thin, false);
+        const dm_texture *seam = dm_render_assets_seam_map(a, s->irr_edge), *thin = dm_render_assets_thin_map(a, s->irr_edge);
+        if (seam) count_upload(m, seam, false);
+        if (in->diffusion_sum && thin) count_upload(m, thin, false);
     }
     if (p->pre_integrated) {
         count_upload(m, &a->preintegrated, false);
@@ -133,7 +133,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         for (int k = 1; k < p->blur_levels; ++k)
             m->cpu_blur_size += (texels(e[k], e[k - 1]) + texels(e[k], e[k])) * 4;
         if (in->diffusion_sum) m->cpu_blur_size += N2 * 16;
-        if (in->diffusion_sum && a->thin.width == s->irr_edge && a->thin.height == 2 * s->irr_edge)
+        if (in->diffusion_sum && dm_render_assets_thin_map(a, s->irr_edge))
             m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;

@@ -82,7 +82,8 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     a->stretch_level_count = st->layers;
     dm_result r = texture(pack, "stretch.mask", &a->stretch_mask, err);
     if (r == DM_OK) r = texture(pack, "seam", &a->seam, err);
-    return r == DM_OK ? texture(pack, "thin", &a->thin, err) : r;
+    if (r == DM_OK) r = texture(pack, "thin", &a->thin, err);
+    return r == DM_OK ? texture(pack, "thin.half", &a->thin_half, err) : r;
 }
 
 static bool has_env(const dm_pack *pack, int env)
@@ -166,4 +167,18 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
         assets->preint_curvature_max_per_mm = pi->t_range[1];
     }
     return environment(pack, env, assets, err);
+}
+
+const dm_texture *dm_render_assets_seam_map(const dm_render_assets *a, int n)
+{
+    return a->seam.texels && a->seam.width == n && a->seam.height == n ? &a->seam : NULL;
+}
+
+const dm_texture *dm_render_assets_thin_map(const dm_render_assets *a, int n)
+{
+    for (int h = 0; h < 2; ++h) {
+        const dm_texture *t = h ? &a->thin_half : &a->thin;
+        if (t->texels && t->width == n && t->height == 2 * n) return t;
+    }
+    return NULL;
 }

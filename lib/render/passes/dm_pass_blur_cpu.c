@@ -53,7 +53,9 @@ static bool allocate(dmr_frame *f, dmr_blur_cpu *b, const dm_render_assets *a)
     if (f->diffusion_sum && !(b->sum = malloc(sizeof(float) * 4 * (size_t)f->irr_edge * (size_t)f->irr_edge)))
         return false;
     /* the thin-part map's candidates, compact (diffusion.glsl's DM_THIN: the same terms) */
-    if (b->sum && f->tex_thin && !dm_level_sum_thin_make(a->thin.texels, f->irr_edge, &b->thin)) return false;
+    if (b->sum && f->tex_thin &&
+        !dm_level_sum_thin_make(dm_render_assets_thin_map(a, f->irr_edge)->texels, f->irr_edge, &b->thin))
+        return false;
     return true;
 }
 

@@ -24,12 +24,12 @@ dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error 
             rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: stretch level %d is %s, expected rg32f or rg16f", k,
                          dmr_format_name(a->stretch[k].format));
     }
-    if (rc == DM_OK && a->seam.texels && a->seam.format != DM_TEX_RGBA32F)
-        rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the seam map is %s, expected rgba32f",
-                     dmr_format_name(a->seam.format));
-    if (rc == DM_OK && a->thin.texels && a->thin.format != DM_TEX_RGBA32F)
-        rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the thin-part map is %s, expected rgba32f",
-                     dmr_format_name(a->thin.format));
+    const dm_texture *maps[3] = {&a->seam, &a->thin, &a->thin_half};
+    static const char *const names[3] = {"seam", "thin-part", "half-size thin-part"};
+    for (int k = 0; k < 3 && rc == DM_OK; ++k)
+        if (maps[k]->texels && maps[k]->format != DM_TEX_RGBA32F)
+            rc = dm_fail(err, DM_ERR_UNSUPPORTED, "assets: the %s map is %s, expected rgba32f", names[k],
+                         dmr_format_name(maps[k]->format));
     int taps = a->scene->blur_taps;
     if (rc == DM_OK && (taps < 3 || taps > DM_BLUR_TAPS_MAX || taps % 2 == 0))
         rc = dm_fail(err, DM_ERR_RANGE, "scene: blur_taps = %d, expected an odd integer in [3, %d]", taps,
@@ -39,8 +39,7 @@ dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error 
 
 bool dmr_tsd_thin_usable(const dmr_frame *f, const dm_render_assets *a)
 {
-    return f->plan.texture_space && a->thin.texels && f->diffusion_sum && a->thin.width == f->irr_edge &&
-           a->thin.height == 2 * f->irr_edge;
+    return f->plan.texture_space && f->diffusion_sum && dm_render_assets_thin_map(a, f->irr_edge);
 }
 
 dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
@@ -57,14 +56,14 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
      * texels it continues (DM_SEAM; dm_renderer_seam_map). Only at the size it was baked for:
      * at another the gutters are other texels, and its continuations (a texel centre's, half a
      * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). */
-    if (rc == DM_OK && a->seam.texels && a->seam.width == f->irr_edge && a->seam.height == f->irr_edge)
-        rc = dmr_upload(f, &a->seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
+    const dm_texture *seam = dm_render_assets_seam_map(a, f->irr_edge);
+    if (rc == DM_OK && seam) rc = dmr_upload(f, seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
     /* the thin-part map, read at texel centres (nearest) by the diffusion pass (DM_THIN;
      * dm_renderer_thin_map): only at the size it was baked for, and only where the levels are
      * summed per texel (a per-pixel sum has no texel to read its candidates at). On the CPU
      * blur path the sum is made in C from the same texels. */
     if (rc == DM_OK && dmr_tsd_thin_usable(f, a))
-        rc = dmr_upload(f, &a->thin, "thin", false, GL_NEAREST, &f->tex_thin, err);
+        rc = dmr_upload(f, dm_render_assets_thin_map(a, f->irr_edge), "thin", false, GL_NEAREST, &f->tex_thin, err);
     return rc;
 }
 
