@@ -27,7 +27,8 @@ static void setup(void)
 static int run(const char *args)
 {
     char cmd[8192], log[700];
-    snprintf(cmd, sizeof cmd, REF " %s", args);
+    int n = snprintf(cmd, sizeof cmd, REF " %s", args);
+    if (n < 0 || (size_t)n >= sizeof cmd) return -1; /* too long to run as given */
     snprintf(log, sizeof log, "%s/log.txt", dir);
     return test_run(cmd, log);
 }
