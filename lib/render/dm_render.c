@@ -52,6 +52,15 @@ static dm_result resolve(dmr_frame *f, const dm_render_assets *a, const dm_rende
     return DM_OK;
 }
 
+/* What the renderer chose at create, applied to a plan of the scene (at create and each
+ * frame's): the levels summed per pixel where not per texel; no translucency on top of the
+ * thin-part map. */
+static void plan_choices(const dmr_frame *f, dm_render_plan *p)
+{
+    if (!f->diffusion_sum) dm_render_plan_sum_per_pixel(p);
+    if (f->thin_map) dm_render_plan_thin_map(p);
+}
+
 /* Before any GL object: the plan, the assets it needs (every row's check), the limits. */
 static dm_result plan_and_check(dm_renderer *r, const dm_render_assets *a, dm_error *err)
 {
@@ -60,8 +69,8 @@ static dm_result plan_and_check(dm_renderer *r, const dm_render_assets *a, dm_er
     /* the levels' sum per texel: exact at the texel centres only where every level has them
      * (reduced levels would be interpolated twice: to the centres, then to the pixel) */
     f->diffusion_sum = dmr_diffusion_summed(&f->plan, &f->desc);
-    if (rc == DM_OK && !f->diffusion_sum) dm_render_plan_sum_per_pixel(&f->plan);
-    if (rc == DM_OK && dmr_tsd_thin_usable(f, a)) dm_render_plan_thin_map(&f->plan); /* no translucency on top */
+    f->thin_map = rc == DM_OK && dmr_tsd_thin_usable(f, a);
+    if (rc == DM_OK) plan_choices(f, &f->plan);
     if (rc == DM_OK) rc = dmr_frame_check(f, a, err);
     int n;
     const dmr_pass_row *rows = dmr_pass_rows(&n);
@@ -165,7 +174,7 @@ dm_result dm_render_frame(dm_renderer *r, const dm_frame_options *opt, dm_error 
     dm_render_plan plan;
     dm_result rc = dm_render_plan_build(&f->scene, opt->view, opt->view_index, &plan, err);
     if (rc != DM_OK) return rc;
-    if (!f->diffusion_sum) dm_render_plan_sum_per_pixel(&plan);
+    plan_choices(f, &plan);
     f->plan = plan;
     float blur_scale = opt->blur_scale > 0 ? opt->blur_scale : 1.0f;
     if (plan.texture_space && blur_scale != f->kernel.scale) dmr_frame_blur(f, blur_scale);

@@ -188,6 +188,12 @@ static uint8_t *ear_picture(void (*edit)(dm_scene *), bool thin_map)
         create_renderer(&h, &a);
     }
     render(&h, DM_VIEW_FINAL, 0);
+    /* the frame's own plan keeps what the renderer chose at create: no translucency where the
+     * thin-part map is used (the texture-space head), translucency where it is asked and not */
+    const dm_render_plan *p = dm_renderer_plan(h.r);
+    bool uses_map = dm_renderer_thin_map(h.r);
+    cr_assert_eq(uses_map, thin_map && p->texture_space);
+    cr_assert_eq(p->translucency_active, h.scene.effects[DM_EFFECT_TRANSLUCENCY] && !uses_map);
     uint8_t *rgba = malloc((size_t)W * H * 4);
     dm_error err = {0};
     cr_assert_eq(dm_renderer_read_display(h.r, rgba, &err), DM_OK, "%s", err.detail);

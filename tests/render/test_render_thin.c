@@ -61,18 +61,16 @@ static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
                  err.detail);
 }
 
-/* A texture view (irr², RGBA) with the given thin-part map texels (NULL: none) of n × 2n;
- * whether the renderer used the map, and the view's colour scale when lo is not NULL. */
-static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, dm_view view, bool *used,
-                        float *lo, float *hi, const char **quantity)
+/* A texture view (irr², RGBA) of the assets at irradiance size irr; whether the renderer used
+ * a thin-part map, and the view's colour scale when lo is not NULL. */
+static float *render_view(const dm_render_assets *a, int irr, dm_blur_path path, dm_view view, bool *used, float *lo,
+                          float *hi, const char **quantity)
 {
-    dm_render_assets a = sp->assets;
-    a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
     dm_osmesa *ctx = NULL;
     dm_renderer *r = NULL;
     dm_error err = {0};
     cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
-    cr_assert_eq(dm_renderer_create(&a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR, .blur_path = path},
+    cr_assert_eq(dm_renderer_create(a, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = irr, .blur_path = path},
                                     &r, &err),
                  DM_OK, "%s", err.detail);
     cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = view}, &err), DM_OK, "%s", err.detail);
@@ -80,12 +78,21 @@ static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_p
     if (lo) dm_renderer_view_scale(r, lo, hi, quantity);
     int w, h;
     dm_renderer_view_size(r, &w, &h);
-    cr_assert(w == IRR && h == IRR);
-    float *px = malloc(sizeof *px * 4 * (size_t)IRR * IRR);
+    cr_assert(w == irr && h == irr);
+    float *px = malloc(sizeof *px * 4 * (size_t)irr * irr);
     cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
     dm_renderer_destroy(r);
     dm_osmesa_destroy(ctx);
     return px;
+}
+
+/* The same at IRR with the given thin-part map texels (NULL: none) of n × 2n. */
+static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, dm_view view, bool *used,
+                        float *lo, float *hi, const char **quantity)
+{
+    dm_render_assets a = sp->assets;
+    a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
+    return render_view(&a, IRR, path, view, used, lo, hi, quantity);
 }
 
 static float *diffusion_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, bool *used)
@@ -271,16 +278,10 @@ Test(thin, the_half_size_map_at_half_the_size, .timeout = 120)
     for (int p = 0; p < 2; ++p)
         for (int q = 2; q <= 4; q += 2) {
             const int n = IRR / q;
-            dm_osmesa *ctx = NULL;
-            dm_renderer *r = NULL;
-            dm_error err = {0};
-            cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
-            dm_render_desc d = {.width = 64, .height = 64, .irradiance_size = n, .blur_path = p ? DM_BLUR_PATH_GL : DM_BLUR_PATH_CPU};
-            cr_assert_eq(dm_renderer_create(&sp.assets, &d, &r, &err), DM_OK, "%s", err.detail);
-            cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
-            cr_assert_eq(dm_renderer_thin_map(r), q == 2, "at %d", n);
-            float *px = malloc(sizeof *px * 4 * (size_t)n * n);
-            cr_assert_eq(dm_renderer_read_view(r, px, &err), DM_OK, "%s", err.detail);
+            bool used;
+            float *px = render_view(&sp.assets, n, p ? DM_BLUR_PATH_GL : DM_BLUR_PATH_CPU, DM_VIEW_DIFFUSION, &used, NULL,
+                                    NULL, NULL);
+            cr_assert_eq(used, q == 2, "at %d", n);
             double uv[2];
             thin_sheet_uv(1, THIN_SHEET_L / 2, THIN_SHEET_L / 2, uv);
             const float *bottom = px + 4 * ((size_t)floor(uv[1] * n) * n + (size_t)floor(uv[0] * n));
@@ -294,8 +295,6 @@ Test(thin, the_half_size_map_at_half_the_size, .timeout = 120)
             else
                 cr_expect_lt(bottom[0], 1e-6f * top[0], "at %d: the bottom is lit without a map", n);
             free(px);
-            dm_renderer_destroy(r);
-            dm_osmesa_destroy(ctx);
         }
     dm_pack_close(&sp.pack);
 }

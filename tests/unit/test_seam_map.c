@@ -184,6 +184,40 @@ Test(seam_map, zero_uv_area_triangles_give_no_continuation_and_no_nan)
     free(tri), dm_seam_map_free(&map), dm_mesh_free(&m);
 }
 
+/* A triangle of no 3-D area (one corner moved onto the line of the other two; its UVs
+ * unchanged) on the walks' way, one column into the right chart: a walk that meets it stops
+ * there (no direction to go on in it), counted lost; nothing is NaN and every continuation
+ * still lands on a covered texel. */
+Test(seam_map, a_walk_meeting_a_triangle_of_no_area_stops)
+{
+    seam_plate p = {.a = 0.01, .b = 0.01};
+    dm_mesh m, plain;
+    seam_plate_mesh(&p, &m), seam_plate_mesh(&p, &plain);
+    const int c = SEAM_PLATE_CELLS / 2, row = SEAM_PLATE_CELLS + 1; /* cell (c, c): corners (c,c) (c+1,c) (c+1,c+1) */
+    float *v = m.positions + 3 * (size_t)(c * row + c + 1), *a = m.positions + 3 * (size_t)(c * row + c),
+          *b = m.positions + 3 * (size_t)((c + 1) * row + c + 1);
+    for (int k = 0; k < 3; ++k) v[k] = 0.5f * (a[k] + b[k]);
+    dm_mesh_compute_normals(&m);
+    dm_seam_map map, map0;
+    dm_seam_map_stats st, st0;
+    dm_error err = {0};
+    cr_assert_eq(dm_seam_map_bake(&m, &(dm_seam_map_options){N, 1.0, REACH}, &map, &st, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_seam_map_bake(&plain, &(dm_seam_map_options){N, 1.0, REACH}, &map0, &st0, &err), DM_OK, "%s",
+                 err.detail);
+    for (size_t x = 0; x < 4 * (size_t)N * N; ++x) cr_assert(isfinite(map.texels[x]));
+    cr_assert_gt(st.lost_texels, st0.lost_texels, "%lld lost, %lld without the flat triangle", (long long)st.lost_texels,
+                 (long long)st0.lost_texels);
+    int32_t *tri = malloc(sizeof *tri * N * N);
+    cr_assert_eq(dm_uv_raster(&m, NULL, N, N, 1, tri, NULL, &err), DM_OK);
+    for (size_t x = 0; x < (size_t)N * N; ++x) {
+        const float *px = map.texels + 4 * x;
+        if (px[2] == 0) continue;
+        int i = (int)floor(px[0] * N), j = (int)floor(px[1] * N);
+        cr_assert(tri[x] < 0 && tri[(size_t)j * N + i] >= 0);
+    }
+    free(tri), dm_seam_map_free(&map), dm_seam_map_free(&map0), dm_mesh_free(&m), dm_mesh_free(&plain);
+}
+
 Test(seam_map, a_mesh_without_seams_gives_an_empty_map)
 {
     seam_plate p = {.a = 0.01, .b = 0.01, .uncut = 1};

@@ -83,6 +83,8 @@ struct dmr_frame {
     bool diffusion_sum; /* the final pass and the diffusion view read the diffusion pass's sum
                          * (DM_DIFFUSION_SUM), not the levels per pixel */
     bool blur_cpu;      /* the texture-space blurs run on the CPU (the CPU blur's setup) */
+    bool thin_map;      /* the pack's thin-part map is used (dmr_tsd_thin_usable): every plan
+                         * drops translucency (dm_render_plan_thin_map) */
 
     /* the mesh */
     GLuint vao_mesh, vao_empty;
