@@ -16,7 +16,9 @@
  *   - texture-space error: the `diffusion` view at irradiance N against `dermis-reference
  *     PACK --texture-space N`, area-weighted (dm_ref_regions.h: texel area in mm²), mean and
  *     p95 per channel, over the whole skin and per region (smooth, within 3 mm of a UV
- *     seam, thin parts and folds);
+ *     seam, thin parts and folds); on stderr each region's signed bias and its error by ring
+ *     from the chart's edge (ring 1 touches an uncovered texel: where the blur meets a chart's
+ *     outline);
  *   - frame error, taken apart (common/frame_truth.h): the final linear frame at 1280x720
  *     against `dermis-reference PACK --frame` in a transport run (white albedo, no normal
  *     map, no shadows; normalised by the no-subsurface frame where subsurface shows), then
@@ -251,6 +253,43 @@ static void print_bias(const char *row, const float *ref, const float *px, const
     }
 }
 
+/* Each region split by how far a texel lies inside its chart: ring 1 touches (8-neighbour) a
+ * texel the reference does not cover (a chart's edge, a seam's gutter), ring 2 the next, 3 the
+ * rest; mean red error (its own floor: 1 % of the ring's mean reference) and area, on stderr.
+ * Where a region's error sits: along the charts' outlines (the blur's edge) or inside. */
+static void print_rings(const char *row, const float *ref, const float *px, const float *area, const uint8_t *label,
+                        int N)
+{
+    static const char *const names[DM_REF_REGION_COUNT] = {"smooth", "seam", "thin"};
+    size_t n = (size_t)N * N;
+    uint8_t *lab = malloc(n);
+    if (!lab) return;
+    for (size_t i = 0; i < n; ++i) {
+        int x = (int)(i % (size_t)N), y = (int)(i / (size_t)N), ring = 3;
+        for (int r = 1; r <= 2 && ring == 3; ++r)
+            for (int dy = -r; dy <= r && ring == 3; ++dy)
+                for (int dx = -r; dx <= r; ++dx) {
+                    int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= N || yy >= N || !(ref[4 * ((size_t)yy * N + xx) + 3] >= 0.5f)) {
+                        ring = r;
+                        break;
+                    }
+                }
+        lab[i] = label[i] < DM_REF_REGION_COUNT ? (uint8_t)(label[i] * 3 + ring - 1) : 255;
+    }
+    for (int g = 0; g < DM_REF_REGION_COUNT; ++g) {
+        fprintf(stderr, "accuracy bench: %s: %s by ring from the chart's edge:", row, names[g]);
+        for (int r = 0; r < 3; ++r) {
+            dm_ref_error_stats st;
+            dm_error err = {0};
+            if (dm_ref_error_stats_compute(ref, px, area, lab, g * 3 + r, n, &st, &err) == DM_OK)
+                fprintf(stderr, " %d%s %.2f %% red (%.0f mm2)", r + 1, r == 2 ? "+" : "", 100 * st.mean[0], st.weight_sum);
+        }
+        fprintf(stderr, "\n");
+    }
+    free(lab);
+}
+
 /* Per texel at size N: the region label and the area (mm²) of each of the reference's
  * own targets (common/atlas_regions.h). */
 static int label_atlas(const dm_ref_regions *rg, const dm_mesh *m, sized *z)
@@ -454,6 +493,7 @@ int main(int argc, char **argv)
             for (int g = 0; g < DM_REF_REGION_COUNT; ++g)
                 rows[c].ok[g] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, zz->label, g, n, &rows[c].st[g], &err) == DM_OK;
             print_bias(rows[c].s.name, zz->ref.rgba, px, zz->area, zz->label, n);
+            print_rings(rows[c].s.name, zz->ref.rgba, px, zz->area, zz->label, zz->N);
             free(px);
         }
         dm_renderer_destroy(rows[c].r);
