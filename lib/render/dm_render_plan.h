@@ -122,6 +122,9 @@ typedef struct dm_render_plan {
     int shadow_count;                /* casting lights given a shadow map, ≤ DM_PLAN_MAX_SHADOWS */
     int casting_lights;              /* all lights that cast (more than shadow_count: no map) */
     int shadow_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */
+    int unshadowed_count;            /* lights lit without a shadow map (shadows off, the light
+                                      * casts none, or past DM_PLAN_MAX_SHADOWS) */
+    int unshadowed_light[DM_SCENE_MAX_LIGHTS]; /* their light indices */
     int blur_levels;                 /* Gaussians (levels incl. level 0), 0 without texture-space subsurface */
     dm_sss_technique technique;      /* the scene's subsurface technique */
     bool texture_space;              /* subsurface on with the texture-space technique */

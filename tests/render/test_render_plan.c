@@ -203,3 +203,34 @@ Test(render_plan, thin_map_takes_translucency_s_place_in_texture_space)
         cr_expect(p.translucency_active && !p.translucency_by_thin_map, "%s", dm_sss_technique_name(s.sss_technique));
     }
 }
+
+/* A light without a shadow map lights what the head hides from it (inside the eye slits and
+ * nostrils) and the texture-space blur carries that light out (docs/crevices.md): explain
+ * names every such light in texture space — one that casts none, all of them with shadows
+ * off — and none when each light has its map or the technique has no texture-space blur. */
+Test(render_plan, explain_names_the_lights_without_a_shadow_map)
+{
+    dm_scene s;
+    dm_synth_scene(&s, 4.5f);
+    s.light_count = 3;
+    s.lights[1] = s.lights[0], s.lights[2] = s.lights[0];
+    s.lights[1].casts_shadow = false;
+    dm_render_plan p;
+    char text[8192];
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    cr_expect(p.unshadowed_count == 1 && p.unshadowed_light[0] == 1);
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(strstr(text, "note: light 1 has no shadow map: it also lights what the head hides from it"), "%s", text);
+    s.effects[DM_EFFECT_SHADOWS] = false;
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(strstr(text, "note: lights 0, 1, 2 have no shadow map: they also light what the head hides from them"), "%s", text);
+    s.effects[DM_EFFECT_SHADOWS] = true, s.lights[1].casts_shadow = true;
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(p.unshadowed_count == 0 && !strstr(text, "no shadow map"), "%s", text);
+    s.lights[1].casts_shadow = false, s.sss_technique = DM_SSS_SCREEN_SPACE;
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    dm_render_plan_explain(&p, text, sizeof text);
+    cr_expect(!strstr(text, "no shadow map"), "%s", text);
+}

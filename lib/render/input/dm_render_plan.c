@@ -88,6 +88,11 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
         for (int i = 0; i < s->light_count && i < DM_SCENE_MAX_LIGHTS; ++i)
             if (s->lights[i].casts_shadow && p->casting_lights++ < DM_PLAN_MAX_SHADOWS)
                 p->shadow_light[p->shadow_count++] = i;
+    for (int i = 0; i < s->light_count && i < DM_SCENE_MAX_LIGHTS; ++i) {
+        bool mapped = false;
+        for (int k = 0; k < p->shadow_count; ++k) mapped |= p->shadow_light[k] == i;
+        if (!mapped) p->unshadowed_light[p->unshadowed_count++] = i;
+    }
     p->translucency_active = fx[DM_EFFECT_TRANSLUCENCY] && p->shadow_count > 0;
     const char *trans = p->translucency_active ? TRANSMITTED : "";
     /* the view's requirements */
@@ -321,6 +326,15 @@ size_t dm_render_plan_explain(const dm_render_plan *p, char *out, size_t out_siz
                 "(texture-space; on top it would count it twice)\n");
     else if (p->effects[DM_EFFECT_TRANSLUCENCY] && !p->translucency_active)
         put(&b, "note: translucency is inactive: it reads thickness from a shadow map, and no light has one\n");
+    if (p->texture_space && p->unshadowed_count > 0) {
+        put(&b, "note: light%s", p->unshadowed_count > 1 ? "s" : "");
+        for (int k = 0; k < p->unshadowed_count; ++k) put(&b, "%s%d", k ? ", " : " ", p->unshadowed_light[k]);
+        put(&b, " %s no shadow map: %s what the head hides from %s (inside the eye slits, the nostrils, the mouth), "
+                "and the texture-space blur carries that light out: a red line along the lids and rims where a light "
+                "comes from behind (docs/crevices.md)\n",
+            p->unshadowed_count > 1 ? "have" : "has", p->unshadowed_count > 1 ? "they also light" : "it also lights",
+            p->unshadowed_count > 1 ? "them" : "it");
+    }
     if (p->effects[DM_EFFECT_SHADOWS] && p->shadow_count == 0)
         put(&b, "note: shadows on but no light casts: no shadow pass\n");
     return b.len;
