@@ -229,7 +229,12 @@ Test(render_plan, explain_names_the_lights_without_a_shadow_map)
     cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
     dm_render_plan_explain(&p, text, sizeof text);
     cr_expect(p.unshadowed_count == 0 && !strstr(text, "no shadow map"), "%s", text);
-    s.lights[1].casts_shadow = false, s.sss_technique = DM_SSS_SCREEN_SPACE;
+    s.light_count = DM_PLAN_MAX_SHADOWS + 2; /* every one casts, the last two past the maps */
+    for (int i = 0; i < s.light_count; ++i) s.lights[i] = s.lights[0];
+    cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
+    cr_expect(p.unshadowed_count == 2 && p.unshadowed_light[0] == DM_PLAN_MAX_SHADOWS &&
+              p.unshadowed_light[1] == DM_PLAN_MAX_SHADOWS + 1);
+    s.light_count = 3, s.lights[1].casts_shadow = false, s.sss_technique = DM_SSS_SCREEN_SPACE;
     cr_assert_eq(dm_render_plan_build(&s, DM_VIEW_FINAL, 0, &p, NULL), DM_OK);
     dm_render_plan_explain(&p, text, sizeof text);
     cr_expect(!strstr(text, "no shadow map"), "%s", text);
