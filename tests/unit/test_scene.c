@@ -56,6 +56,27 @@ Test(scene, bundled_full_scene_has_every_effect_and_existing_files)
     cr_assert_eq(scene.profile.count, 6);
 }
 
+/* The demo's lights all cast shadows: unshadowed, its two lights from behind lit the walls
+ * inside the eye slits and nostrils and the texture-space blur drew a red line along the lids
+ * (docs/crevices.md). lps-demo-eyes.json is the demo's close-up: the same lights, material and
+ * subsurface, so what it measures there is what the demo shows. */
+Test(scene, the_demo_s_lights_cast_shadows_and_its_close_up_shares_them)
+{
+    read_bundled("lps.json");
+    dm_scene demo = scene;
+    for (int i = 0; i < demo.light_count; ++i) cr_expect(demo.lights[i].casts_shadow, "light %d", i);
+    read_bundled("lps-demo-eyes.json");
+    cr_assert_eq(scene.light_count, demo.light_count);
+    cr_expect_eq(memcmp(scene.lights, demo.lights, sizeof demo.lights), 0);
+    cr_expect_eq(memcmp(&scene.profile, &demo.profile, sizeof demo.profile), 0);
+    cr_expect_eq(scene.irradiance_size, demo.irradiance_size);
+    cr_expect_eq(scene.roughness, demo.roughness);
+    cr_expect_eq(scene.rho_s, demo.rho_s);
+    cr_expect_str_eq(scene.albedo, demo.albedo);
+    cr_expect_str_eq(scene.normal_map, demo.normal_map);
+    cr_expect(scene.effects[DM_EFFECT_SUBSURFACE] && scene.effects[DM_EFFECT_SHADOWS] && !scene.effects[DM_EFFECT_GLOW]);
+}
+
 /* An inline profile survives the scene's JSON bit for bit: 0.39354874902655007 printed with
  * cJSON's 15 digits reads back one ulp off (cJSON keeps 15 when they come within an ulp), so
  * the scene writes the profile with the profile writer's 17 and reads it from the node. */
