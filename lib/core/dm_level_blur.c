@@ -2,6 +2,8 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/dm_parallel.h"
@@ -36,6 +38,28 @@ bool dm_level_blur_step(const float *stretch, int sw, int sh, int dst_w, int dst
     return true;
 }
 
+/* Whether texel j along the pass's line (row y along u, column x along v) may be read for the
+ * texel whose point is `me`: outside the image (the zero border), without a point, or within
+ * reach of it in 3-D. */
+static inline bool near(const dm_level_blur_pass *p, const float *me, int j, int x, int y, float reach)
+{
+    int n = p->along_v ? p->dst_h : p->dst_w;
+    if (j < 0 || j >= n) return true;
+    const float *q = p->points + 4 * (p->along_v ? (size_t)j * (size_t)p->dst_w + (size_t)x
+                                                 : (size_t)y * (size_t)p->dst_w + (size_t)j);
+    if (!(q[3] > 0.0f)) return true;
+    float dx = q[0] - me[0], dy = q[1] - me[1], dz = q[2] - me[2];
+    return dx * dx + dy * dy + dz * dz <= reach * reach;
+}
+
+/* Whether taps from texel coordinate lo to hi along the line read a texel across one of the
+ * texel's two nearest cuts (c[0] on the left or below, c[1] on the right or above). */
+static inline bool across(const int16_t *c, float lo, float hi)
+{
+    /* floor(lo) <= c0 − 1 and floor(hi) + 1 >= c1, for whole c0, c1 (lo <= hi: dt >= 0) */
+    return lo < (float)c[0] || hi >= (float)c[1] - 1.0f;
+}
+
 /* Rows [begin, end) of the destination. */
 static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_pass *p, size_t begin, size_t end)
 {
@@ -46,6 +70,7 @@ static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_
     /* from one texel to the next along the axis, in floats */
     const ptrdiff_t step = v ? src_stride : 4;
     float off[DM_LEVEL_BLUR_MAX_TAPS], wt[DM_LEVEL_BLUR_MAX_TAPS], off_lo = 0.0f, off_hi = 0.0f;
+    const float *pts = p->points && p->cuts && (v ? p->src_h == p->dst_h : p->src_w == p->dst_w) ? p->points : NULL;
     for (int i = 0; i < taps; ++i) {
         off[i] = p->offset_mm[i], wt[i] = p->weight[i];
         off_lo = off[i] < off_lo ? off[i] : off_lo;
@@ -62,7 +87,28 @@ static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_
             const float *line = v ? p->src + 4 * (ptrdiff_t)x : p->src + (ptrdiff_t)y * src_stride;
             float sum[4] = {0, 0, 0, 0};
             float lo = t0 + dt * off_lo, hi = t0 + dt * off_hi;
-            if (lo >= -2.0f && hi <= nf + 1.0f && lo <= hi) {
+            const int16_t *cut = pts ? p->cuts + 4 * (y * (size_t)p->dst_w + (size_t)x) + (v ? 2 : 0) : NULL;
+            if (cut && across(cut, lo, hi)) { /* a texel without a point has no cuts */
+                const float *me = pts + 4 * (y * (size_t)p->dst_w + (size_t)x);
+                /* a texel between the two cuts is on this texel's side of both: only those beyond
+                 * are measured */
+                for (int i = 0; i < taps; ++i) {
+                    float t = t0 + dt * off[i];
+                    t = t >= -2.0f ? t : -2.0f;
+                    t = t <= nf + 1.0f ? t : nf + 1.0f;
+                    float fl = floorf(t), f = t - fl;
+                    const float *a = line + (ptrdiff_t)fl * step, *b = a + step;
+                    float reach = DM_LEVEL_BLUR_JUMP_FACTOR * fabsf(off[i]) + DM_LEVEL_BLUR_JUMP_MM;
+                    bool ka = (fl >= (float)cut[0] && fl < (float)cut[1]) || near(p, me, (int)fl, x, y, reach);
+                    bool kb = (fl + 1.0f >= (float)cut[0] && fl + 1.0f < (float)cut[1]) || near(p, me, (int)fl + 1, x, y, reach);
+                    if (ka && kb) /* the unchecked sum's floats */
+                        for (int k = 0; k < 4; ++k) sum[k] += wt[i] * (a[k] + f * (b[k] - a[k]));
+                    else if (ka)
+                        for (int k = 0; k < 4; ++k) sum[k] += wt[i] * (a[k] - f * a[k]);
+                    else if (kb)
+                        for (int k = 0; k < 4; ++k) sum[k] += wt[i] * (f * b[k]);
+                }
+            } else if (lo >= -2.0f && hi <= nf + 1.0f && lo <= hi) {
                 /* every tap within the image and its zero border (the common case) */
                 for (int i = 0; i < taps; ++i) {
                     float t = t0 + dt * off[i], fl = floorf(t), f = t - fl;
@@ -124,4 +170,59 @@ float *dm_level_blur_frame(float *buffer, int w, int h)
     }
     memset(buffer + (pad + (size_t)h) * stride, 0, sizeof *buffer * stride * pad); /* and below */
     return buffer + pad * stride + side;
+}
+
+/* 3-D distance between the points of texels a and b, or −1 when either has none */
+static float pair(const float *pts, size_t a, size_t b)
+{
+    const float *p = pts + 4 * a, *q = pts + 4 * b;
+    if (!(p[3] > 0.0f) || !(q[3] > 0.0f)) return -1.0f;
+    float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+    return sqrtf(dx * dx + dy * dy + dz * dz);
+}
+
+long dm_level_blur_cuts(const float *points, int n, int16_t *cuts)
+{
+    if (!points || !cuts || n < 1) return 0;
+    enum { BINS = 4096 };
+    const float bin_mm = 0.005f; /* the histogram of neighbour distances: 5 µm bins to 20 mm */
+    long *hist = calloc(BINS, sizeof *hist), pairs = 0, found = 0;
+    if (!hist) return -1;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            size_t i = (size_t)y * (size_t)n + (size_t)x;
+            float d[2] = {x + 1 < n ? pair(points, i, i + 1) : -1.0f, y + 1 < n ? pair(points, i, i + (size_t)n) : -1.0f};
+            for (int k = 0; k < 2; ++k)
+                if (d[k] >= 0.0f) {
+                    int b = (int)(d[k] / bin_mm);
+                    ++hist[b < BINS ? b : BINS - 1];
+                    ++pairs;
+                }
+        }
+    float median = 0.0f;
+    for (long b = 0, run = 0; b < BINS && pairs > 0; ++b)
+        if ((run += hist[b]) * 2 >= pairs) {
+            median = ((float)b + 0.5f) * bin_mm;
+            break;
+        }
+    free(hist);
+    const float limit = fmaxf(DM_LEVEL_BLUR_CUT_STEPS * median, DM_LEVEL_BLUR_JUMP_MM);
+    const int16_t none_lo = -1000, none_hi = (int16_t)(n + 1000);
+    for (int axis = 0; axis < 2; ++axis) /* 0: rows (u), 1: columns (v) */
+        for (int line = 0; line < n; ++line) {
+            size_t s = axis ? (size_t)n : 1, l = axis ? 1 : (size_t)n, base = (size_t)line * l;
+            int16_t last = none_lo; /* the nearest cut at or left of i */
+            for (int i = 0; i < n; ++i) {
+                size_t t = base + (size_t)i * s;
+                if (i > 0 && pair(points, t - s, t) > limit) last = (int16_t)i, ++found;
+                cuts[4 * t + 2 * axis] = points[4 * t + 3] > 0.0f ? last : none_lo;
+            }
+            int16_t next = none_hi; /* the nearest cut right of i */
+            for (int i = n - 1; i >= 0; --i) {
+                size_t t = base + (size_t)i * s;
+                cuts[4 * t + 2 * axis + 1] = points[4 * t + 3] > 0.0f ? next : none_hi;
+                if (i > 0 && pair(points, t - s, t) > limit) next = (int16_t)i;
+            }
+        }
+    return found;
 }

@@ -26,12 +26,23 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 enum { DM_LEVEL_BLUR_PAD = 3, DM_LEVEL_BLUR_MAX_TAPS = 64 };
+
+/* With points (the seam map's, render/passes/dm_pass_tsd.c): a tap's texel whose point lies
+ * farther in 3-D from the texel being made than JUMP_FACTOR × the tap's offset + JUMP_MM is
+ * another place of the surface that the atlas put beside this one (charts touching, a chart's
+ * squashed rim): it is left out, and the coverage in alpha renormalises the rest. On a
+ * continuous surface a tap's chord is at most its offset along the surface, so only a jump is
+ * refused (docs/seam-map.md measures the margin). Only taps that reach across a cut
+ * (dm_level_blur_cuts, once per scene) are checked: everywhere else the taps are the plain ones. */
+#define DM_LEVEL_BLUR_JUMP_FACTOR 3.0f
+#define DM_LEVEL_BLUR_JUMP_MM 3.0f
 
 typedef struct dm_level_blur_pass {
     const float *src; /* RGBA, src_w × src_h, padded (its border zero) */
@@ -44,7 +55,25 @@ typedef struct dm_level_blur_pass {
     const float *weight;
     int taps; /* 1..DM_LEVEL_BLUR_MAX_TAPS */
     int thread_count; /* 0 = every core */
+    /* NULL, or RGBA, dst_w × dst_h, unpadded: each texel's 3-D point in mm (xyz) and whether
+     * it has one (w > 0), with `cuts` (dm_level_blur_cuts) of the same grid; used only when the
+     * pass keeps the grid (src_w == dst_w along u, src_h == dst_h along v). A texel checks its
+     * taps only when they reach across a cut; a texel without a point neither refuses nor is
+     * refused. */
+    const float *points;
+    const int16_t *cuts;
 } dm_level_blur_pass;
+
+/* Where the atlas jumps: between two 4-neighbours with points farther apart in 3-D than
+ * DM_LEVEL_BLUR_CUT_STEPS × the median such distance (the atlas's typical texel, mm) and than
+ * DM_LEVEL_BLUR_JUMP_MM (no tap is refused nearer). Per texel (x, y), RGBA: the nearest cut on its left along
+ * its row (the largest c ≤ x with a jump between c − 1 and c; −1000 when none), the nearest on
+ * its right (the smallest c > x; n + 1000 when none), and the same along its column (below,
+ * above); a texel without a point has none. A tap that reads no texel across a cut reads one surface, whose chord never passes
+ * the reach where the texels step evenly (docs/seam-map.md). points and cuts are n × n.
+ * Returns the cuts found, or −1 when out of memory (cuts untouched). */
+#define DM_LEVEL_BLUR_CUT_STEPS 2.5f
+long dm_level_blur_cuts(const float *points, int n, int16_t *cuts);
 
 /* False (nothing written) when the sizes do not fit the rules above or a pointer is NULL. */
 bool dm_level_blur(const dm_level_blur_pass *p);

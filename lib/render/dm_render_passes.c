@@ -33,7 +33,7 @@ static const dmr_pass_row rows[] = {
     {DM_PASS_TS_GBUFFER, "irradiance.glsl", "#define DM_GBUFFER 1\n", "passes/dm_pass_tsd.c", true, DMR_BIND_SURFACE,
      {{GL_ALWAYS, .clear = DMR_CLEAR_COLOR | DMR_CLEAR_DEPTH}}, ST(tsd), .check = dmr_tsd_check,
      .upload = dmr_tsd_upload, .targets = dmr_tsd_targets, .setup = dmr_tsd_setup, .prepare = dmr_ts_gbuffer_prepare,
-     .run = dmr_ts_gbuffer_run},
+     .run = dmr_ts_gbuffer_run, .free = dmr_tsd_free},
     {DM_PASS_IRRADIANCE, "irradiance.glsl", DEFERRED, "passes/dm_pass_tsd.c", true,
      DMR_BIND_LIGHTS | DMR_BIND_SURFACE | DMR_BIND_TRANSLUCENCY, {{GL_GREATER, .depth_read_only = true}}, ST(tsd),
      .prepare = dmr_irradiance_prepare, .run = dmr_irradiance_run},

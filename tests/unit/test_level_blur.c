@@ -71,7 +71,7 @@ static image run(const image *src, int dw, int dh, bool along_v, const float *st
     dst.px = dm_level_blur_frame(dst.buf, dw, dh);
     float *step = malloc(sizeof *step * (size_t)dw * (size_t)dh);
     cr_assert(dm_level_blur_step(st, sw, sh, dw, dh, along_v, step));
-    dm_level_blur_pass p = {src->px, src->w, src->h, dst.px, dw, dh, along_v, step, off, w, taps, threads};
+    dm_level_blur_pass p = {src->px, src->w, src->h, dst.px, dw, dh, along_v, step, off, w, taps, threads, NULL, false};
     cr_assert(dm_level_blur(&p));
     free(step);
     return dst;
@@ -156,7 +156,7 @@ Test(level_blur, border_is_zero_and_far_taps_stay_in_bounds)
 Test(level_blur, refuses_sizes_that_break_the_rules)
 {
     float px[4] = {0}, step[4] = {0}, st[2] = {0};
-    dm_level_blur_pass p = {px, 4, 4, px + 1, 4, 3, false, step, OFF, W, 7, 1}; /* u pass changes height */
+    dm_level_blur_pass p = {px, 4, 4, px + 1, 4, 3, false, step, OFF, W, 7, 1, NULL, false}; /* u pass changes height */
     cr_expect_not(dm_level_blur(&p));
     p.along_v = true, p.dst_w = 3, p.dst_h = 4; /* v pass changes width */
     cr_expect_not(dm_level_blur(&p));
@@ -165,4 +165,128 @@ Test(level_blur, refuses_sizes_that_break_the_rules)
     cr_expect_not(dm_level_blur_step(st, 0, 1, 4, 4, false, step));
     cr_expect_null(dm_level_blur_frame(NULL, 4, 4));
     cr_expect_eq(dm_level_blur_floats(0, 4), 0);
+}
+
+/* ---- the jump check (points) ------------------------------------------------------ */
+
+/* cuts that put every tap across one (texel 0's left cut past every texel): each texel with a
+ * point checks all its taps */
+static const int16_t *everywhere(int texels)
+{
+    static int16_t c[4 * 256];
+    cr_assert(texels <= 256);
+    for (int i = 0; i < texels; ++i) c[4 * i] = c[4 * i + 2] = 30000, c[4 * i + 1] = c[4 * i + 3] = -30000;
+    return c;
+}
+
+/* One row (or column) of 16 texels, 1 texel per mm (step 1/16 UV per mm), taps at −D, 0, +D mm
+ * with weights ¼, ½, ¼, so each lands on a texel centre. Every texel's point lies on the x axis
+ * 1 mm apart, except texel 9, put `d` mm from texel 8's point. Returns texel 8's red: the check
+ * keeps texel 9 (when d ≤ reach) or leaves it out. */
+static double jump_row(bool along_v, float D, double d, bool with_points)
+{
+    int w = along_v ? 1 : 16, h = along_v ? 16 : 1;
+    image src = make(w, h, 7u);
+    float st[2] = {1.0f / 16.0f, 1.0f / 16.0f}, off[3] = {-D, 0.0f, D}, wt[3] = {0.25f, 0.5f, 0.25f};
+    float pts[16 * 4];
+    for (int i = 0; i < 16; ++i) pts[4 * i] = (float)i, pts[4 * i + 1] = pts[4 * i + 2] = 0.0f, pts[4 * i + 3] = 1.0f;
+    int j = 8 + (int)D; /* the tap's texel beyond 8 */
+    pts[4 * j] = 8.0f, pts[4 * j + 1] = (float)d; /* d mm from texel 8 */
+    image dst = {calloc(dm_level_blur_floats(w, h), sizeof(float)), NULL, w, h};
+    dst.px = dm_level_blur_frame(dst.buf, w, h);
+    float step[16];
+    cr_assert(dm_level_blur_step(st, 1, 1, w, h, along_v, step));
+    dm_level_blur_pass p = {src.px, w, h, dst.px, w, h, along_v, step, off, wt, 3, 1, with_points ? pts : NULL, everywhere(16)};
+    cr_assert(dm_level_blur(&p));
+    double r = along_v ? texel(&dst, 0, 8, 0) : texel(&dst, 8, 0, 0);
+    double a = along_v ? texel(&src, 0, 8 - (int)D, 0) : texel(&src, 8 - (int)D, 0, 0);
+    double m = along_v ? texel(&src, 0, 8, 0) : texel(&src, 8, 0, 0);
+    double b = along_v ? texel(&src, 0, j, 0) : texel(&src, j, 0, 0);
+    double kept = 0.25 * a + 0.5 * m + 0.25 * b, left_out = 0.25 * a + 0.5 * m;
+    bool keep = d <= DM_LEVEL_BLUR_JUMP_FACTOR * D + DM_LEVEL_BLUR_JUMP_MM || !with_points;
+    cr_expect_float_eq(r, keep ? kept : left_out, 1e-6, "D %g, d %g: %g, expected %g", D, d, r, keep ? kept : left_out);
+    free(src.buf), free(dst.buf);
+    return r;
+}
+
+/* The reach is 3 × the tap's offset + 3 mm: at offset 1 mm a point 6 mm away, at 3 mm one 12 mm
+ * away. 2 % either side of it keeps or leaves out the tap's texel (a factor or margin 5 % off
+ * moves the reach by 2.5 %, and these fail), along u and v alike. */
+Test(level_blur, a_tap_that_jumps_farther_than_its_reach_is_left_out)
+{
+    for (int v = 0; v < 2; ++v) {
+        double in1 = jump_row(v, 1.0f, 6.0 * 0.98, true), out1 = jump_row(v, 1.0f, 6.0 * 1.02, true);
+        double in3 = jump_row(v, 3.0f, 12.0 * 0.98, true), out3 = jump_row(v, 3.0f, 12.0 * 1.02, true);
+        cr_expect_neq(in1, out1);
+        cr_expect_neq(in3, out3);
+        cr_expect_float_eq(jump_row(v, 1.0f, 6.0 * 0.98, false), in1, 0.0, "kept: as without points");
+        cr_expect_float_eq(jump_row(v, 1.0f, 6.0 * 1.02, false), in1, 0.0, "without points nothing is left out");
+    }
+    cr_expect_float_eq(DM_LEVEL_BLUR_JUMP_FACTOR, 3.0f, 0.0f);
+    cr_expect_float_eq(DM_LEVEL_BLUR_JUMP_MM, 3.0f, 0.0f);
+}
+
+/* Points that never jump change nothing, bit for bit; texels without a point (w = 0) neither
+ * refuse nor are refused. */
+Test(level_blur, points_on_a_continuous_row_change_nothing)
+{
+    int w = 40, h = 3;
+    image src = make(w, h, 11u);
+    float st[2] = {0.02f, 0.03f}, off[5] = {-2.1f, -0.9f, 0.0f, 0.9f, 2.1f}, wt[5] = {0.1f, 0.2f, 0.4f, 0.2f, 0.1f};
+    float *pts = calloc((size_t)w * h * 4, sizeof *pts);
+    for (int i = 0; i < w * h; ++i)
+        pts[4 * i] = (float)(i % w) * 0.7f, pts[4 * i + 1] = (float)(i / w) * 0.7f, pts[4 * i + 3] = i % 7 ? 1.0f : 0.0f;
+    for (int v = 0; v < 2; ++v) {
+        image a = {calloc(dm_level_blur_floats(w, h), sizeof(float)), NULL, w, h}, b = a;
+        b.buf = calloc(dm_level_blur_floats(w, h), sizeof(float));
+        a.px = dm_level_blur_frame(a.buf, w, h), b.px = dm_level_blur_frame(b.buf, w, h);
+        float *step = malloc(sizeof *step * (size_t)w * h);
+        cr_assert(dm_level_blur_step(st, 1, 1, w, h, v, step));
+        dm_level_blur_pass p = {src.px, w, h, a.px, w, h, v, step, off, wt, 5, 1, NULL, everywhere(w * h)};
+        cr_assert(dm_level_blur(&p));
+        p.dst = b.px, p.points = pts;
+        cr_assert(dm_level_blur(&p));
+        cr_expect_eq(memcmp(a.buf, b.buf, sizeof(float) * dm_level_blur_floats(w, h)), 0, "along %s", v ? "v" : "u");
+        free(a.buf), free(b.buf), free(step);
+    }
+    free(pts), free(src.buf);
+}
+
+/* The cuts: a 12 × 12 grid of points 0.5 mm apart, columns 7.. moved 40 mm away in z: one cut
+ * along every row between x = 6 and 7, none along the columns; the texels' nearest cuts say so.
+ * On a grid 1.5 mm apart a step of 2.4 × the median is no cut, 2.6 × is: the factor 2.5 pinned
+ * (the 3 mm floor lies below both); on the 0.5 mm grid 2.6 × would be under the floor. A texel
+ * without a point has no cut beside it. */
+Test(level_blur, the_cuts_lie_where_the_atlas_jumps)
+{
+    enum { N = 12 };
+    float pts[4 * N * N];
+    int16_t cuts[4 * N * N];
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            float *q = pts + 4 * (y * N + x);
+            q[0] = 0.5f * (float)x, q[1] = 0.5f * (float)y, q[2] = x >= 7 ? 40.0f : 0.0f, q[3] = 1.0f;
+        }
+    cr_assert_eq(dm_level_blur_cuts(pts, N, cuts), N);
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            const int16_t *c = cuts + 4 * (y * N + x);
+            cr_expect_eq(c[0], x >= 7 ? 7 : -1000, "(%d, %d) left %d", x, y, c[0]);
+            cr_expect_eq(c[1], x < 7 ? 7 : N + 1000, "(%d, %d) right %d", x, y, c[1]);
+            cr_expect_eq(c[2], -1000);
+            cr_expect_eq(c[3], N + 1000);
+        }
+    /* a smaller step: 2.4 and 2.6 × the median (1.5 mm), with the floor (3 mm) below them */
+    for (int k = 0; k < 2; ++k) {
+        for (int y = 0; y < N; ++y)
+            for (int x = 0; x < N; ++x) {
+                float *q = pts + 4 * (y * N + x);
+                q[0] = 1.5f * (float)x + (x >= 7 ? (k ? 2.6f : 2.4f) * 1.5f - 1.5f : 0.0f), q[1] = 1.5f * (float)y, q[2] = 0.0f;
+            }
+        cr_expect_eq(dm_level_blur_cuts(pts, N, cuts), k ? N : 0, "step %.1f x the median", k ? 2.6 : 2.4);
+    }
+    /* a texel without a point: no cut beside it */
+    for (int i = 0; i < N * N; ++i) pts[4 * i + 2] = (i % N) >= 7 ? 40.0f : 0.0f, pts[4 * i] = 0.5f * (float)(i % N);
+    for (int y = 0; y < N; ++y) pts[4 * (y * N + 7) + 3] = 0.0f;
+    cr_expect_eq(dm_level_blur_cuts(pts, N, cuts), 0);
 }

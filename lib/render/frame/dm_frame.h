@@ -46,7 +46,10 @@ enum {
     /* the diffusion pass's thin-part map: that pass reads the levels and nothing else */
     UNIT_THIN = UNIT_SRC,
     /* the texture views' chart coverage (the texture-space G-buffer's positions, w) */
-    UNIT_COVER = UNIT_BACKGROUND
+    UNIT_COVER = UNIT_BACKGROUND,
+    /* the blurs' seam points (seam_points.glsl): a blur reads its source, the stretch and these */
+    UNIT_POINTS = UNIT_MASK,
+    UNIT_CUTS = UNIT_DEPTH
 };
 
 /* The pre-integrated technique's inputs to the shading passes (its table and curvature map). */
@@ -103,6 +106,13 @@ struct dmr_frame {
     bool spec_in_normal; /* the specular map is the normal map texture's alpha (DM_SPEC_IN_NORMAL) */
     GLuint tex_stretch[DM_PROFILE_MAX_GAUSSIANS], tex_mask; /* texture space's stretch chain */
     GLuint tex_seam; /* the seam map (0 without one): irradiance.glsl's DM_SEAM */
+    /* with it, each texel's 3-D point in mm as the irradiance pass lights it (seam_points.glsl,
+     * made with the G-buffer, then read back) and where the atlas jumps between them
+     * (dm_level_blur_cuts, uploaded as tex_seam_cuts): the blurs leave out taps that jump to
+     * another place of the surface (core/dm_level_blur.h). */
+    GLuint tex_seam_points, seam_points_fbo, tex_seam_cuts;
+    float *seam_points; /* the CPU's copies (NULL when none, or out of memory: no check) */
+    int16_t *seam_cuts;
     GLuint tex_thin; /* the thin-part map (0 without one): diffusion.glsl's DM_THIN; the blur on
                       * the CPU keeps its candidates in its own compact copy */
     GLuint ts_cover_tex; /* texture space's G-buffer positions: w = 1 on the texels a triangle covers */
@@ -163,6 +173,13 @@ int dmr_view_mode(const dmr_frame *f);
 void dmr_frame_lights(dmr_frame *f, float rotation_deg);
 /* The camera's matrix and basis (right and up scaled to the image plane at distance 1). */
 void dmr_frame_camera(dmr_frame *f);
+/* Whether the blur from level k−1 to k checks its taps for jumps (core/dm_level_blur.h; blur.glsl's
+ * u_check): with the seam points read back, on the irradiance's own grid. */
+static inline bool dmr_frame_blur_checks(const dmr_frame *f, int k)
+{
+    return f->seam_points && f->level_edge[k] == f->irr_edge && f->level_edge[k - 1] == f->irr_edge;
+}
+
 /* The levels' blur kernel at variance scale `scale`, and their weights. */
 void dmr_frame_blur(dmr_frame *f, float scale);
 

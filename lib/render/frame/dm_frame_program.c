@@ -25,7 +25,9 @@ static void set_sampler_units(GLuint p)
                  {"u_glow", UNIT_GLOW},           {"u_spec", UNIT_SS_SPEC},
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
                  {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE},
-                 {"u_seam", UNIT_SEAM},           {"u_cover", UNIT_COVER},         {"u_thin", UNIT_THIN}};
+                 {"u_seam", UNIT_SEAM},           {"u_cover", UNIT_COVER},         {"u_thin", UNIT_THIN},
+                 {"u_points", UNIT_POINTS},
+                 {"u_cuts", UNIT_CUTS}};
     glUseProgram(p);
     for (size_t i = 0; i < sizeof units / sizeof units[0]; ++i) {
         GLint loc = glGetUniformLocation(p, units[i].name);

@@ -87,6 +87,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         /* the seam and thin-part maps, uploaded at the size they were baked for (dm_pass_tsd.c) */
         const dm_texture *seam = dm_render_assets_seam_map(a, s->irr_edge), *thin = dm_render_assets_thin_map(a, s->irr_edge);
         if (seam) count_upload(m, seam, false);
+        if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
     }
     if (p->pre_integrated) {
@@ -110,6 +111,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         }
         if (in->diffusion_sum) m->texture_space_size += N2 * 16;
         m->texture_space_size += N2 * (4 * 16 + 4); /* the surface G-buffer and its depth */
+        if (dm_render_assets_seam_map(a, s->irr_edge)) m->texture_space_size += N2 * 16; /* the seam points */
     }
 
     /* the screen (frame/dm_frame_targets.c) */
@@ -126,7 +128,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
     }
     m->driver_size = in->software_gl ? DM_RENDER_MEMORY_DRIVER_SIZE : 0;
 
-    /* the CPU's share: blur buffers, read-back */
+    /* the CPU's share: blur buffers, read-back (the seam points and their cuts, read back once) */
+    if (p->texture_space && dm_render_assets_seam_map(a, s->irr_edge)) m->cpu_blur_size += N2 * (16 + 8);
     if (p->texture_space && in->cpu_blur) {
         const int *e = s->level_edge;
         m->cpu_blur_size += 3 * (uint64_t)dm_level_blur_floats(s->irr_edge, s->irr_edge) * 4;

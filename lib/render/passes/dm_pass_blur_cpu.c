@@ -166,7 +166,8 @@ static void blur_u(dmr_frame *f, dmr_blur_cpu *b, int k, int n, int h)
     }
     b->tmp = dm_level_blur_frame(b->buf[1], n, h);
     dm_level_blur(&(dm_level_blur_pass){b->level, h, h, b->tmp, n, h, false, b->step[k][0], f->kernel.offset_mm[k],
-                                        f->kernel.weight, f->taps, 0});
+                                        f->kernel.weight, f->taps, 0, dmr_frame_blur_checks(f, k) ? f->seam_points : NULL,
+                                        f->seam_cuts});
     b->tmp_level = k;
 }
 
@@ -183,7 +184,8 @@ void dmr_blur_cpu_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_
     if (b->tmp_level != k) return; /* V without its U: not in any plan */
     float *level = dm_level_blur_frame(b->buf[2], n, n);
     dm_level_blur(&(dm_level_blur_pass){b->tmp, n, h, level, n, n, true, b->step[k][1], f->kernel.offset_mm[k],
-                                        f->kernel.weight, f->taps, 0});
+                                        f->kernel.weight, f->taps, 0, dmr_frame_blur_checks(f, k) ? f->seam_points : NULL,
+                                        f->seam_cuts});
     if (b->summing) {
         f->levels.stale |= 1u << k;
     } else {

@@ -4,8 +4,12 @@
  * k−1 by a U and a V blur of variance v_k − v_{k−1}, tap offsets in mm (the frame's kernel)
  * turned into UV by the stretch chain. The diffusion pass (dm_pass_diffusion.c) sums the
  * levels; the blurs may run on the CPU instead (dm_pass_blur_cpu.c). Owns the stretch
- * uploads and the level targets. */
+ * uploads and the level targets, and with a seam map each texel's 3-D point and the atlas's
+ * cuts, by which the blurs leave out taps that jump to another place of the surface. */
 #include <stdio.h>
+#include <stdlib.h>
+
+#include "core/dm_level_blur.h"
 
 #include "render/frame/dm_frame_bind.h"
 #include "render/gpu/dm_gpu_target.h"
@@ -102,6 +106,14 @@ dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err)
     t->depth = dmg_depth_buffer(&f->gpu, f->irr_edge, f->irr_edge);
     rc = dmg_gbuffer_targets(&f->gpu, "ts_gbuffer", f->irr_edge, f->irr_edge, t->depth, t->gbuf_tex, &t->gbuf_fbo, err);
     f->ts_cover_tex = t->gbuf_tex[0]; /* the views' chart coverage: the level alphas are 1 on the seam band too */
+    if (rc == DM_OK && f->tex_seam)
+        rc = dmg_color_target(&f->gpu, "seam_points", f->irr_edge, f->irr_edge, GL_RGBA32F, GL_CLAMP_TO_BORDER,
+                              &f->tex_seam_points, &f->seam_points_fbo, err);
+    if (rc == DM_OK && f->tex_seam) { /* the cuts, uploaded once the points are read back */
+        f->tex_seam_cuts = dmg_texture_2d(&f->gpu, f->irr_edge, f->irr_edge, GL_RGBA16I, GL_RGBA_INTEGER, GL_SHORT, NULL,
+                                          false, GL_NEAREST);
+        rc = dmg_check("seam cuts", err);
+    }
     if (rc == DM_OK) rc = dmg_attach_depth(f->level_fbo[0], t->depth, "irradiance", err);
     if (rc != DM_OK) return rc;
     glClearColor(0, 0, 0, 0);
@@ -109,13 +121,15 @@ dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err)
     return DM_OK;
 }
 
-/* With a seam map: the program that gives the texels it continues the coverage depth. */
+/* With a seam map: the programs that give the texels it continues the coverage depth, and every
+ * texel its point. */
 dm_result dmr_tsd_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
 {
     (void)a;
     dmr_tsd *t = st;
     if (!f->plan.texture_space || !f->tex_seam) return DM_OK;
-    return dmr_frame_program(f, "seam_mark.glsl", NULL, &t->seam_mark, err);
+    dm_result rc = dmr_frame_program(f, "seam_mark.glsl", NULL, &t->seam_mark, err);
+    return rc == DM_OK ? dmr_frame_program(f, "seam_points.glsl", NULL, &t->seam_points, err) : rc;
 }
 
 /* The mesh unwrapped into the atlas (irradiance.glsl with DM_GBUFFER): what each texel's
@@ -130,6 +144,36 @@ bool dmr_ts_gbuffer_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_outpu
     return !t->gbuf_valid;
 }
 
+/* The seam points read back, and the atlas's cuts between them (core/dm_level_blur.h) made and
+ * uploaded. Out of memory: no check at all (the plain blur, as without the points). */
+static void find_cuts(dmr_frame *f)
+{
+    int n = f->irr_edge;
+    size_t floats = 4 * (size_t)n * (size_t)n;
+    if (!f->seam_points) f->seam_points = malloc(sizeof(float) * floats);
+    if (!f->seam_cuts) f->seam_cuts = malloc(sizeof(int16_t) * floats);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, f->seam_points_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    if (f->seam_points) glReadPixels(0, 0, n, n, GL_RGBA, GL_FLOAT, f->seam_points);
+    if (!f->seam_points || !f->seam_cuts || dm_level_blur_cuts(f->seam_points, n, f->seam_cuts) < 0) {
+        free(f->seam_points), free(f->seam_cuts);
+        f->seam_points = NULL, f->seam_cuts = NULL;
+        return;
+    }
+    glBindTexture(GL_TEXTURE_2D, f->tex_seam_cuts);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, n, n, GL_RGBA_INTEGER, GL_SHORT, f->seam_cuts);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+}
+
+void dmr_tsd_free(dmr_frame *f, void *st)
+{
+    (void)st;
+    free(f->seam_points), free(f->seam_cuts);
+    f->seam_points = NULL, f->seam_cuts = NULL;
+}
+
 void dmr_ts_gbuffer_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt)
 {
     (void)ps, (void)opt;
@@ -141,6 +185,16 @@ void dmr_ts_gbuffer_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_fram
         dmg_bind(UNIT_SEAM, GL_TEXTURE_2D, f->tex_seam);
         dmr_draw_fullscreen(f);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
+    if (t->seam_points) { /* each texel's point, as the irradiance pass will light it (seam_points.glsl) */
+        glBindFramebuffer(GL_FRAMEBUFFER, f->seam_points_fbo);
+        glUseProgram(t->seam_points);
+        dmr_bind_gbuffer(t->seam_points, t->gbuf_tex);
+        dmg_bind(UNIT_SEAM, GL_TEXTURE_2D, f->tex_seam);
+        glUniform1f(dmg_loc(t->seam_points, "u_mm"), (float)f->scene.mm_per_unit);
+        dmr_draw_fullscreen(f);
+        find_cuts(f);
+        glBindFramebuffer(GL_FRAMEBUFFER, t->gbuf_fbo);
     }
     t->gbuf_valid = true;
 }
@@ -183,6 +237,11 @@ void dmr_blur_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
     dmg_bind(UNIT_SRC, GL_TEXTURE_2D, along_v ? t->tmp_tex[k] : f->level_tex[k - 1]);
     dmg_bind(UNIT_STRETCH, GL_TEXTURE_2D, f->tex_stretch[s]);
     dmg_u2f(p, "u_dir", along_v ? 0.0f : 1.0f, along_v ? 1.0f : 0.0f);
+    if (f->tex_seam_points) { /* the jump check on the irradiance's own grid (core/dm_level_blur.h) */
+        dmg_bind(UNIT_POINTS, GL_TEXTURE_2D, f->tex_seam_points);
+        dmg_bind(UNIT_CUTS, GL_TEXTURE_2D, f->tex_seam_cuts);
+        glUniform1i(dmg_loc(p, "u_check"), dmr_frame_blur_checks(f, k) ? 1 : 0);
+    }
     glUniform1fv(dmg_loc(p, "u_offset_mm"), f->taps, f->kernel.offset_mm[k]);
     glUniform1fv(dmg_loc(p, "u_weight"), f->taps, f->kernel.weight);
     dmr_draw_fullscreen(f);

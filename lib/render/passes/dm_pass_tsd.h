@@ -12,6 +12,7 @@ typedef struct dmr_tsd {
     GLuint gbuf_tex[4], gbuf_fbo, depth; /* the texture-space G-buffer and its coverage depth */
     bool gbuf_valid;                     /* made for the current scene (cleared by set_scene) */
     GLuint seam_mark;                    /* seam_mark.glsl's program (with a seam map) */
+    GLuint seam_points;                  /* seam_points.glsl's program (with a seam map) */
 } dmr_tsd;
 
 dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error *err);
@@ -21,6 +22,7 @@ bool dmr_tsd_thin_usable(const dmr_frame *f, const dm_render_assets *a);
 dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err);
 dm_result dmr_tsd_targets(dmr_frame *f, void *st, dm_error *err);
 dm_result dmr_tsd_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err);
+void dmr_tsd_free(dmr_frame *f, void *st);
 bool dmr_ts_gbuffer_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out);
 void dmr_ts_gbuffer_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_options *opt);
 bool dmr_irradiance_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out);
