@@ -60,6 +60,14 @@ static inline bool across(const int16_t *c, float lo, float hi)
     return lo < (float)c[0] || hi >= (float)c[1] - 1.0f;
 }
 
+/* A tap's texel coordinate clamped to [−2, n + 1] (NaN, from an infinite step times offset 0,
+ * to −2): a tap beyond reads the zero border all the same. */
+static inline float clamp_tap(float t, float nf)
+{
+    t = t >= -2.0f ? t : -2.0f;
+    return t <= nf + 1.0f ? t : nf + 1.0f;
+}
+
 /* Rows [begin, end) of the destination. */
 static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_pass *p, size_t begin, size_t end)
 {
@@ -93,10 +101,7 @@ static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_
                 /* a texel between the two cuts is on this texel's side of both: only those beyond
                  * are measured */
                 for (int i = 0; i < taps; ++i) {
-                    float t = t0 + dt * off[i];
-                    t = t >= -2.0f ? t : -2.0f;
-                    t = t <= nf + 1.0f ? t : nf + 1.0f;
-                    float fl = floorf(t), f = t - fl;
+                    float t = clamp_tap(t0 + dt * off[i], nf), fl = floorf(t), f = t - fl;
                     const float *a = line + (ptrdiff_t)fl * step, *b = a + step;
                     float reach = DM_LEVEL_BLUR_JUMP_FACTOR * fabsf(off[i]) + DM_LEVEL_BLUR_JUMP_MM;
                     bool ka = (fl >= (float)cut[0] && fl < (float)cut[1]) || near(p, me, (int)fl, x, y, reach);
@@ -117,12 +122,7 @@ static inline __attribute__((always_inline)) void rows_taps(const dm_level_blur_
                 }
             } else {
                 for (int i = 0; i < taps; ++i) {
-                    /* clamped to [−2, n + 1] (NaN, from an infinite step times offset 0, to −2):
-                     * a tap beyond reads the zero border all the same */
-                    float t = t0 + dt * off[i];
-                    t = t >= -2.0f ? t : -2.0f;
-                    t = t <= nf + 1.0f ? t : nf + 1.0f;
-                    float fl = floorf(t), f = t - fl;
+                    float t = clamp_tap(t0 + dt * off[i], nf), fl = floorf(t), f = t - fl;
                     const float *a = line + (ptrdiff_t)fl * step, *b = a + step;
                     for (int k = 0; k < 4; ++k) sum[k] += wt[i] * (a[k] + f * (b[k] - a[k]));
                 }
