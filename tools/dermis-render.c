@@ -247,7 +247,8 @@ int main(int argc, char **argv)
         if (plan.blur_levels > 1) /* docs/render-quality.md, The blur on the CPU */
             printf("blur passes: %s\nseam map: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL",
                    dm_renderer_seam_map(r) ? "the pack's: the irradiance pass also lights the gutter texels a blur reaches, "
-                                             "where the surface continues across the UV seam"
+                                             "where the surface continues across the UV seam, and the blurs leave out "
+                                             "taps that jump to another place of the surface"
                    : src.assets->seam.texels ? "the pack's is for another irradiance size: not used, the blurs stop at UV seams"
                                              : "none in the pack: the blurs stop at UV seams");
         if (plan.blur_levels > 1) /* docs/thin-map.md */
