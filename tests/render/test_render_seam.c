@@ -313,3 +313,62 @@ Test(seam, a_chart_beside_another_in_the_atlas_lends_it_no_light, .timeout = 180
     for (int path = 0; path < 2; ++path) free(px[path][0]), free(px[path][1]);
     dm_pack_close(&both.pack), dm_pack_close(&alone.pack);
 }
+
+/* The seam points (seam_points.glsl) on the cut plate, along the row at y = 20 mm: a covered
+ * texel has its own point; a gutter texel the seam map continues, its continuation's (the flat
+ * plate goes on across the seam, so the point is the texel's own place on it); a gutter texel
+ * outside the plate's left edge (a boundary: nothing continues) the nearest covered texel's
+ * point within 2 texels, and none 3 texels out. */
+Test(seam, every_texel_gets_the_point_it_is_lit_at, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    plate_pack cut;
+    const seam_plate p = {.a = 0.01, .b = 0.01};
+    pack_plate(dir, "cut", &p, &cut);
+    dm_osmesa *ctx = NULL;
+    dm_renderer *r = NULL;
+    dm_error err = {0};
+    cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_renderer_create(&cut.assets, &(dm_render_desc){.width = 64, .height = 64, .irradiance_size = IRR}, &r, &err),
+                 DM_OK, "%s", err.detail);
+    cr_assert_eq(dm_render_frame(r, &(dm_frame_options){.view = DM_VIEW_DIFFUSION}, &err), DM_OK, "%s", err.detail);
+    int idx = dm_renderer_find_target(r, "seam_points");
+    cr_assert_geq(idx, 0);
+    dm_target_info info;
+    dm_renderer_target_info(r, idx, &info);
+    cr_assert(info.width == IRR && info.height == IRR && info.channels == 4);
+    float *px = malloc(sizeof *px * 4 * IRR * IRR);
+    cr_assert_eq(dm_renderer_read_target(r, idx, px, &err), DM_OK, "%s", err.detail);
+    int j = (int)(0.3 * IRR); /* v = 0.1 + 0.01 · y: y ≈ 20 mm */
+    double y = ((j + 0.5) / IRR - 0.1) / 0.01;
+    int first = -1, continued = 0;
+    for (int i = 0; i < IRR; ++i) {
+        const float *q = px + 4 * ((size_t)j * IRR + i);
+        double u = (i + 0.5) / IRR, x = (u - 0.05) / 0.01; /* the left chart's map, extended */
+        if (x > 0 && x < SEAM_PLATE_L / 2) { /* covered, left chart */
+            if (first < 0) first = i;
+            cr_expect_gt(q[3], 0.5f, "texel %d", i);
+            cr_expect(fabs(q[0] - x) < 1e-3 && fabs(q[1] - y) < 1e-3 && fabs(q[2]) < 1e-3, "texel %d: (%g, %g, %g), expected (%g, %g, 0)",
+                      i, (double)q[0], (double)q[1], (double)q[2], x, y);
+        } else if (x > SEAM_PLATE_L / 2 && x < SEAM_PLATE_L / 2 + 4) { /* the seam's gutter: the plate continued */
+            if (q[3] > 0.5f && fabs(q[0] - x) < 0.2 && fabs(q[1] - y) < 1e-3) ++continued;
+        }
+    }
+    cr_assert_gt(first, 3);
+    cr_expect_gt(continued, 5, "%d continued gutter texels along the row (4 mm: 10)", continued);
+    const float *edge = px + 4 * ((size_t)j * IRR + first);
+    for (int k = 1; k <= 3; ++k) {
+        const float *q = px + 4 * ((size_t)j * IRR + first - k);
+        if (k <= 2)
+            cr_expect(q[3] > 0.5f && q[0] == edge[0] && q[1] == edge[1] && q[2] == edge[2],
+                      "%d texels out: (%g, %g, %g, %g), expected the edge texel's point", k, (double)q[0], (double)q[1],
+                      (double)q[2], (double)q[3]);
+        else
+            cr_expect_eq(q[3], 0.0f, "%d texels out: a point (%g)", k, (double)q[3]);
+    }
+    free(px);
+    dm_renderer_destroy(r);
+    dm_osmesa_destroy(ctx);
+    dm_pack_close(&cut.pack);
+}
