@@ -2,10 +2,10 @@
 // u_dir. Tap offsets are in mm (the kernel's, scaled so its variance is exactly the step's
 // variance) and become UV through the stretch map (UV units per mm along u and v). Values are
 // premultiplied by coverage (alpha); outside [0, 1]^2 the border is 0, so it drops out too.
-// DM_SEAM, on the irradiance's own grid (u_check): a tap's texel whose point (seam_points.glsl)
-// is farther in 3-D from this texel's than 3 x the tap's offset + 3 mm is another place of the
-// surface the atlas put beside this one, and is left out (core/dm_level_blur.h, the same floats
-// as the CPU's).
+// DM_SEAM, on the irradiance's own grid (u_check): where the taps reach across one of this
+// texel's cuts (u_cuts), a tap's texel whose point (seam_points.glsl) is farther in 3-D from this
+// texel's than u_jump.x x the tap's offset + u_jump.y mm is another place of the surface the
+// atlas put beside this one, and is left out (core/dm_level_blur.h, the same floats as the CPU's).
 uniform sampler2D u_src;
 uniform sampler2D u_stretch;
 uniform vec2 u_dir; // (1, 0) for u, (0, 1) for v
@@ -15,7 +15,7 @@ uniform float u_weight[63];
 uniform sampler2D u_points;
 uniform isampler2D u_cuts; // per texel the nearest cuts along u (x, y) and v (z, w): dm_level_blur_cuts
 uniform int u_check;
-const float DM_JUMP_FACTOR = 3.0, DM_JUMP_MM = 3.0; // DM_LEVEL_BLUR_JUMP_FACTOR, _MM
+uniform vec2 u_jump; // DM_LEVEL_BLUR_JUMP_FACTOR, DM_LEVEL_BLUR_JUMP_MM (core/dm_level_blur.h)
 
 // Texel j may be read for the texel whose point is me: outside the image, without a point, or near.
 bool dm_near(ivec2 j, vec3 me, float reach)
@@ -61,7 +61,7 @@ void main()
         for (int i = 0; i < DM_TAPS; ++i) {
             float t = clamp(t0 + dt * u_offset_mm[i], -2.0, nf + 1.0), fl = floor(t), f = t - fl;
             ivec2 ja = along_v ? ivec2(px.x, int(fl)) : ivec2(int(fl), px.y), jb = ja + next;
-            float reach = DM_JUMP_FACTOR * abs(u_offset_mm[i]) + DM_JUMP_MM;
+            float reach = u_jump.x * abs(u_offset_mm[i]) + u_jump.y;
             bool ka = (fl >= cut.x && fl < cut.y) || dm_near(ja, me.xyz, reach);
             bool kb = (fl + 1.0 >= cut.x && fl + 1.0 < cut.y) || dm_near(jb, me.xyz, reach);
             vec4 a = dm_src(ja), b = dm_src(jb);

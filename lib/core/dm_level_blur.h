@@ -66,12 +66,13 @@ typedef struct dm_level_blur_pass {
 
 /* Where the atlas jumps: between two 4-neighbours with points farther apart in 3-D than
  * DM_LEVEL_BLUR_CUT_STEPS × the median such distance (the atlas's typical texel, mm) and than
- * DM_LEVEL_BLUR_JUMP_MM (no tap is refused nearer). Per texel (x, y), RGBA: the nearest cut on its left along
- * its row (the largest c ≤ x with a jump between c − 1 and c; −1000 when none), the nearest on
- * its right (the smallest c > x; n + 1000 when none), and the same along its column (below,
- * above); a texel without a point has none. A tap that reads no texel across a cut reads one surface, whose chord never passes
- * the reach where the texels step evenly (docs/seam-map.md). points and cuts are n × n.
- * Returns the cuts found, or −1 when out of memory (cuts untouched). */
+ * DM_LEVEL_BLUR_JUMP_MM (no tap is refused nearer). Per texel (x, y), RGBA: the nearest cut on
+ * its left along its row (the largest c ≤ x with a jump between c − 1 and c; −1000 when none),
+ * the nearest on its right (the smallest c > x; n + 1000 when none), and the same along its
+ * column (below, above); a texel without a point has none. A tap that reads no texel across a
+ * cut reads one surface, whose chord never passes the reach where the texels step evenly
+ * (docs/seam-map.md). points and cuts are n × n. Returns the cuts found, or −1 when out of
+ * memory (cuts untouched). */
 #define DM_LEVEL_BLUR_CUT_STEPS 2.5f
 long dm_level_blur_cuts(const float *points, int n, int16_t *cuts);
 

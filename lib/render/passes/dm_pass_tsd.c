@@ -241,6 +241,7 @@ void dmr_blur_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         dmg_bind(UNIT_POINTS, GL_TEXTURE_2D, f->tex_seam_points);
         dmg_bind(UNIT_CUTS, GL_TEXTURE_2D, f->tex_seam_cuts);
         glUniform1i(dmg_loc(p, "u_check"), dmr_frame_blur_checks(f, k) ? 1 : 0);
+        dmg_u2f(p, "u_jump", DM_LEVEL_BLUR_JUMP_FACTOR, DM_LEVEL_BLUR_JUMP_MM);
     }
     glUniform1fv(dmg_loc(p, "u_offset_mm"), f->taps, f->kernel.offset_mm[k]);
     glUniform1fv(dmg_loc(p, "u_weight"), f->taps, f->kernel.weight);
