@@ -31,7 +31,8 @@
  * DERMIS_BENCH_ROWS=a,b,...: only the rows of those short names (the region table's first
  * column, e.g. "1024,1024 reduce5"), to measure a change quickly; write to another OUTDIR.
  * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot), accuracy-frame.png
- * (reference | default render | error, the frame) and accuracy-regions.png (the labels)
+ * (reference | default render | error, the frame), accuracy-regions.png (the labels) and
+ * accuracy-seam-error.png, accuracy-thin-error.png (the default row's signed red error in those regions)
  * through common/accuracy_report.h. argv[2], optional: a pack of SCENE made earlier (its
  * cached references are reused; the Gaussian-count packs are made from SCENE). */
 #include <math.h>
@@ -472,11 +473,16 @@ int main(int argc, char **argv)
             dm_renderer_last_timings(rows[c].r, NULL, &rows[c].ms[f]);
         }
     float *default_px = NULL;
+    bool pictured = false; /* the error pictures, of the first default row */
     for (int c = 0; c < nrows; ++c) {
         rows[c].frame_ms = bench_median(rows[c].ms, frames);
         const sized *zz = z;
         const char *truth = row_truth(&rows[c].s);
         while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == truth)) ++zz;
+        bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
+                          !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
+                          !rows[c].s.frame_only && !rows[c].s.no_subsurface && !rows[c].s.no_seam && !rows[c].s.no_thin &&
+                          rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
         if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !rows[c].s.frame_only && !rows[c].s.no_subsurface) {
             int w = 0, h = 0;
             float *px = NULL;
@@ -494,13 +500,14 @@ int main(int argc, char **argv)
                 rows[c].ok[g] = dm_ref_error_stats_compute(zz->ref.rgba, px, zz->area, zz->label, g, n, &rows[c].st[g], &err) == DM_OK;
             print_bias(rows[c].s.name, zz->ref.rgba, px, zz->area, zz->label, n);
             print_rings(rows[c].s.name, zz->ref.rgba, px, zz->area, zz->label, zz->N);
+            if (is_default && !pictured) {
+                error_picture(outdir, zz, px, DM_REF_REGION_SEAM, rows[c].s.name);
+                error_picture(outdir, zz, px, DM_REF_REGION_THIN, rows[c].s.name);
+                pictured = true;
+            }
             free(px);
         }
         dm_renderer_destroy(rows[c].r);
-        bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
-                          !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
-                          !rows[c].s.frame_only && !rows[c].s.no_subsurface &&
-                          rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
         if (rows[c].ft) {
             dm_render_desc d = rows[c].s.knobs;
             d.irradiance_size = rows[c].s.size;

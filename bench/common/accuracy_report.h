@@ -419,4 +419,50 @@ static void regions_picture(const char *outdir, const sized *z)
 }
 
 
+/* One region's texels of the default row (texture space) by their signed red error against the
+ * truth, floor as the bench's (DM_REF_ERROR_FLOOR of the region's mean): red where the render
+ * is brighter, blue where darker, full colour at 20 %; the other skin dark grey, uncovered
+ * black. OUTDIR/accuracy-seam-error.png and accuracy-thin-error.png (docs/seam-map.md,
+ * docs/thin-map.md show them). */
+static void error_picture(const char *outdir, const sized *z, const float *px, int region, const char *row)
+{
+    static const char *const names[DM_REF_REGION_COUNT] = {"smooth", "seam", "thin"};
+    size_t n = (size_t)z->N * z->N;
+    const float *ref = z->ref.rgba;
+    double floor_ = 0, a = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (z->label[i] == region && z->area[i] > 0) floor_ += z->area[i] * ref[4 * i], a += z->area[i];
+    floor_ = a > 0 ? DM_REF_ERROR_FLOOR * floor_ / a : 0;
+    uint8_t *img = calloc(n, 4);
+    if (!img) return;
+    for (size_t i = 0; i < n; ++i) {
+        uint8_t *o = img + 4 * i;
+        o[3] = 255;
+        if (!(z->area[i] > 0) || ref[4 * i + 3] < 0.5f) continue;
+        if (z->label[i] != region || px[4 * i + 3] < 0.5f) {
+            o[0] = o[1] = o[2] = 60;
+            continue;
+        }
+        double den = ref[4 * i] > floor_ ? ref[4 * i] : floor_, e = den > 0 ? (px[4 * i] - ref[4 * i]) / den : 0;
+        double s = fabs(e) / 0.2 < 1 ? fabs(e) / 0.2 : 1;
+        o[0] = (uint8_t)(e > 0 ? 120 + 135 * s : 120 * (1 - s));
+        o[1] = (uint8_t)(120 * (1 - s));
+        o[2] = (uint8_t)(e < 0 ? 120 + 135 * s : 120 * (1 - s));
+    }
+    char path[1100];
+    dm_error err = {0};
+    dm_provenance prov;
+    dm_prov_init(&prov, "bench/accuracy");
+    dm_prov_add_string(&prov, "scene", SCENE);
+    dm_prov_add_string(&prov, "row", row);
+    dm_prov_add_string(&prov, "region", names[region]);
+    dm_prov_add_string(&prov, "legend", "signed red error (render - truth) / truth: red brighter, blue darker, "
+                                        "full at 20 %; other skin grey");
+    snprintf(path, sizeof path, "%s/accuracy-%s-error.png", outdir, names[region]);
+    if (dm_render_write_png(path, z->N, z->N, img, &prov, &err) == DM_OK) printf("accuracy bench: wrote %s\n", path);
+    else fprintf(stderr, "warning: %s\n", err.detail);
+    free(img);
+}
+
+
 #endif
