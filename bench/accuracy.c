@@ -118,6 +118,9 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d no thin", N), snprintf(w, sizeof w, "%d, without the thin-part map (no light across thin parts)", N);
         add(N, 0, 0, false, (dm_render_desc){0}, n, w)->no_thin = true;
     }
+    /* the thin gather left out: the widest levels from the atlas blur and the thin-part map */
+    if (!quick) add(1024, 0, 0, false, (dm_render_desc){0}, "1024 no gather",
+                    "1024, without the thin gather (the widest levels from the atlas blur)")->no_gather = true;
     snprintf(n, sizeof n, "%d no stretch", B), snprintf(w, sizeof w, "%d, stretch correction off (one median s_u, s_v)", B);
     add(B, 0, 0, true, (dm_render_desc){0}, n, w);
     snprintf(n, sizeof n, "%d reduce3", B), snprintf(w, sizeof w, "%d, --blur-reduce-from 3 (levels 3..5 at %d)", B, B / 2);
@@ -451,6 +454,7 @@ int main(int argc, char **argv)
         as[c].scene = &rows[c].scene;
         if (s->no_seam) as[c].seam = (dm_texture){0};
         if (s->no_thin) as[c].thin = as[c].thin_half = (dm_texture){0};
+        if (s->no_thin || s->no_gather) as[c].gather_index = as[c].gather_taps = (dm_texture){0};
         if (s->flat_stretch) {
             as[c].stretch_level_count = 1;
             as[c].stretch[0] = (dm_texture){DM_TEX_RG32F, as[c].stretch[0].width, as[c].stretch[0].height, flat};
@@ -481,7 +485,7 @@ int main(int argc, char **argv)
         while (zz < z + nz && !(zz->N == rows[c].s.size && zz->dipole == truth)) ++zz;
         bool is_default = !default_px && rows[c].s.size == (quick ? 256 : 1024) && !rows[c].s.taps &&
                           !rows[c].s.gaussians && !rows[c].s.flat_stretch && !rows[c].s.translucency &&
-                          !rows[c].s.frame_only && !rows[c].s.no_subsurface && !rows[c].s.no_seam && !rows[c].s.no_thin &&
+                          !rows[c].s.frame_only && !rows[c].s.no_subsurface && !rows[c].s.no_seam && !rows[c].s.no_thin && !rows[c].s.no_gather &&
                           rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !memcmp(&rows[c].s.knobs, &(dm_render_desc){0}, sizeof(dm_render_desc));
         if (rows[c].s.technique == DM_SSS_TEXTURE_SPACE && !rows[c].s.frame_only && !rows[c].s.no_subsurface) {
             int w = 0, h = 0;

@@ -9,10 +9,55 @@
 // texel up to two points across a thin part or a fold, (u', v', d mm, 1); each level k then
 // adds, right after its own term, w_k exp(-d^2 / 2 v_k) L_k(u', v') per candidate: the light of
 // the sheet across, exact for parallel sheets at distance d.
+//
+// DM_GATHER: the thin gather (bake/dm_thin_gather.h; core/dm_level_sum.h holds the CPU's same
+// sums): a texel whose index counts taps for gathered level g takes, for level u_gather_first + g,
+// sum_t weight_t * mean_c(t) instead of its own term and the candidates', mean_c the mean of
+// level 0's rgb / alpha over cell c's member texels with alpha > 1e-4 (C x C texels).
 uniform vec2 u_size; // the irradiance grid's texels
 #ifdef DM_THIN
 uniform sampler2D u_thin;
 uniform float u_level_var[8]; // v_k, mm^2
+#endif
+#ifdef DM_GATHER
+uniform sampler2D u_gather_index, u_gather_taps;
+uniform int u_gather_first, u_gather_count;
+uniform int u_gather_cell[2];
+#ifdef DM_FRAGMENT
+vec3 dm_gather_mean(int g, int cell)
+{
+    int n = int(u_size.x), C = g == 0 ? u_gather_cell[0] : u_gather_cell[1], m = (n + C - 1) / C;
+    ivec2 o = ivec2(cell % m, cell / m) * C;
+    vec4 s = vec4(0.0);
+    for (int y = o.y; y < o.y + C && y < n; ++y)
+        for (int x = o.x; x < o.x + C && x < n; ++x) {
+            if (!(texelFetch(u_gather_index, ivec2(x, y), 0).w > 0.5)) continue;
+            vec4 l = texelFetch(u_level[0], ivec2(x, y), 0);
+            if (!(l.a > 1e-4)) continue;
+            s += vec4(l / l.a); // rgb / alpha, and 1
+        }
+    return s.w > 0.0 ? (s / s.w).rgb : vec3(0.0);
+}
+vec2 dm_gather_tap(int t)
+{
+    return texelFetch(u_gather_taps, ivec2(t % 4096, t / 4096), 0).xy;
+}
+vec3 dm_gathered(int g, vec4 ix)
+{
+    int t = int(ix.x) + (g == 1 ? int(ix.y) : 0), end = t + int(g == 0 ? ix.y : ix.z);
+    vec3 s0 = vec3(0.0), s1 = vec3(0.0); // two sums, as the CPU's
+    for (; t + 1 < end; t += 2) {
+        vec2 a = dm_gather_tap(t), b = dm_gather_tap(t + 1);
+        s0 = s0 + a.y * dm_gather_mean(g, int(a.x));
+        s1 = s1 + b.y * dm_gather_mean(g, int(b.x));
+    }
+    if (t < end) {
+        vec2 a = dm_gather_tap(t);
+        s0 = s0 + a.y * dm_gather_mean(g, int(a.x));
+    }
+    return s0 + s1;
+}
+#endif
 #endif
 #ifdef DM_FRAGMENT /* the vertex stage: common.glsl's full-screen triangle */
 in vec2 v_uv;
@@ -24,7 +69,17 @@ void main()
     ivec2 t = ivec2(gl_FragCoord.xy);
     vec4 c0 = texelFetch(u_thin, t, 0), c1 = texelFetch(u_thin, t + ivec2(0, int(u_size.y)), 0);
     vec3 sum = vec3(0.0);
+#ifdef DM_GATHER
+    vec4 gix = texelFetch(u_gather_index, t, 0);
+#endif
     for (int k = 0; k < DM_LEVELS; ++k) {
+#ifdef DM_GATHER
+        int g = k - u_gather_first;
+        if (g >= 0 && g < u_gather_count && (g == 0 ? gix.y : gix.z) > 0.0) {
+            sum += u_level_weight[k] * dm_gathered(g, gix);
+            continue;
+        }
+#endif
         sum += u_level_weight[k] * dm_level(k, gl_FragCoord.xy / u_size);
         if (c0.w > 0.5) sum += u_level_weight[k] * (exp(-c0.z * c0.z / (2.0 * u_level_var[k])) * dm_level(k, c0.xy));
         if (c1.w > 0.5) sum += u_level_weight[k] * (exp(-c1.z * c1.z / (2.0 * u_level_var[k])) * dm_level(k, c1.xy));

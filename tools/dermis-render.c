@@ -22,6 +22,7 @@
 #include "render/dm_render_timing.h"
 
 #include "render/render_args.h"
+#include "render/render_explain.h"
 
 static void provenance(const render_args *o, const dm_scene *s, const char *input_hash, const dm_renderer *r,
                        dm_provenance *p)
@@ -67,6 +68,7 @@ static int load(const render_args *o, source *src, dm_error *err)
             return DM_EXIT_LOAD;
         if (o->no_seam_map) src->pack_assets.seam = (dm_texture){0};
         if (o->no_thin_map) src->pack_assets.thin = src->pack_assets.thin_half = (dm_texture){0};
+        if (o->no_thin_gather) src->pack_assets.gather_index = src->pack_assets.gather_taps = (dm_texture){0};
         src->assets = &src->pack_assets;
         src->s = &src->scene;
         if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])
@@ -244,23 +246,7 @@ int main(int argc, char **argv)
         char text[8192];
         dm_render_plan_explain(&plan, text, sizeof text);
         fputs(text, stdout);
-        if (plan.blur_levels > 1) /* docs/render-quality.md, The blur on the CPU */
-            printf("blur passes: %s\nseam map: %s\n", dm_renderer_blur_on_cpu(r) ? "on the CPU (OpenGL is software)" : "in GL",
-                   dm_renderer_seam_map(r) ? "the pack's: the irradiance pass also lights the gutter texels a blur reaches, "
-                                             "where the surface continues across the UV seam, and the blurs leave out "
-                                             "taps that jump to another place of the surface"
-                   : src.assets->seam.texels ? "the pack's is for another irradiance size: not used, the blurs stop at UV seams"
-                                             : "none in the pack: the blurs stop at UV seams");
-        if (plan.blur_levels > 1) /* docs/thin-map.md */
-            printf("thin-part map: %s\n",
-                   dm_renderer_thin_map(r) ? "the pack's: the diffusion pass adds the light from across thin parts and "
-                                             "folds (up to two points a texel, each level weighted by exp(-d^2/2v))"
-                   : !src.assets->thin.texels ? "none in the pack: no light reaches across thin parts and folds"
-                   : !dm_render_assets_thin_map(src.assets, desc.irradiance_size ? desc.irradiance_size
-                                                                                  : src.s->irradiance_size)
-                       ? "the pack's are for other irradiance sizes (the scene's and half of it): not used"
-                       : "the pack's is not used: the levels are summed per pixel (reduced levels or "
-                         "--diffusion-per-pixel), where it has no texel to read");
+        if (plan.blur_levels > 1) render_explain_maps(r, src.assets, desc.irradiance_size ? desc.irradiance_size : src.s->irradiance_size);
         if (!o.out && !o.timings && !o.compare_exact) goto done;
     }
 

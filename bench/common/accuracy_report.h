@@ -43,6 +43,7 @@ typedef struct setting {
     bool flat_stretch;
     bool no_seam;       /* the pack's seam map left out: blurs stop at UV seams (before #29) */
     bool no_thin;       /* the pack's thin-part map left out: no light across thin parts (before #29) */
+    bool no_gather;     /* the pack's thin gather left out: the widest levels from the atlas blur */
     dm_sss_technique technique; /* texture-space (0), screen-space or pre-integrated (its own pack:
                                  * the table and curvature map, PACK_PREINT) */
     int screen_taps;            /* screen-space kernel taps */

@@ -14,6 +14,13 @@
  * image, then coverage-normalised as above. The candidates come in a compact form
  * (dm_level_sum_thin_make).
  *
+ * With a thin gather (bake/dm_thin_gather.h) the gathered levels k of a gathering texel take,
+ * instead of their own term and the thin candidates',
+ *     w_k · Σ_t weight_t · Ī_c(t)
+ * Ī_c the mean of level 0's rgb / alpha over cell c's member texels with alpha > 1e-4 (0 when
+ * none), computed once per frame when level 0 is added (dm_level_sum_gather). The blur on the
+ * CPU only: in GL the gather is left out (dm_render_plan).
+ *
  * Deterministic: each texel alone, byte-identical for any thread count. */
 #ifndef DM_LEVEL_SUM_H
 #define DM_LEVEL_SUM_H
@@ -35,6 +42,20 @@ typedef struct dm_level_sum_thin {
     size_t count;
 } dm_level_sum_thin;
 
+/* A thin gather's baked index and taps (bake/dm_thin_gather.h, as the pack holds them) and the
+ * per-frame cell means of level 0 it reads. */
+typedef struct dm_level_sum_gather {
+    int n, first_level, level_count;
+    int cell[2];       /* C per gathered level */
+    const float *index; /* n·n·4: first tap, taps of gathered level 0, of level 1, member */
+    const float *taps;  /* 2 floats a tap */
+    int64_t tap_count;
+    float *mean[2];     /* per gathered level ceil(n/C)² × 4: the cell means (owned) */
+    int32_t *used[2];   /* per gathered level the cells some tap reads, ascending (owned) */
+    size_t used_count[2];
+    int thread_count;   /* for the means; 0 = every core */
+} dm_level_sum_gather;
+
 typedef struct dm_level_sum_pass {
     float *sum;         /* RGBA, n × n, unpadded: the sum so far (alpha: c once started) */
     const float *level; /* RGBA, n × n, rows `stride` floats apart (a padded level image:
@@ -47,6 +68,8 @@ typedef struct dm_level_sum_pass {
     int thread_count; /* 0 = every core */
     const dm_level_sum_thin *thin; /* NULL: none; else its n is this n */
     float variance_mm2;            /* v_k, with thin */
+    dm_level_sum_gather *gather;   /* NULL: none; else its n is this n; level 0 fills its means */
+    int level_index;               /* k, with gather */
 } dm_level_sum_pass;
 
 /* Adds one level. False (nothing written) when a pointer is NULL, n < 1, stride < 4 n, or a
@@ -58,6 +81,13 @@ bool dm_level_sum_add(const dm_level_sum_pass *p);
  * empty) or n < 1. Free with dm_level_sum_thin_free (safe on a zeroed one). */
 bool dm_level_sum_thin_make(const float *map, int n, dm_level_sum_thin *out);
 void dm_level_sum_thin_free(dm_level_sum_thin *t);
+
+/* A gather over a pack's entries: index n × n × 4, taps (2 per tap, header first; its count
+ * tap_count). False (out empty) when the header does not fit n and the levels (first_level +
+ * level_count ≤ levels) or out of memory. Free with dm_level_sum_gather_free. */
+bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int64_t tap_count, int levels,
+                              dm_level_sum_gather *out);
+void dm_level_sum_gather_free(dm_level_sum_gather *g);
 
 #ifdef __cplusplus
 }

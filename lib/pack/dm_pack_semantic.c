@@ -197,6 +197,29 @@ static dm_result thin(const ctx *c)
     return DM_OK;
 }
 
+/* The thin gather (bake/dm_thin_gather.h): the index's first tap and counts whole and below
+ * 2^24 (a float counts exactly there; checked as ranges), member 0 or 1 (as [0, 1]); the taps
+ * 4096 wide, cell indices and weights in [0, 2^24] (the header's small counts among them). */
+static dm_result gather_index(const ctx *c)
+{
+    dm_result r = single(c);
+    const range comp[4] = {{0.0, 16777216.0, false, "the first tap, below 2^24"},
+                           {0.0, 16777216.0, false, "taps of the first gathered level"},
+                           {0.0, 16777216.0, false, "taps of the second gathered level"},
+                           {0.0, 1.0, false, "1 a member of its cells, 0 not"}};
+    return r != DM_OK ? r : texels_in(c, comp);
+}
+
+static dm_result gather_taps(const ctx *c)
+{
+    dm_result r = single(c);
+    if (r != DM_OK) return r;
+    if (c->e->width != 4096) return FAIL(c, DM_ERR_FORMAT, "%d wide, expected 4096 taps a row", c->e->width);
+    const range comp[2] = {{0.0, 16777216.0, false, "a cell index (or the header), below 2^24"},
+                           {0.0, 16777216.0, false, "a tap's weight (or the header)"}};
+    return texels_in(c, comp);
+}
+
 static dm_result kernel(const ctx *c)
 {
     const dm_pack_entry *e = c->e;
@@ -289,7 +312,8 @@ static const struct rule {
     {"specular", single},              {"roughness", single},        {"lut.beckmann", single},
     {"lut.rho_dt", directional},       {"lut.env_brdf", directional}, {"stretch", stretch},
     {"stretch.mask", single},          {"seam", seam},               {"thin", thin},
-    {"thin.half", thin},               {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
+    {"thin.half", thin},               {"gather.index", gather_index}, {"gather.taps", gather_taps},
+    {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
     {"sss.curvature", single},         {"env.sh", sh},               {"env.specular", specular},
     {"env.background", background},
 };

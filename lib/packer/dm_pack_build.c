@@ -37,6 +37,7 @@ static const step steps[] = {
     {"stretch", {"stretch", "stretch.mask"}, dmpb_step_stretch},
     {"seam map", {"seam"}, dmpb_step_seam},
     {"thin-part map", {"thin", "thin.half"}, dmpb_step_thin},
+    {"thin gather", {"gather.index", "gather.taps"}, dmpb_step_gather},
     {"screen-space kernel", {"sss.kernel"}, dmpb_step_ss_kernel},
     {"pre-integrated table", {"sss.preintegrated"}, dmpb_step_preintegrated},
     {"curvature", {"sss.curvature"}, dmpb_step_curvature},

@@ -45,6 +45,7 @@ dm_result dmpb_step_profile(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_stretch(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_seam(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_thin(dm_pack_build *j, dm_error *err);
+dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_ss_kernel(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_preintegrated(dm_pack_build *j, dm_error *err);
 dm_result dmpb_step_curvature(dm_pack_build *j, dm_error *err);

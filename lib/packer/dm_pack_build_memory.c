@@ -18,6 +18,9 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
      * grid, written like the chain */
     if (dm_pack_build_wants(b, "seam")) m->pack_size += n * n * 16;
     if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32 + n * n * 8; /* and thin.half, N/2 × N */
+    /* the thin gather: its index (RGBA32F, N²) and taps, about 9 taps (72 bytes) a texel on the
+     * head at 1024², counted as 80; left out where its taps would pass 2^24 (dm_pack_build_gather.c) */
+    if (dm_pack_build_wants(b, "gather.index") && n * n * 9 < (1u << 24)) m->pack_size += n * n * (16 + 80);
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;

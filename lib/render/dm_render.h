@@ -115,6 +115,11 @@ typedef struct dm_render_assets {
      * size the one above (dm_render_assets_thin_map); optional. (No half-size seam map: at
      * 512² on the head it made the seam region worse, docs/seam-map.md.) */
     dm_texture thin_half;
+    /* the thin gather (bake/dm_thin_gather.h): "gather.index" RGBA32F N × N and "gather.taps"
+     * RG32F: the profile's widest levels as a 3-D sum over atlas cells where a surface facing
+     * away is near; optional. Used only by the blur on the CPU, when N is the irradiance size
+     * and the levels are summed per texel (dm_renderer_thin_gather says whether it is used). */
+    dm_texture gather_index, gather_taps;
     const dm_profile *profile; /* NULL: scene->profile */
 
     /* screen-space subsurface: the separable kernels dermis-pack fitted to the profile, one row
@@ -251,6 +256,8 @@ bool dm_renderer_seam_map(const dm_renderer *r);
 /* Whether texture space reads the pack's thin-part map (its diffusion pass adds the light
  * from across thin parts and folds). */
 bool dm_renderer_thin_map(const dm_renderer *r);
+/* Whether the blur on the CPU gathers the widest levels in 3-D (the pack's thin gather). */
+bool dm_renderer_thin_gather(const dm_renderer *r);
 
 /* Replaces the scene's values that no pass, target or upload depends on: camera, light
  * directions, positions, colours and intensities, material constants, environment

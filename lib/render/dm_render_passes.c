@@ -48,7 +48,7 @@ static const dmr_pass_row rows[] = {
     {DM_PASS_DIFFUSION, "diffusion.glsl", "#define DM_DIFFUSION_PASS 1\n", "passes/dm_pass_blur_cpu.c", true, 0, {{0}},
      ST(blur_cpu), .prepare = dmr_blur_cpu_sum_prepare, .run = dmr_blur_cpu_sum_run},
     {DM_PASS_DIFFUSION, "diffusion.glsl", "#define DM_DIFFUSION_PASS 1\n", "passes/dm_pass_diffusion.c", true,
-     DMR_BIND_LEVELS, {{0}}, 0, .prepare = dmr_diffusion_prepare, .run = dmr_diffusion_run},
+     DMR_BIND_LEVELS, {{0}}, 0, .setup = dmr_diffusion_setup, .prepare = dmr_diffusion_prepare, .run = dmr_diffusion_run},
     /* the screen's targets (frame/dm_frame_targets.c) are made here, before the next targets hook */
     {DM_PASS_GBUFFER, "final.glsl", "#define DM_GBUFFER 1\n", "passes/dm_pass_shade.c", false,
      DMR_BIND_SHADE | DMR_BIND_MODE0, {{GL_LESS, .cull_back = true, .clear = DMR_CLEAR_DEPTH}}, 0,

@@ -60,3 +60,9 @@ bool dm_renderer_thin_map(const dm_renderer *r)
 {
     return r && r->f.tex_thin && r->f.plan.texture_space;
 }
+
+bool dm_renderer_thin_gather(const dm_renderer *r)
+{
+    return r && r->f.plan.texture_space &&
+           (r->f.blur_cpu ? r->blur_cpu.gather.mean[0] != NULL : r->f.tex_gather_index != 0);
+}

@@ -86,12 +86,14 @@ static float *render_view(const dm_render_assets *a, int irr, dm_blur_path path,
     return px;
 }
 
-/* The same at IRR with the given thin-part map texels (NULL: none) of n × 2n. */
+/* The same at IRR with the given thin-part map texels (NULL: none) of n × 2n, the pack's thin
+ * gather left out (these tests hold the map's own formula; the gather's are below). */
 static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_path path, dm_view view, bool *used,
                         float *lo, float *hi, const char **quantity)
 {
     dm_render_assets a = sp->assets;
     a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
+    a.gather_index = a.gather_taps = (dm_texture){0};
     return render_view(&a, IRR, path, view, used, lo, hi, quantity);
 }
 
@@ -159,6 +161,51 @@ Test(thin, parallel_sheets_exact_on_the_cpu_blur, .timeout = 120) { check_sheet(
 Test(thin, parallel_sheets_exact_on_the_gl_blur, .timeout = 120) { check_sheet(DM_BLUR_PATH_GL, 1.0); }
 /* thinner than a texel (0.04 mm against 0.39 mm a texel): as exact */
 Test(thin, a_sheet_thinner_than_a_texel, .timeout = 120) { check_sheet(DM_BLUR_PATH_CPU, 0.04); }
+
+/* The pack's thin gather (bake/dm_thin_gather.h) on the sheet: the two widest levels become the
+ * 3-D sum over the cells of both plates. Over the plates' middle the bottom over the top is the
+ * closed form Σ_k w_k exp(−s²/2v_k) as with the map alone, and the top is the map alone's: to
+ * 0.3 % — what the sum leaves out beyond 3.5 σ of each gathered level (e^−6.1 = 0.22 % of a
+ * plane's light) and the cells along the disc's edge. The GL path gathers the same sums
+ * (diffusion.glsl's DM_GATHER): to 1e-4 of the range, as the blur paths agree. */
+Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    cr_assert(sp.assets.gather_index.texels && sp.assets.gather_taps.texels, "dermis-pack baked the gather");
+    float *map = thin_sheet_map(1.0, IRR);
+    dm_render_assets a = sp.assets;
+    a.thin = (dm_texture){DM_TEX_RGBA32F, IRR, 2 * IRR, map};
+    bool used;
+    float *gathered = render_view(&a, IRR, DM_BLUR_PATH_CPU, DM_VIEW_DIFFUSION, &used, NULL, NULL, NULL);
+    float *alone = diffusion_with(&sp, map, IRR, DM_BLUR_PATH_CPU, &used);
+    float *gl = render_view(&a, IRR, DM_BLUR_PATH_GL, DM_VIEW_DIFFUSION, &used, NULL, NULL, NULL);
+    float *gl_alone = diffusion_with(&sp, map, IRR, DM_BLUR_PATH_GL, &used);
+    cr_assert(memcmp(gl, gl_alone, sizeof *gl * 4 * IRR * IRR), "GL gathers too");
+    double want[3], worst_bottom = 0, worst_top = 0, moved = 0, gl_worst = 0, range = 0;
+    across(&sp.profile, 1.0, want);
+    for (double y = 10.25; y < THIN_SHEET_L - 10; y += 0.5)
+        for (double x = 10.25; x < THIN_SHEET_L - 10; x += 0.5) {
+            const float *top = at(gathered, 0, x, y), *bottom = at(gathered, 1, x, y), *top1 = at(alone, 0, x, y);
+            for (int c = 0; c < 3; ++c) {
+                worst_bottom = fmax(worst_bottom, fabs(bottom[c] / top[c] / want[c] - 1));
+                worst_top = fmax(worst_top, fabs(top[c] / top1[c] - 1));
+                moved = fmax(moved, fabs(bottom[c] - at(alone, 1, x, y)[c]) / top[c]);
+            }
+        }
+    for (size_t i = 0; i < (size_t)4 * IRR * IRR; ++i)
+        range = fmax(range, fabs(gl[i])), gl_worst = fmax(gl_worst, fabs(gl[i] - gathered[i]));
+    cr_log_info("gathered sheet: bottom/top off the closed form by %.2e at most, top by %.2e, moved %.2e of the top; "
+                "GL against the CPU %.2e of the range", worst_bottom, worst_top, moved, gl_worst / range);
+    cr_assert_gt(moved, 1e-6, "the gather must run here");
+    cr_assert_lt(worst_bottom, 3e-3, "worst %.2e", worst_bottom);
+    cr_assert_lt(worst_top, 3e-3, "worst %.2e", worst_top);
+    cr_assert_lt(gl_worst, 1e-4 * range);
+    free(gathered), free(alone), free(gl), free(gl_alone), free(map);
+    dm_pack_close(&sp.pack);
+}
 
 /* A map of another size (its texels are other points) and an empty map: left out or adding
  * nothing, bit for bit. */

@@ -45,7 +45,7 @@ static void sum_levels_thin(float *const px[LEVELS], float *sum, int threads, co
     for (int k = 0; k < LEVELS; ++k)
         cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
                                                         {weight[k][0], weight[k][1], weight[k][2]}, k == 0,
-                                                        k == LEVELS - 1, threads, thin, variance[k]}));
+                                                        k == LEVELS - 1, threads, thin, variance[k], NULL, 0}));
 }
 
 static void sum_levels(float *const px[LEVELS], float *sum, int threads)
@@ -103,11 +103,11 @@ Test(level_sum, refuses_what_breaks_the_rules)
 {
     float level[4 * 4] = {0}, sum[4 * 4];
     cr_expect(!dm_level_sum_add(NULL));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){NULL, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, NULL, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 0, {1, 1, 1}, true, true, 0, NULL, 0}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 7, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
-    cr_expect(dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){NULL, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, NULL, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 0, {1, 1, 1}, true, true, 0, NULL, 0, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, level, 7, 2, {1, 1, 1}, true, true, 0, NULL, 0, NULL, 0}));
+    cr_expect(dm_level_sum_add(&(dm_level_sum_pass){sum, level, 8, 2, {1, 1, 1}, true, true, 0, NULL, 0, NULL, 0}));
     for (int i = 0; i < 16; ++i) cr_expect(sum[i] == 0.0f && !signbit(sum[i]), "zero coverage: black, not NaN");
 }
 
@@ -191,10 +191,99 @@ Test(level_sum, thin_candidates_match_the_formula_in_double)
     cr_expect(!memcmp(sum, many, sizeof(float) * 4 * N * N), "byte-identical on 5 threads");
     dm_level_sum_thin other = thin;
     other.n = N + 1;
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &other, 1.0f}));
-    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &thin, 0.0f}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &other, 1.0f, NULL, 0}));
+    cr_expect(!dm_level_sum_add(&(dm_level_sum_pass){sum, px[0], stride, N, {1, 1, 1}, true, true, 0, &thin, 0.0f, NULL, 0}));
     dm_level_sum_thin_free(&thin);
     dm_level_sum_thin_free(&thin); /* twice: safe */
     for (int k = 0; k < LEVELS; ++k) free(buf[k]);
     free(map), free(sum), free(plain), free(many);
+}
+
+/* With a thin gather (first gathered level 2, two levels, cells of 2 and 4 texels): a quarter
+ * of the texels gather, with taps on random cells (some empty) and random weights; members are
+ * three quarters of the texels. The gathered levels of a gathering texel are, in double,
+ * w_k Σ_t weight_t Ī_c(t), Ī_c the mean of level 0's rgb / alpha over the cell's members with
+ * alpha > 1e-4; every other term is the plain sum's, and a texel that does not gather is the
+ * plain sum bit for bit. */
+Test(level_sum, gathered_levels_match_the_formula_in_double)
+{
+    float *buf[LEVELS], *px[LEVELS];
+    for (int k = 0; k < LEVELS; ++k) buf[k] = make_level(k, &px[k]);
+    const int cell[2] = {2, 4}, m[2] = {(N + 1) / 2, (N + 3) / 4}, per = 5;
+    float *index = calloc((size_t)4 * N * N, sizeof(float)), *taps = calloc((size_t)2 * (2 + 2 * per * N * N), sizeof(float));
+    taps[0] = 2, taps[1] = 2, taps[2] = (float)cell[0], taps[3] = (float)cell[1];
+    unsigned seed = 7u;
+    int64_t t = 2;
+    for (int i = 0; i < N * N; ++i) {
+        seed = seed * 1664525u + 1013904223u;
+        index[4 * i + 3] = (seed >> 24) % 4 ? 1.0f : 0.0f;
+        if ((seed >> 16) % 4) continue;
+        index[4 * i] = (float)t;
+        for (int g = 0; g < 2; ++g) {
+            index[4 * i + 1 + g] = (float)per;
+            for (int k = 0; k < per; ++k, ++t) {
+                seed = seed * 1664525u + 1013904223u;
+                taps[2 * t] = (float)((seed >> 8) % (unsigned)(m[g] * m[g]));
+                seed = seed * 1664525u + 1013904223u;
+                taps[2 * t + 1] = (float)(seed >> 8) / 16777216.0f * 0.3f;
+            }
+        }
+    }
+    dm_level_sum_gather g;
+    cr_assert(dm_level_sum_gather_make(index, N, taps, t, LEVELS, &g));
+    float *sum = malloc(sizeof(float) * 4 * N * N), *plain = malloc(sizeof(float) * 4 * N * N);
+    for (int k = 0; k < LEVELS; ++k)
+        cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
+                                                        {weight[k][0], weight[k][1], weight[k][2]}, k == 0,
+                                                        k == LEVELS - 1, 0, NULL, variance[k], &g, k}));
+    sum_levels(px, plain, 0);
+    long stride = dm_level_blur_stride(N);
+    /* the cell means in double */
+    double *mean[2];
+    for (int l = 0; l < 2; ++l) {
+        mean[l] = calloc((size_t)3 * m[l] * m[l], sizeof(double));
+        for (int c = 0; c < m[l] * m[l]; ++c) {
+            double s[3] = {0, 0, 0}, n = 0;
+            for (int y = (c / m[l]) * cell[l]; y < (c / m[l] + 1) * cell[l] && y < N; ++y)
+                for (int x = (c % m[l]) * cell[l]; x < (c % m[l] + 1) * cell[l] && x < N; ++x) {
+                    const float *q = px[0] + y * stride + 4 * x;
+                    if (!(index[4 * (y * N + x) + 3] > 0.5f) || !(q[3] > 1e-4f)) continue;
+                    for (int ch = 0; ch < 3; ++ch) s[ch] += (double)q[ch] / q[3];
+                    n += 1;
+                }
+            for (int ch = 0; ch < 3; ++ch) mean[l][3 * c + ch] = n > 0 ? s[ch] / n : 0.0;
+        }
+    }
+    int gathering = 0;
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) {
+            const float *ix = index + 4 * (y * N + x), *s = sum + 4 * (y * N + x);
+            if (!(ix[1] > 0)) {
+                cr_assert(!memcmp(s, plain + 4 * (y * N + x), sizeof(float) * 4), "texel %d, %d: not the plain sum", x, y);
+                continue;
+            }
+            double cov = px[0][y * stride + 4 * x + 3];
+            gathering += cov > 0;
+            for (int c = 0; c < 3; ++c) {
+                double e = 0;
+                for (int k = 0; k < 2; ++k) { /* the levels not gathered */
+                    const float *q = px[k] + y * stride + 4 * x;
+                    e += weight[k][c] * (q[3] > 1e-4f ? (double)q[c] / q[3] : 0.0);
+                }
+                int64_t tt = (int64_t)ix[0];
+                for (int l = 0; l < 2; ++l) {
+                    double gs = 0;
+                    for (int k = 0; k < (int)ix[1 + l]; ++k, ++tt) gs += taps[2 * tt + 1] * mean[l][3 * (int)taps[2 * tt] + c];
+                    e += weight[2 + l][c] * gs;
+                }
+                e *= cov;
+                cr_assert(fabs(s[c] - e) <= 2e-6 * fmax(1.0, fabs(e)), "texel %d, %d channel %d: %.8g, expected %.8g", x,
+                          y, c, s[c], e);
+            }
+            cr_assert_eq(s[3], (float)cov);
+        }
+    cr_assert_gt(gathering, N * N / 8);
+    dm_level_sum_gather_free(&g);
+    free(mean[0]), free(mean[1]), free(sum), free(plain), free(index), free(taps);
+    for (int k = 0; k < LEVELS; ++k) free(buf[k]);
 }

@@ -76,6 +76,8 @@ void render_usage(FILE *f)
             "                       before dermis baked one (to see what it changes)\n"
             "  --no-thin-map        leave the pack's thin-part map out: no light from across thin\n"
             "                       parts and folds (ears, lips, eyelids), as before dermis baked one\n"
+            "  --no-thin-gather     leave the pack's thin gather out: the widest levels come from the\n"
+            "                       atlas blur and the thin-part map alone (docs/thin-map.md)\n"
 
             "  --compare-exact      also render the exact path and print this setting's error\n"
             "                       against it (linear output, display steps, blur5) and both times\n"
@@ -151,6 +153,8 @@ int render_parse(int argc, char **argv, render_args *o)
             o->no_seam_map = true;
         } else if (!strcmp(a, "--no-thin-map")) {
             o->no_thin_map = true;
+        } else if (!strcmp(a, "--no-thin-gather")) {
+            o->no_thin_gather = true;
         } else if (!strcmp(a, "--blur-on")) {
             static const char *paths[] = {"auto", "gl", "cpu"}; /* dm_blur_path's order */
             int k = 0;

@@ -16,7 +16,7 @@ typedef struct render_args {
     dm_view view;
     double view_scale, light_azimuth;
     bool view_scale_given;
-    bool timings, explain, verbose, quiet, compare_exact, no_seam_map, no_thin_map;
+    bool timings, explain, verbose, quiet, compare_exact, no_seam_map, no_thin_map, no_thin_gather;
     dm_render_desc speed; /* the speed/accuracy fields only */
 } render_args;
 

@@ -43,8 +43,10 @@ enum {
     UNIT_CURVATURE = UNIT_LEVEL0 + 7,
     /* the irradiance pass's seam map: its G-buffer takes UNIT_LEVEL0..+3 */
     UNIT_SEAM = UNIT_LEVEL0 + 4,
-    /* the diffusion pass's thin-part map: that pass reads the levels and nothing else */
+    /* the diffusion pass's thin-part map and thin gather: that pass reads the levels and nothing else */
     UNIT_THIN = UNIT_SRC,
+    UNIT_GATHER_INDEX = UNIT_STRETCH,
+    UNIT_GATHER_TAPS = UNIT_MASK,
     /* the texture views' chart coverage (the texture-space G-buffer's positions, w) */
     UNIT_COVER = UNIT_BACKGROUND,
     /* the blurs' seam points (seam_points.glsl): a blur reads its source, the stretch and these */
@@ -115,6 +117,10 @@ struct dmr_frame {
     int16_t *seam_cuts;
     GLuint tex_thin; /* the thin-part map (0 without one): diffusion.glsl's DM_THIN; the blur on
                       * the CPU keeps its candidates in its own compact copy */
+    /* the thin gather in GL (diffusion.glsl's DM_GATHER; 0 without, or when the blur runs on
+     * the CPU, which reads the pack's own texels): index, taps, and the header's numbers */
+    GLuint tex_gather_index, tex_gather_taps;
+    int gather_first, gather_count, gather_cell[2];
     GLuint ts_cover_tex; /* texture space's G-buffer positions: w = 1 on the texels a triangle covers */
     int stretch_count;
     dmr_preint_inputs preint;

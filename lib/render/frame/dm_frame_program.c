@@ -26,6 +26,7 @@ static void set_sampler_units(GLuint p)
                  {"u_tdepth0", UNIT_TDEPTH0},     {"u_tdepth1", UNIT_TDEPTH0 + 1}, {"u_tdepth2", UNIT_TDEPTH0 + 2},
                  {"u_tdepth3", UNIT_TDEPTH0 + 3}, {"u_preint", UNIT_PREINT},   {"u_curvature", UNIT_CURVATURE},
                  {"u_seam", UNIT_SEAM},           {"u_cover", UNIT_COVER},         {"u_thin", UNIT_THIN},
+                 {"u_gather_index", UNIT_GATHER_INDEX}, {"u_gather_taps", UNIT_GATHER_TAPS},
                  {"u_points", UNIT_POINTS},
                  {"u_cuts", UNIT_CUTS}};
     glUseProgram(p);
@@ -110,6 +111,7 @@ static void frame_defines(const dmr_frame *f, const char *extra, char *defines, 
     if (f->diffusion_sum) n += (size_t)snprintf(defines + n, size - n, "#define DM_DIFFUSION_SUM 1\n");
     if (f->tex_seam && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_SEAM 1\n");
     if (f->tex_thin && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_THIN 1\n");
+    if (f->tex_gather_index && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_GATHER 1\n");
     if (extra) snprintf(defines + n, size - n, "%s", extra);
 }
 

@@ -89,6 +89,11 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (seam) count_upload(m, seam, false);
         if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
+        /* the thin gather, uploaded where the blur runs in GL (dm_pass_diffusion.c) */
+        if (in->diffusion_sum && thin && !in->cpu_blur && a->gather_index.width == s->irr_edge) {
+            count_upload(m, &a->gather_index, false);
+            count_upload(m, &a->gather_taps, false);
+        }
     }
     if (p->pre_integrated) {
         count_upload(m, &a->preintegrated, false);
@@ -138,6 +143,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (in->diffusion_sum) m->cpu_blur_size += N2 * 16;
         if (in->diffusion_sum && dm_render_assets_thin_map(a, s->irr_edge))
             m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
+        if (in->diffusion_sum && a->gather_index.width == s->irr_edge && a->gather_index.texels)
+            m->cpu_blur_size += N2 * 4 + N2 / 2; /* the gather's cell means (N²/4 + N²/16 texels) and cell lists */
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
     m->readback_size = px * (16 + 4 + 4);

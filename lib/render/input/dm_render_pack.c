@@ -83,6 +83,8 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     dm_result r = texture(pack, "stretch.mask", &a->stretch_mask, err);
     if (r == DM_OK) r = texture(pack, "seam", &a->seam, err);
     if (r == DM_OK) r = texture(pack, "thin", &a->thin, err);
+    if (r == DM_OK) r = texture(pack, "gather.index", &a->gather_index, err);
+    if (r == DM_OK) r = texture(pack, "gather.taps", &a->gather_taps, err);
     return r == DM_OK ? texture(pack, "thin.half", &a->thin_half, err) : r;
 }
 

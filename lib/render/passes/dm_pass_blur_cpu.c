@@ -56,6 +56,11 @@ static bool allocate(dmr_frame *f, dmr_blur_cpu *b, const dm_render_assets *a)
     if (b->sum && f->tex_thin &&
         !dm_level_sum_thin_make(dm_render_assets_thin_map(a, f->irr_edge)->texels, f->irr_edge, &b->thin))
         return false;
+    /* the thin gather, where the thin-part map is used and it was baked at this size */
+    const dm_texture *gi = &a->gather_index, *gt = &a->gather_taps;
+    if (b->sum && f->tex_thin && gi->texels && gt->texels && gi->width == f->irr_edge && gi->height == f->irr_edge)
+        (void)dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
+                                       f->plan.blur_levels, &b->gather); /* false: not used (its header does not fit) */
     return true;
 }
 
@@ -67,7 +72,7 @@ static void add_to_sum(const dmr_frame *f, dmr_blur_cpu *b, int k)
     dm_level_sum_add(&(dm_level_sum_pass){b->sum, b->level, dm_level_blur_stride(n), n,
                                           {f->level_weight[k][0], f->level_weight[k][1], f->level_weight[k][2]},
                                           k == 0, k == f->plan.blur_levels - 1, 0, b->thin.first ? &b->thin : NULL,
-                                          (float)f->profile.variance_mm2[k]});
+                                          (float)f->profile.variance_mm2[k], b->gather.mean[0] ? &b->gather : NULL, k});
     b->sum_level = k;
 }
 
@@ -135,6 +140,7 @@ void dmr_blur_cpu_free(dmr_frame *f, void *st)
     for (int i = 0; i < 3; ++i) free(b->buf[i]), b->buf[i] = NULL;
     free(b->sum), b->sum = NULL;
     dm_level_sum_thin_free(&b->thin);
+    dm_level_sum_gather_free(&b->gather);
     for (int k = 0; k < DM_PROFILE_MAX_GAUSSIANS; ++k)
         free(b->step[k][0]), free(b->step[k][1]), b->step[k][0] = b->step[k][1] = NULL;
 }

@@ -16,6 +16,7 @@ typedef struct dmr_blur_cpu {
     float *sum;    /* the diffusion pass's sum, level by level (full-resolution levels) */
     int sum_level; /* the last level added to it; −1: none this frame */
     dm_level_sum_thin thin; /* the thin-part map's candidates, when the GL pass has it (f->tex_thin) */
+    dm_level_sum_gather gather; /* the thin gather, with the thin-part map at this size (mean[0] set) */
     bool syncing;  /* the sync is running the chain */
     bool summing;  /* this frame's chain feeds the sum, and no pass reads the levels in GL:
                     * their uploads wait until something does (f->levels) */

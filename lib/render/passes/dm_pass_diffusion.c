@@ -2,8 +2,28 @@
  * (diffusion.glsl), times coverage, into the target texture space published (diff_fbo); the
  * final pass reads it through dm_diffusion (shaders/common.glsl). The levels come through the
  * binder; a level whose upload a CPU chain deferred is brought up first. With a thin-part map
- * (DM_THIN) it adds the light from across thin parts and folds. */
+ * (DM_THIN) it adds the light from across thin parts and folds; with a thin gather (DM_GATHER)
+ * the widest levels of the texels near a surface facing away are the 3-D sum over atlas cells. */
 #include "render/passes/dm_pass_diffusion.h"
+
+#include "core/dm_level_sum.h"
+
+dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
+{
+    (void)st;
+    const dm_texture *gi = &a->gather_index, *gt = &a->gather_taps;
+    if (f->blur_cpu || !f->tex_thin || !gi->texels || !gt->texels || gi->width != f->irr_edge || gi->height != f->irr_edge)
+        return DM_OK;
+    dm_level_sum_gather g; /* the header checked as the CPU path checks it */
+    if (!dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
+                                  f->plan.blur_levels, &g))
+        return DM_OK;
+    f->gather_first = g.first_level, f->gather_count = g.level_count;
+    f->gather_cell[0] = g.cell[0], f->gather_cell[1] = g.cell[1];
+    dm_level_sum_gather_free(&g);
+    dm_result rc = dmr_upload(f, gi, "gather_index", false, GL_NEAREST, &f->tex_gather_index, err);
+    return rc == DM_OK ? dmr_upload(f, gt, "gather_taps", false, GL_NEAREST, &f->tex_gather_taps, err) : rc;
+}
 
 bool dmr_diffusion_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out)
 {
@@ -23,6 +43,13 @@ void dmr_diffusion_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame
         for (int k = 0; k < f->profile.count; ++k) v[k] = (float)f->profile.variance_mm2[k];
         glUniform1fv(dmg_loc(p, "u_level_var"), f->profile.count, v);
         dmg_bind(UNIT_THIN, GL_TEXTURE_2D, f->tex_thin);
+    }
+    if (f->tex_gather_index) { /* DM_GATHER: the widest levels as the 3-D sum over atlas cells */
+        glUniform1i(dmg_loc(p, "u_gather_first"), f->gather_first);
+        glUniform1i(dmg_loc(p, "u_gather_count"), f->gather_count);
+        glUniform1iv(dmg_loc(p, "u_gather_cell"), 2, f->gather_cell);
+        dmg_bind(UNIT_GATHER_INDEX, GL_TEXTURE_2D, f->tex_gather_index);
+        dmg_bind(UNIT_GATHER_TAPS, GL_TEXTURE_2D, f->tex_gather_taps);
     }
     dmr_draw_fullscreen(f);
 }

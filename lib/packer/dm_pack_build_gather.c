@@ -1,0 +1,55 @@
+/* dm_pack_build_gather.c — the pack's thin gather (bake/dm_thin_gather.h) at the scene's
+ * irradiance size: "gather.index" (RGBA32F, N × N) and "gather.taps" (RG32F, 4096 wide), for the
+ * profile's widest levels with σ ≥ 1 mm; nothing when no level qualifies, or when the taps are
+ * more than a float counts exactly (2^24: the head at 2048², a note on stderr). */
+#include <stdio.h>
+
+#include "bake/dm_thin_gather.h"
+#include "packer/dm_pack_build_impl.h"
+
+dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err)
+{
+    dm_result r = dmpb_ensure_mesh(j, err);
+    if (r != DM_OK) return r;
+    const dm_profile *pf = &j->scene.profile;
+    dm_thin_gather_options o;
+    dm_thin_gather_options_for(pf->variance_mm2, pf->count, j->scene.irradiance_size, j->scene.mm_per_unit, &o);
+    o.threads = j->opt->threads;
+    if (o.level_count < 1) return DM_OK;
+    dm_thin_gather g;
+    dm_thin_gather_stats st;
+    if ((r = dm_thin_gather_bake(&j->mesh, &o, &g, &st, err)) == DM_ERR_RANGE) {
+        /* more taps than a float counts (at 2048² on the head): the pack goes without; the
+         * renderer then takes the widest levels from the atlas blur and the thin-part map */
+        if (!j->opt->quiet) fprintf(stderr, "note: %s: left out of the pack\n", err->detail);
+        return DM_OK;
+    }
+    if (r != DM_OK) return r;
+    dm_provenance p;
+    dmpb_mesh_prov(j, &p, "thin gather: the widest levels as a 3-D sum over atlas cells where a surface facing away "
+                          "is near (first tap, taps of gathered level 0, of level 1, member)");
+    dm_prov_add_int(&p, "size", g.size);
+    dm_prov_add_int(&p, "first_level", g.first_level);
+    dm_prov_add_int(&p, "level_count", g.level_count);
+    dm_prov_add_double(&p, "near_mm", o.near_mm);
+    dm_prov_add_double(&p, "reach_sigmas", DM_THIN_GATHER_REACH_SIGMAS);
+    dm_thin_gather_stats_prov(&st, &p);
+    static const char *const ch[4] = {"first", "taps0", "taps1", "member"};
+    r = dmpb_add_mesh_rgba32f(j, "gather.index", g.size, g.size, ch, g.index, &p, err);
+    if (r == DM_OK) {
+        char src[200];
+        snprintf(src, sizeof src, "baked from %.150s", dmpb_base_name(j->scene.mesh));
+        dm_pack_entry d = dm_pack_texture_entry("gather.taps", DM_TEX_RG32F, DM_THIN_GATHER_TAPS_WIDTH, g.taps_rows);
+        d.channel_count = 2;
+        snprintf(d.channels[0], sizeof d.channels[0], "cell");
+        snprintf(d.channels[1], sizeof d.channels[1], "weight");
+        r = dmpb_add(j, &d, g.taps, sizeof *g.taps * 2 * (size_t)DM_THIN_GATHER_TAPS_WIDTH * (size_t)g.taps_rows, &p,
+                     src, err);
+    }
+    if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
+        fprintf(stderr, "thin gather at %d: %lld texels gather levels %d..%d, %lld taps (cells %d, %d)\n", g.size,
+                (long long)st.gathering_texels, g.first_level, g.first_level + g.level_count - 1, (long long)st.taps,
+                st.cell[0], st.cell[1]);
+    dm_thin_gather_free(&g);
+    return r;
+}

@@ -1,0 +1,220 @@
+/* The thin gather's bake (bake/dm_thin_gather.h) on a thin sheet (tests/common/thin_sheet.h):
+ * its taps against an independent sum over the cells' known centres and against the closed
+ * form for a plane across (e^(−s²/2v) · (1 − e^(−(r² − s²)/2v)), r the reach), which texels
+ * gather, the header, threads, bad options and zero-UV-area triangles. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/dm_thin_gather.h"
+#include "../common/thin_sheet.h"
+
+enum { N = 256 };
+#define S_MM 1.0
+#define PI 3.14159265358979323846
+static const double V[2] = {1.99, 7.41}; /* gems3-skin's two widest levels, mm² */
+
+static dm_thin_gather_options options(int threads)
+{
+    dm_thin_gather_options o = {N, 1.0, 4, 2, {V[0], V[1]}, 2.0 * sqrt(V[1]), threads};
+    return o;
+}
+
+static void bake(const dm_mesh *m, int threads, dm_thin_gather *g, dm_thin_gather_stats *st)
+{
+    dm_error err = {0};
+    dm_thin_gather_options o = options(threads);
+    cr_assert_eq(dm_thin_gather_bake(m, &o, g, st, &err), DM_OK, "%s", err.detail);
+}
+
+/* Sheet point (x, y) of side `bottom` from texel (i, j), or false off the charts. */
+static bool texel_xy(int i, int j, int *bottom, double *x, double *y)
+{
+    double u = (i + 0.5) / N, v = (j + 0.5) / N;
+    *bottom = u > 0.5;
+    *x = (u - (*bottom ? 0.55 : 0.05)) / 0.01, *y = (v - 0.1) / 0.01;
+    return *x > 0 && *x < THIN_SHEET_L && *y > 0 && *y < THIN_SHEET_L;
+}
+
+Test(thin_gather, a_sheet_gathers_the_plane_across_by_its_closed_form)
+{
+    dm_mesh m;
+    thin_sheet_mesh(S_MM, &m);
+    dm_thin_gather g;
+    dm_thin_gather_stats st;
+    bake(&m, 0, &g, &st);
+    cr_assert_eq(g.first_level, 4);
+    cr_assert_eq(g.level_count, 2);
+    cr_assert(g.taps[0] == 4.0f && g.taps[1] == 2.0f && g.taps[2] == (float)g.cell[0] && g.taps[3] == (float)g.cell[1]);
+    /* a texel is 0.39 mm: cells of 2 (0.78 mm ≤ σ 1.41) and 4 texels (1.56 mm ≤ σ 2.72) */
+    cr_assert(g.cell[0] == 2 && g.cell[1] == 4, "cells %d, %d", g.cell[0], g.cell[1]);
+    const double h = 1.0 / (0.01 * N); /* texel side, mm */
+    int checked = 0;
+    for (int j = 0; j < N; ++j)
+        for (int i = 0; i < N; ++i) {
+            int bottom;
+            double x, y;
+            if (!texel_xy(i, j, &bottom, &x, &y)) continue;
+            const float *ix = g.index + 4 * ((size_t)j * N + i);
+            cr_assert_eq(ix[3], 1.0f, "a covered texel is a member of its cells");
+            cr_assert(ix[1] > 0 && ix[2] > 0, "(%d, %d): a plate 1 mm across gathers everywhere", i, j);
+            if (!(x > 12 && x < 28 && y > 12 && y < 28)) continue; /* the reach (9.5 mm) inside the plates */
+            size_t t = (size_t)ix[0];
+            for (int l = 0; l < 2; ++l) {
+                int C = g.cell[l], mcell = (N + C - 1) / C;
+                double r = 3.5 * sqrt(V[l]), across = 0, own = 0, ref_across = 0, ref_own = 0;
+                for (int k = 0; k < (int)ix[1 + l]; ++k, ++t) {
+                    int c = (int)g.taps[2 * t];
+                    double cu = ((c % mcell) + 0.5) * C / N; /* the bottom's chart is u > 0.5 */
+                    ((cu > 0.5) == (bottom != 0) ? &own : &across)[0] += g.taps[2 * t + 1];
+                }
+                /* the independent sum: every cell centre of each plate within r of the texel's point */
+                for (int side = 0; side < 2; ++side)
+                    for (int cy = 0; cy < mcell; ++cy)
+                        for (int cx = 0; cx < mcell; ++cx) {
+                            double u = (cx + 0.5) * C / N, v = (cy + 0.5) * C / N;
+                            double px = (u - (side ? 0.55 : 0.05)) / 0.01, py = (v - 0.1) / 0.01;
+                            if (!(px > 0 && px < THIN_SHEET_L && py > 0 && py < THIN_SHEET_L)) continue;
+                            double dz = side == bottom ? 0.0 : S_MM, d2 = (px - x) * (px - x) + (py - y) * (py - y) + dz * dz;
+                            if (d2 > r * r) continue;
+                            double a = (C * h) * (C * h); /* the cell as dm_thin_gather.h weighs it */
+                            double w = fmin(exp(-d2 / (2 * V[l])) / (2 * PI * V[l]) * a, -expm1(-a / (2 * PI * V[l])));
+                            (side == bottom ? &ref_own : &ref_across)[0] += w;
+                        }
+                cr_assert(fabs(across - ref_across) < 2e-5 * ref_across && fabs(own - ref_own) < 2e-5 * ref_own,
+                          "(%d, %d) level %d: across %.7f own %.7f, the cells' sums %.7f %.7f", i, j, l, across, own,
+                          ref_across, ref_own);
+                /* the plane's closed forms, truncated at r: within the disc's edge in cells (0.5 %) */
+                double cf_across = exp(-S_MM * S_MM / (2 * V[l])) * (1 - exp(-(r * r - S_MM * S_MM) / (2 * V[l])));
+                double cf_own = 1 - exp(-r * r / (2 * V[l]));
+                cr_assert(fabs(across / cf_across - 1) < 5e-3 && fabs(own / cf_own - 1) < 5e-3,
+                          "(%d, %d) level %d: across %.5f (plane %.5f), own %.5f (plane %.5f)", i, j, l, across,
+                          cf_across, own, cf_own);
+            }
+            ++checked;
+        }
+    cr_assert_gt(checked, 3000);
+    cr_assert_eq(st.gathering_texels, st.covered_texels);
+    dm_thin_gather_free(&g), dm_mesh_free(&m);
+}
+
+Test(thin_gather, a_lone_plate_gathers_nothing)
+{
+    dm_mesh sheet, m;
+    thin_sheet_mesh(S_MM, &sheet);
+    /* the top plate alone: the sheet's first half of triangles and their vertices */
+    dm_error err = {0};
+    cr_assert_eq(dm_mesh_alloc(sheet.vertex_count / 2, sheet.triangle_count / 2, &m, &err), DM_OK);
+    memcpy(m.positions, sheet.positions, sizeof(float) * 3 * (size_t)m.vertex_count);
+    memcpy(m.indices, sheet.indices, sizeof(uint32_t) * 3 * (size_t)m.triangle_count);
+    memcpy(m.uvs, sheet.uvs, sizeof(float) * 6 * (size_t)m.triangle_count);
+    dm_mesh_compute_normals(&m);
+    dm_thin_gather g;
+    dm_thin_gather_stats st;
+    bake(&m, 0, &g, &st);
+    cr_assert_gt(st.covered_texels, 10000);
+    cr_assert_eq(st.gathering_texels, 0);
+    cr_assert_eq(st.taps, 0);
+    for (size_t i = 0; i < (size_t)N * N; ++i) cr_assert(g.index[4 * i + 1] == 0 && g.index[4 * i + 2] == 0);
+    dm_thin_gather_free(&g), dm_mesh_free(&m), dm_mesh_free(&sheet);
+}
+
+Test(thin_gather, the_same_bytes_for_any_thread_count)
+{
+    dm_mesh m;
+    thin_sheet_mesh(S_MM, &m);
+    dm_thin_gather a, b;
+    dm_thin_gather_stats sa, sb;
+    bake(&m, 1, &a, &sa);
+    bake(&m, 2, &b, &sb);
+    cr_assert_eq(a.tap_count, b.tap_count);
+    cr_assert_eq(a.taps_rows, b.taps_rows);
+    cr_assert(!memcmp(a.index, b.index, sizeof(float) * 4 * N * N));
+    cr_assert(!memcmp(a.taps, b.taps, sizeof(float) * 2 * DM_THIN_GATHER_TAPS_WIDTH * (size_t)a.taps_rows));
+    dm_thin_gather_free(&a), dm_thin_gather_free(&b), dm_mesh_free(&m);
+}
+
+Test(thin_gather, zero_uv_area_triangles_are_no_member_and_nothing_is_nan)
+{
+    dm_mesh m;
+    thin_sheet_mesh(S_MM, &m);
+    for (int t = 0; t < 8; ++t) /* collapse a few triangles' UVs onto one point */
+        for (int c = 0; c < 3; ++c) m.uvs[(3 * t + c) * 2] = m.uvs[6 * t], m.uvs[(3 * t + c) * 2 + 1] = m.uvs[6 * t + 1];
+    dm_thin_gather g;
+    dm_thin_gather_stats st;
+    bake(&m, 0, &g, &st);
+    cr_assert_gt(st.gathering_texels, 10000);
+    for (size_t i = 0; i < 4 * (size_t)N * N; ++i) cr_assert(isfinite(g.index[i]));
+    for (int64_t t = 0; t < g.tap_count; ++t) cr_assert(isfinite(g.taps[2 * t + 1]) && g.taps[2 * t + 1] >= 0);
+    dm_thin_gather_free(&g), dm_mesh_free(&m);
+}
+
+Test(thin_gather, options_for_a_profile_and_bad_ones)
+{
+    const double gems3[6] = {0.0064, 0.0484, 0.187, 0.567, 1.99, 7.41};
+    dm_thin_gather_options o;
+    dm_thin_gather_options_for(gems3, 6, 1024, 50, &o);
+    cr_assert(o.first_level == 4 && o.level_count == 2 && o.variance_mm2[0] == 1.99 && o.variance_mm2[1] == 7.41);
+    cr_assert_float_eq(o.near_mm, 2 * sqrt(7.41), 1e-12);
+    const double narrow[3] = {0.01, 0.1, 0.5};
+    dm_thin_gather_options_for(narrow, 3, 1024, 50, &o);
+    cr_assert_eq(o.level_count, 0, "no level as wide as 1 mm: nothing to gather");
+    dm_mesh m;
+    thin_sheet_mesh(S_MM, &m);
+    dm_thin_gather g;
+    dm_error err = {0};
+    dm_thin_gather_options bad[4] = {options(0), options(0), options(0), options(0)};
+    bad[0].size = 0, bad[1].level_count = 3, bad[2].variance_mm2[1] = NAN, bad[3].near_mm = -1;
+    for (int k = 0; k < 4; ++k) {
+        cr_expect_eq(dm_thin_gather_bake(&m, &bad[k], &g, NULL, &err), DM_ERR_RANGE, "bad option %d", k);
+        cr_expect(g.index == NULL && g.taps == NULL);
+    }
+    dm_mesh_free(&m);
+}
+
+/* The head at 256² with gems3-skin's widest levels: which texels gather and how many taps, held
+ * to what the bake gives today within 1 % (a tenth more or less of near_mm, the reach or the
+ * cells' size moves them further); every weight finite and ≥ 0, each texel's sum per level (the
+ * light of a uniformly lit surface: 1 on a plane, about 2 between two close sheets, more in a
+ * crevice and with 256's coarse cells) within (0, 3.5), and the same bytes for 1 and 2 threads. */
+Test(thin_gather, the_head, .timeout = 120)
+{
+    dm_mesh m;
+    dm_error err = {0};
+    cr_assert_eq(dm_mesh_load(DERMIS_ASSETS "/lps/LeePerrySmith.obj", NULL, &m, &err), DM_OK, "%s", err.detail);
+    const double gems3[6] = {0.0064, 0.0484, 0.187, 0.567, 1.99, 7.41};
+    dm_thin_gather_options o;
+    dm_thin_gather_options_for(gems3, 6, 256, 50.0, &o);
+    o.threads = 1;
+    dm_thin_gather a, b;
+    dm_thin_gather_stats st;
+    cr_assert_eq(dm_thin_gather_bake(&m, &o, &a, &st, &err), DM_OK, "%s", err.detail);
+    o.threads = 2;
+    cr_assert_eq(dm_thin_gather_bake(&m, &o, &b, NULL, &err), DM_OK, "%s", err.detail);
+    cr_assert(!memcmp(a.index, b.index, sizeof(float) * 4 * 256 * 256) &&
+              !memcmp(a.taps, b.taps, sizeof(float) * 2 * DM_THIN_GATHER_TAPS_WIDTH * (size_t)a.taps_rows));
+    cr_log_info("head at 256: %lld of %lld texels gather, %lld taps, cells %d %d, texel %.4f mm",
+                (long long)st.gathering_texels, (long long)st.covered_texels, (long long)st.taps, st.cell[0], st.cell[1],
+                st.texel_mm);
+    cr_expect_eq(st.covered_texels, 60007);
+    cr_expect(fabs(st.gathering_texels / 2400.0 - 1) < 0.01, "gathering texels %lld", (long long)st.gathering_texels);
+    cr_expect(fabs(st.taps / 377719.0 - 1) < 0.01, "taps %lld", (long long)st.taps);
+    cr_expect(st.cell[0] == 1 && st.cell[1] == 1 && fabs(st.texel_mm - 1.941) < 0.001);
+    double most = 0, least = 1e9;
+    for (size_t i = 0; i < (size_t)256 * 256; ++i) {
+        const float *ix = a.index + 4 * i;
+        size_t t = (size_t)ix[0];
+        for (int l = 0; l < 2 && ix[1] > 0; ++l) {
+            double sum = 0;
+            for (int k = 0; k < (int)ix[1 + l]; ++k, ++t) {
+                cr_assert(isfinite(a.taps[2 * t + 1]) && a.taps[2 * t + 1] >= 0);
+                sum += a.taps[2 * t + 1];
+            }
+            most = fmax(most, sum), least = fmin(least, sum);
+        }
+    }
+    cr_log_info("a texel's weights per level sum to %.3f..%.3f", least, most);
+    cr_expect(least > 0 && most < 3.5, "sums %.3f..%.3f (measured 0.43..3.16: cells of 1.9 mm at 256)", least, most);
+    dm_thin_gather_free(&a), dm_thin_gather_free(&b), dm_mesh_free(&m);
+}
