@@ -18,8 +18,8 @@
  * instead of their own term and the thin candidates',
  *     w_k · Σ_t weight_t · Ī_c(t)
  * Ī_c the mean of level 0's rgb / alpha over cell c's member texels with alpha > 1e-4 (0 when
- * none), computed once per frame when level 0 is added (dm_level_sum_gather). The blur on the
- * CPU only: in GL the gather is left out (dm_render_plan).
+ * none), computed once per frame when level 0 is added (dm_level_sum_gather); diffusion.glsl's
+ * DM_GATHER makes the same sums in GL.
  *
  * Deterministic: each texel alone, byte-identical for any thread count. */
 #ifndef DM_LEVEL_SUM_H

@@ -117,8 +117,8 @@ typedef struct dm_render_assets {
     dm_texture thin_half;
     /* the thin gather (bake/dm_thin_gather.h): "gather.index" RGBA32F N × N and "gather.taps"
      * RG32F: the profile's widest levels as a 3-D sum over atlas cells where a surface facing
-     * away is near; optional. Used only by the blur on the CPU, when N is the irradiance size
-     * and the levels are summed per texel (dm_renderer_thin_gather says whether it is used). */
+     * away is near; optional. Used with the thin-part map, when N is the irradiance size and the
+     * levels are summed per texel (dm_renderer_thin_gather says whether it is used). */
     dm_texture gather_index, gather_taps;
     const dm_profile *profile; /* NULL: scene->profile */
 
