@@ -24,7 +24,7 @@ uniform sampler2D u_cover; // modes 0, 3: the texture-space G-buffer's positions
 uniform float u_lo, u_hi; // mode 6: the colour scale's ends
 uniform bool u_stretch;   // mode 6: u_src holds the stretch (u, v), not a scalar
 uniform bool u_flagged;   // mode 6: u_src is mode 7's (value, flag, 0, coverage)
-uniform bool u_map_thin;  // mode 7: the thin-part map (else the seam map)
+uniform int u_map_kind;   // mode 7: 0 the seam map, 1 the thin-part map, 2 the thin gather's index
 // Turbo colour map (Mikhailov 2019, polynomial fit), t in [0, 1]; the same polynomial as the
 // legend's on the CPU (dm_render_turbo).
 vec3 turbo(float t)
@@ -78,7 +78,10 @@ void main()
         a = coverage(ij);
     } else if (u_mode == 7) {
         vec4 t = texelFetch(u_src, ij, 0);
-        o_color = vec4(u_map_thin ? vec3(t.b, t.a, 0.0) : vec3(t.a, t.b, 0.0), coverage(ij)); // not scaled
+        float taps = t.g + t.b; // the gather's index: (first, taps of level 0, of level 1, member)
+        vec3 v = u_map_kind == 1 ? vec3(t.b, t.a, 0.0) : u_map_kind == 2 ? vec3(taps, taps > 0.0 ? 1.0 : 0.0, 0.0)
+                                                                           : vec3(t.a, t.b, 0.0);
+        o_color = vec4(v, coverage(ij)); // not scaled
         return;
     } else if (u_mode == 5) {
         c = vec3(texelFetch(u_src, ij, 0).r);

@@ -66,11 +66,13 @@ typedef enum dm_view {
                          * chart's edge; the charts grey */
     DM_VIEW_THIN,       /* the thin-part map: the texels with a point across, coloured by its
                          * distance (the nearer of up to two), mm; the rest of the charts grey */
+    DM_VIEW_GATHER,     /* the thin gather: the texels that gather, coloured by their taps (both
+                         * levels); the rest of the charts grey */
     DM_VIEW_COUNT
 } dm_view;
 
 /* "final", "irradiance", "blur", "stretch", "shadow", "specular", "diffuse", "uv",
- * "wireframe", "diffusion", "curvature", "seam", "thin"; NULL when out of range. */
+ * "wireframe", "diffusion", "curvature", "seam", "thin", "gather"; NULL when out of range. */
 const char *dm_view_name(dm_view v);
 /* Parses "final", "irradiance", "blur3", "stretch0", "shadow1", ... (index defaults 0,
  * blur defaults to the last level). Returns false for an unknown name. */

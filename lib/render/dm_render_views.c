@@ -10,13 +10,15 @@
 void dm_renderer_view_scale(const dm_renderer *r, float *lo, float *hi, const char **quantity)
 {
     dm_view view = r->f.plan.view;
-    bool scaled = view == DM_VIEW_STRETCH || view == DM_VIEW_CURVATURE || view == DM_VIEW_SEAM || view == DM_VIEW_THIN;
+    bool scaled = view == DM_VIEW_STRETCH || view == DM_VIEW_CURVATURE || view == DM_VIEW_SEAM || view == DM_VIEW_THIN ||
+                  view == DM_VIEW_GATHER;
     *lo = scaled ? r->view.lo : 0.0f, *hi = scaled ? r->view.hi : 0.0f;
     if (quantity)
         *quantity = view == DM_VIEW_STRETCH     ? "mm per texel"
                     : view == DM_VIEW_CURVATURE ? "mean curvature, 1/mm"
                     : view == DM_VIEW_SEAM      ? "seam map: mm beyond the edge of the chart"
                     : view == DM_VIEW_THIN      ? "thin-part map: mm across, the nearer point"
+                    : view == DM_VIEW_GATHER    ? "thin gather: taps a texel, both levels"
                                                 : NULL;
 }
 
@@ -40,7 +42,9 @@ dm_result dm_render_view_with_legend(const dm_renderer *r, void **px, int w, int
     memcpy(out + (size_t)w * lh * 4, *px, (size_t)w * *h * 4); /* bottom-up: the strip is the first rows */
     dm_view view = r->f.plan.view;
     dm_render_scalar_legend(out, w, nh, lo, hi, quantity,
-                            view == DM_VIEW_SEAM || view == DM_VIEW_THIN ? "0 TO 3 SIGMA OF THE WIDEST GAUSSIAN" : NULL);
+                            view == DM_VIEW_SEAM || view == DM_VIEW_THIN ? "0 TO 3 SIGMA OF THE WIDEST GAUSSIAN"
+                            : view == DM_VIEW_GATHER                     ? "0 TO THE MOST TAPS OF A TEXEL"
+                                                                         : NULL);
     free(*px);
     *px = out, *h = nh;
     return DM_OK;

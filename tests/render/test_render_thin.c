@@ -311,6 +311,36 @@ Test(thin, the_debug_view_shows_the_map, .timeout = 120)
     dm_pack_close(&sp.pack);
 }
 
+/* The debug view "gather" (DM_VIEW_GATHER): at the irradiance grid, per texel (taps of both
+ * gathered levels, 1 where it gathers, 0, chart coverage) of the pack's thin gather; its legend
+ * runs from 0 to the most taps a texel has. */
+Test(thin, the_gather_debug_view_shows_the_taps, .timeout = 120)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    bool used;
+    float lo, hi;
+    const char *q;
+    float *px = render_view(&sp.assets, IRR, DM_BLUR_PATH_AUTO, DM_VIEW_GATHER, &used, &lo, &hi, &q);
+    const float *ix = sp.assets.gather_index.texels;
+    int gathering = 0;
+    float most = 0;
+    for (size_t i = 0; i < (size_t)IRR * IRR; ++i) {
+        const float *p = px + 4 * i, *m = ix + 4 * i;
+        float taps = m[1] + m[2];
+        most = fmaxf(most, taps);
+        cr_assert_eq(p[0], taps, "texel %zu: %g taps, the index's %g", i, p[0], taps);
+        cr_assert_eq(p[1], taps > 0 ? 1.0f : 0.0f, "texel %zu: flag %g", i, p[1]);
+        gathering += taps > 0;
+    }
+    cr_assert_gt(gathering, 10000);
+    cr_assert(lo == 0.0f && hi == most && q && strstr(q, "thin gather"), "%g..%g %s", lo, hi, q);
+    free(px);
+    dm_pack_close(&sp.pack);
+}
+
 /* The pack holds the map at the scene's size and at half of it ("thin.half", what a renderer
  * at N/2 — dermis-view's default — reads): at IRR / 2 the pack's own maps light the sheet's
  * dark bottom from its top, on both blur paths; at IRR / 4 (neither size) they are left out. */

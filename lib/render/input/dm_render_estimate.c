@@ -89,10 +89,14 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (seam) count_upload(m, seam, false);
         if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
-        /* the thin gather, uploaded where the blur runs in GL (dm_pass_diffusion.c) */
-        if (in->diffusion_sum && thin && !in->cpu_blur && a->gather_index.width == s->irr_edge) {
+        /* the thin gather: its index for the debug view, and index and taps where the blur
+         * runs in GL (dm_pass_diffusion.c) */
+        if (a->gather_index.texels && a->gather_index.width == s->irr_edge) {
             count_upload(m, &a->gather_index, false);
-            count_upload(m, &a->gather_taps, false);
+            if (in->diffusion_sum && thin && !in->cpu_blur) {
+                count_upload(m, &a->gather_index, false);
+                count_upload(m, &a->gather_taps, false);
+            }
         }
     }
     if (p->pre_integrated) {

@@ -7,7 +7,7 @@
 
 static const char *view_names[DM_VIEW_COUNT] = {"final",    "irradiance", "blur", "stretch",  "shadow",
                                                 "specular", "diffuse",    "uv",   "wireframe", "diffusion",
-                                                "curvature", "seam", "thin"};
+                                                "curvature", "seam", "thin", "gather"};
 
 const char *dm_view_name(dm_view v)
 {
@@ -17,7 +17,8 @@ const char *dm_view_name(dm_view v)
 bool dm_view_is_texture(dm_view v)
 {
     return v == DM_VIEW_IRRADIANCE || v == DM_VIEW_BLUR || v == DM_VIEW_STRETCH || v == DM_VIEW_SHADOW ||
-           v == DM_VIEW_DIFFUSION || v == DM_VIEW_CURVATURE || v == DM_VIEW_SEAM || v == DM_VIEW_THIN;
+           v == DM_VIEW_DIFFUSION || v == DM_VIEW_CURVATURE || v == DM_VIEW_SEAM || v == DM_VIEW_THIN ||
+           v == DM_VIEW_GATHER;
 }
 
 bool dm_view_parse(const char *text, dm_view *view, int *index)
@@ -99,7 +100,7 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
     const char *vname = dm_view_name(view);
     if (!vname) return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %d: unknown view", (int)view);
     if ((view == DM_VIEW_IRRADIANCE || view == DM_VIEW_BLUR || view == DM_VIEW_STRETCH || view == DM_VIEW_DIFFUSION ||
-         view == DM_VIEW_SEAM || view == DM_VIEW_THIN) &&
+         view == DM_VIEW_SEAM || view == DM_VIEW_THIN || view == DM_VIEW_GATHER) &&
         !sss)
         return dm_fail(err, DM_ERR_INVALID_ARGUMENT, "view %s: needs the subsurface effect with the texture-space technique%s",
                        vname, ssss  ? " (this scene uses screen-space)"
@@ -125,7 +126,8 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
 
     /* shadows feed the irradiance pass and the final pass's lights */
     const bool want_shadows = view != DM_VIEW_STRETCH && view != DM_VIEW_CURVATURE && view != DM_VIEW_UV_TEST &&
-                              view != DM_VIEW_WIREFRAME && view != DM_VIEW_SEAM && view != DM_VIEW_THIN;
+                              view != DM_VIEW_WIREFRAME && view != DM_VIEW_SEAM && view != DM_VIEW_THIN &&
+                              view != DM_VIEW_GATHER;
     if (want_shadows)
         for (int i = 0; i < p->shadow_count; ++i) {
             if (view == DM_VIEW_SHADOW && i != view_index) continue;
@@ -147,13 +149,15 @@ dm_result dm_render_plan_build(const dm_scene *s, dm_view view, int view_index, 
         add(p, DM_PASS_VIEW, 0, "view", "debug view: mean curvature, 1/mm (colour scale)");
         return DM_OK;
     }
-    if (view == DM_VIEW_SEAM || view == DM_VIEW_THIN) { /* the map over the charts' coverage */
+    if (view == DM_VIEW_SEAM || view == DM_VIEW_THIN || view == DM_VIEW_GATHER) { /* the map over the charts */
         add(p, DM_PASS_TS_GBUFFER, 0, "ts_gbuffer", "debug view: the charts' coverage per texel");
         add(p, DM_PASS_VIEW, 0, "view",
-            view == DM_VIEW_SEAM ? "debug view: the seam map, the texels it continues by mm beyond the chart's edge "
-                                   "(colour scale), the charts grey"
-                                 : "debug view: the thin-part map, the texels with a point across by its distance, mm "
-                                   "(colour scale), the rest of the charts grey");
+            view == DM_VIEW_SEAM   ? "debug view: the seam map, the texels it continues by mm beyond the chart's edge "
+                                     "(colour scale), the charts grey"
+            : view == DM_VIEW_THIN ? "debug view: the thin-part map, the texels with a point across by its distance, mm "
+                                     "(colour scale), the rest of the charts grey"
+                                   : "debug view: the thin gather, the texels that gather the widest levels in 3-D by "
+                                     "their taps (colour scale), the rest of the charts grey");
         return DM_OK;
     }
 

@@ -6,12 +6,21 @@
  * the widest levels of the texels near a surface facing away are the 3-D sum over atlas cells. */
 #include "render/passes/dm_pass_diffusion.h"
 
+#include <math.h>
+
 #include "core/dm_level_sum.h"
 
 dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
 {
     (void)st;
     const dm_texture *gi = &a->gather_index, *gt = &a->gather_taps;
+    if (f->plan.texture_space && gi->texels && gi->width == f->irr_edge && gi->height == f->irr_edge) {
+        const float *ix = gi->texels; /* the "gather" debug view's copy (views are per frame) and its scale's top */
+        for (size_t i = 0; i < (size_t)gi->width * gi->height; ++i)
+            f->gather_view_max = fmaxf(f->gather_view_max, ix[4 * i + 1] + ix[4 * i + 2]);
+        dm_result rc = dmr_upload(f, gi, "gather_view", false, GL_NEAREST, &f->tex_gather_view, err);
+        if (rc != DM_OK) return rc;
+    }
     if (f->blur_cpu || !f->tex_thin || !gi->texels || !gt->texels || gi->width != f->irr_edge || gi->height != f->irr_edge)
         return DM_OK;
     dm_level_sum_gather g; /* the header checked as the CPU path checks it */

@@ -20,9 +20,10 @@ static GLuint view_source(const dmr_frame *f, int *w, int *h, int *cov_shift)
         *w = *h = f->shadow_edge;
         return f->shadow_tex[k];
     }
-    if (pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN) { /* at the irradiance grid (thin: layer 0's rows) */
+    if (pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN || pl->view == DM_VIEW_GATHER) {
+        /* at the irradiance grid (thin: layer 0's rows) */
         *w = *h = f->irr_edge;
-        tex = pl->view == DM_VIEW_SEAM ? f->tex_seam : f->tex_thin;
+        tex = pl->view == DM_VIEW_SEAM ? f->tex_seam : pl->view == DM_VIEW_THIN ? f->tex_thin : f->tex_gather_view;
         return tex ? tex : f->tex_black;
     }
     if (pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE) {
@@ -110,9 +111,10 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         dmr_draw_fullscreen(f);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     } else {
-        bool stretch = pl->view == DM_VIEW_STRETCH, map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN;
+        bool stretch = pl->view == DM_VIEW_STRETCH,
+             map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN || pl->view == DM_VIEW_GATHER;
         dmg_u1i(p, "u_mode", map ? 7 : stretch ? 1 : pl->view == DM_VIEW_CURVATURE ? 5 : pl->view == DM_VIEW_DIFFUSION ? 3 : 0);
-        dmg_u1i(p, "u_map_thin", pl->view == DM_VIEW_THIN);
+        dmg_u1i(p, "u_map_kind", pl->view == DM_VIEW_THIN ? 1 : pl->view == DM_VIEW_GATHER ? 2 : 0);
         dmg_bind(UNIT_SRC, GL_TEXTURE_2D, src);
         dmg_bind(UNIT_COVER, GL_TEXTURE_2D, f->ts_cover_tex ? f->ts_cover_tex : f->tex_black);
         if (stretch) {
@@ -122,10 +124,14 @@ void dmr_view_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame_opti
         dmr_draw_fullscreen(f);
     }
     /* display copy; stretch and curvature through the colour scale (range cached per map); the
-     * seam and thin maps through it from 0 to the reach (3 sigma of the widest Gaussian) */
-    bool map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN;
+     * seam and thin maps through it from 0 to the reach (3 sigma of the widest Gaussian), the
+     * thin gather from 0 to the most taps a texel has */
+    bool map = pl->view == DM_VIEW_SEAM || pl->view == DM_VIEW_THIN || pl->view == DM_VIEW_GATHER;
     bool scalar = pl->view == DM_VIEW_STRETCH || pl->view == DM_VIEW_CURVATURE || map;
-    if (map) {
+    if (pl->view == DM_VIEW_GATHER) {
+        v->lo = 0.0f, v->hi = f->gather_view_max > 0 ? f->gather_view_max : 1.0f;
+        v->range_of = 0;
+    } else if (map) {
         v->lo = 0.0f, v->hi = (float)(3.0 * sqrt(f->profile.variance_mm2[f->profile.count - 1]));
         v->range_of = 0;
     } else if (scalar && v->range_of != src) {
