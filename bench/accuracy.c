@@ -454,7 +454,8 @@ int main(int argc, char **argv)
         as[c].scene = &rows[c].scene;
         if (s->no_seam) as[c].seam = (dm_texture){0};
         if (s->no_thin) as[c].thin = as[c].thin_half = (dm_texture){0};
-        if (s->no_thin || s->no_gather) as[c].gather_index = as[c].gather_taps = (dm_texture){0};
+        if (s->no_thin || s->no_gather)
+            as[c].gather_index = as[c].gather_taps = as[c].gather_half_index = as[c].gather_half_taps = (dm_texture){0};
         if (s->flat_stretch) {
             as[c].stretch_level_count = 1;
             as[c].stretch[0] = (dm_texture){DM_TEX_RG32F, as[c].stretch[0].width, as[c].stretch[0].height, flat};

@@ -68,7 +68,9 @@ static int load(const render_args *o, source *src, dm_error *err)
             return DM_EXIT_LOAD;
         if (o->no_seam_map) src->pack_assets.seam = (dm_texture){0};
         if (o->no_thin_map) src->pack_assets.thin = src->pack_assets.thin_half = (dm_texture){0};
-        if (o->no_thin_gather) src->pack_assets.gather_index = src->pack_assets.gather_taps = (dm_texture){0};
+        if (o->no_thin_gather)
+            src->pack_assets.gather_index = src->pack_assets.gather_taps = src->pack_assets.gather_half_index =
+                src->pack_assets.gather_half_taps = (dm_texture){0};
         src->assets = &src->pack_assets;
         src->s = &src->scene;
         if (src->scene.light_count == 0 && !src->scene.effects[DM_EFFECT_ENVIRONMENT_LIGHTING])

@@ -313,6 +313,7 @@ static const struct rule {
     {"lut.rho_dt", directional},       {"lut.env_brdf", directional}, {"stretch", stretch},
     {"stretch.mask", single},          {"seam", seam},               {"thin", thin},
     {"thin.half", thin},               {"gather.index", gather_index}, {"gather.taps", gather_taps},
+    {"gather.half.index", gather_index}, {"gather.half.taps", gather_taps},
     {"sss.kernel", kernel},       {"sss.preintegrated", preintegrated},
     {"sss.curvature", single},         {"env.sh", sh},               {"env.specular", specular},
     {"env.background", background},

@@ -20,7 +20,7 @@
  */
 typedef struct step {
     const char *name;
-    const char *entries[3];
+    const char *entries[4];
     dm_result (*run)(dm_pack_build *j, dm_error *err);
 } step;
 
@@ -37,7 +37,7 @@ static const step steps[] = {
     {"stretch", {"stretch", "stretch.mask"}, dmpb_step_stretch},
     {"seam map", {"seam"}, dmpb_step_seam},
     {"thin-part map", {"thin", "thin.half"}, dmpb_step_thin},
-    {"thin gather", {"gather.index", "gather.taps"}, dmpb_step_gather},
+    {"thin gather", {"gather.index", "gather.taps", "gather.half.index", "gather.half.taps"}, dmpb_step_gather},
     {"screen-space kernel", {"sss.kernel"}, dmpb_step_ss_kernel},
     {"pre-integrated table", {"sss.preintegrated"}, dmpb_step_preintegrated},
     {"curvature", {"sss.curvature"}, dmpb_step_curvature},
@@ -96,7 +96,7 @@ dm_result dm_pack_build_run(dm_pack_build *b, const char **failed_step, dm_error
     int run_count = 0, done = 0;
     for (size_t s = 0; s < STEP_COUNT; ++s) {
         will_run[s] = false;
-        for (int e = 0; e < 3 && steps[s].entries[e]; ++e)
+        for (int e = 0; e < 4 && steps[s].entries[e]; ++e)
             will_run[s] = will_run[s] || dm_pack_build_wants(b, steps[s].entries[e]);
         run_count += will_run[s];
     }

@@ -1,5 +1,6 @@
 /* dm_pack_build_gather.c — the pack's thin gather (bake/dm_thin_gather.h) at the scene's
- * irradiance size: "gather.index" (RGBA32F, N × N) and "gather.taps" (RG32F, 4096 wide), for the
+ * irradiance size: "gather.index" (RGBA32F, N × N) and "gather.taps" (RG32F, 4096 wide), and at
+ * half of it ("gather.half.index", "gather.half.taps": a renderer at N/2, as thin.half), for the
  * profile's widest levels with σ ≥ 1 mm; nothing when no level qualifies, or when the taps are
  * more than a float counts exactly (2^24: the head at 2048², a note on stderr). */
 #include <stdio.h>
@@ -7,13 +8,12 @@
 #include "bake/dm_thin_gather.h"
 #include "packer/dm_pack_build_impl.h"
 
-dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err)
+static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
 {
-    dm_result r = dmpb_ensure_mesh(j, err);
-    if (r != DM_OK) return r;
+    dm_result r;
     const dm_profile *pf = &j->scene.profile;
     dm_thin_gather_options o;
-    dm_thin_gather_options_for(pf->variance_mm2, pf->count, j->scene.irradiance_size, j->scene.mm_per_unit, &o);
+    dm_thin_gather_options_for(pf->variance_mm2, pf->count, j->scene.irradiance_size >> half, j->scene.mm_per_unit, &o);
     o.threads = j->opt->threads;
     if (o.level_count < 1) return DM_OK;
     dm_thin_gather g;
@@ -35,11 +35,12 @@ dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err)
     dm_prov_add_double(&p, "reach_sigmas", DM_THIN_GATHER_REACH_SIGMAS);
     dm_thin_gather_stats_prov(&st, &p);
     static const char *const ch[4] = {"first", "taps0", "taps1", "member"};
-    r = dmpb_add_mesh_rgba32f(j, "gather.index", g.size, g.size, ch, g.index, &p, err);
+    r = dmpb_add_mesh_rgba32f(j, half ? "gather.half.index" : "gather.index", g.size, g.size, ch, g.index, &p, err);
     if (r == DM_OK) {
         char src[200];
         snprintf(src, sizeof src, "baked from %.150s", dmpb_base_name(j->scene.mesh));
-        dm_pack_entry d = dm_pack_texture_entry("gather.taps", DM_TEX_RG32F, DM_THIN_GATHER_TAPS_WIDTH, g.taps_rows);
+        dm_pack_entry d = dm_pack_texture_entry(half ? "gather.half.taps" : "gather.taps", DM_TEX_RG32F,
+                                                DM_THIN_GATHER_TAPS_WIDTH, g.taps_rows);
         d.channel_count = 2;
         snprintf(d.channels[0], sizeof d.channels[0], "cell");
         snprintf(d.channels[1], sizeof d.channels[1], "weight");
@@ -51,5 +52,12 @@ dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err)
                 (long long)st.gathering_texels, g.first_level, g.first_level + g.level_count - 1, (long long)st.taps,
                 st.cell[0], st.cell[1]);
     dm_thin_gather_free(&g);
+    return r;
+}
+
+dm_result dmpb_step_gather(dm_pack_build *j, dm_error *err)
+{
+    dm_result r = dmpb_ensure_mesh(j, err);
+    for (int half = 0; half < 2 && r == DM_OK; ++half) r = gather_at(j, half, err);
     return r;
 }

@@ -21,6 +21,7 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
     /* the thin gather: its index (RGBA32F, N²) and taps, about 9 taps (72 bytes) a texel on the
      * head at 1024², counted as 80; left out where its taps would pass 2^24 (dm_pack_build_gather.c) */
     if (dm_pack_build_wants(b, "gather.index") && n * n * 9 < (1u << 24)) m->pack_size += n * n * (16 + 80);
+    if (dm_pack_build_wants(b, "gather.half.index") && n * n / 4 * 9 < (1u << 24)) m->pack_size += n * n / 4 * (16 + 80);
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;

@@ -120,6 +120,9 @@ typedef struct dm_render_assets {
      * away is near; optional. Used with the thin-part map, when N is the irradiance size and the
      * levels are summed per texel (dm_renderer_thin_gather says whether it is used). */
     dm_texture gather_index, gather_taps;
+    /* the thin gather baked at half the size ("gather.half.index", "gather.half.taps"): what a
+     * renderer at N/2 reads, as thin_half (dm_render_assets_gather); optional. */
+    dm_texture gather_half_index, gather_half_taps;
     const dm_profile *profile; /* NULL: scene->profile */
 
     /* screen-space subsurface: the separable kernels dermis-pack fitted to the profile, one row
@@ -173,6 +176,9 @@ enum { DM_RENDER_SHADOW_SIZE_DEFAULT = 2048 };
  * pack's own or its half-size one — or NULL when none is. */
 const dm_texture *dm_render_assets_seam_map(const dm_render_assets *a, int n);
 const dm_texture *dm_render_assets_thin_map(const dm_render_assets *a, int n);
+/* The thin gather's index (n × n) baked for irradiance size n, its taps in *taps; NULL when the
+ * pack has none at that size. */
+const dm_texture *dm_render_assets_gather(const dm_render_assets *a, int n, const dm_texture **taps);
 
 /* Options of the renderer itself; zero means default. */
 typedef struct dm_render_desc {

@@ -185,7 +185,7 @@ static uint8_t *ear_picture_with(void (*edit)(dm_scene *), bool thin_map, bool g
         dm_renderer_destroy(h.r);
         dm_render_assets a = h.assets;
         if (!thin_map) a.thin = a.thin_half = (dm_texture){0};
-        if (!gather) a.gather_index = a.gather_taps = (dm_texture){0};
+        if (!gather) a.gather_index = a.gather_taps = a.gather_half_index = a.gather_half_taps = (dm_texture){0};
         create_renderer(&h, &a);
     }
     render(&h, DM_VIEW_FINAL, 0);

@@ -93,7 +93,7 @@ static float *view_with(const sheet_pack *sp, const float *map, int n, dm_blur_p
 {
     dm_render_assets a = sp->assets;
     a.thin = map ? (dm_texture){DM_TEX_RGBA32F, n, 2 * n, map} : (dm_texture){0};
-    a.gather_index = a.gather_taps = (dm_texture){0};
+    a.gather_index = a.gather_taps = a.gather_half_index = a.gather_half_taps = (dm_texture){0};
     return render_view(&a, IRR, path, view, used, lo, hi, quantity);
 }
 
@@ -204,6 +204,40 @@ Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
     cr_assert_lt(worst_top, 3e-3, "worst %.2e", worst_top);
     cr_assert_lt(gl_worst, 1e-4 * range);
     free(gathered), free(alone), free(gl), free(gl_alone), free(map);
+    dm_pack_close(&sp.pack);
+}
+
+/* The pack holds the gather at the scene's size and at half of it ("gather.half.*", what a
+ * renderer at N/2 reads, as thin.half): used at IRR and IRR / 2 on both blur paths, not at
+ * IRR / 4; and at IRR / 2 it moves the sheet's bottom (the gathered levels replace the blur). */
+Test(thin, the_gather_at_the_scenes_size_and_half_of_it, .timeout = 180)
+{
+    char dir[64];
+    cr_assert(test_tmpdir(dir, sizeof dir));
+    sheet_pack sp;
+    pack_sheet(dir, 1.0, &sp);
+    cr_assert(sp.assets.gather_half_index.width == IRR / 2 && sp.assets.gather_half_taps.texels,
+              "gather.half %d", sp.assets.gather_half_index.width);
+    for (int p = 0; p < 2; ++p)
+        for (int q = 1; q <= 4; q *= 2) {
+            dm_osmesa *ctx = NULL;
+            dm_renderer *r = NULL;
+            dm_error err = {0};
+            cr_assert_eq(dm_osmesa_create(&ctx, &err), DM_OK, "%s", err.detail);
+            dm_render_desc d = {.width = 64, .height = 64, .irradiance_size = IRR / q,
+                                .blur_path = p ? DM_BLUR_PATH_GL : DM_BLUR_PATH_CPU};
+            cr_assert_eq(dm_renderer_create(&sp.assets, &d, &r, &err), DM_OK, "%s", err.detail);
+            cr_expect_eq(dm_renderer_thin_gather(r), q <= 2, "irradiance %d, %s blur", IRR / q, p ? "GL" : "CPU");
+            dm_renderer_destroy(r);
+            dm_osmesa_destroy(ctx);
+        }
+    dm_render_assets a = sp.assets;
+    bool used;
+    float *with = render_view(&a, IRR / 2, DM_BLUR_PATH_CPU, DM_VIEW_DIFFUSION, &used, NULL, NULL, NULL);
+    a.gather_half_index = a.gather_half_taps = (dm_texture){0};
+    float *without = render_view(&a, IRR / 2, DM_BLUR_PATH_CPU, DM_VIEW_DIFFUSION, &used, NULL, NULL, NULL);
+    cr_assert(memcmp(with, without, sizeof *with * 4 * (IRR / 2) * (IRR / 2)), "the half-size gather changed nothing");
+    free(with), free(without);
     dm_pack_close(&sp.pack);
 }
 

@@ -23,8 +23,8 @@ void render_explain_maps(const dm_renderer *r, const dm_render_assets *a, int ir
     printf("thin gather: %s\n",
            dm_renderer_thin_gather(r) ? "the pack's: near a surface facing away, the widest levels are the 3-D sum "
                                         "over atlas cells (the exact convolution's quadrature) instead of the atlas blur"
-           : !a->gather_index.texels ? "none in the pack: the widest levels come from the atlas blur and the "
+           : !a->gather_index.texels && !a->gather_half_index.texels ? "none in the pack: the widest levels come from the atlas blur and the "
                                        "thin-part map"
            : !dm_renderer_thin_map(r) ? "the pack's is not used: it goes with the thin-part map, which is not"
-                                      : "the pack's is for another irradiance size: not used");
+                                      : "the pack's are for other irradiance sizes (the scene's and half of it): not used");
 }

@@ -91,12 +91,10 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
         /* the thin gather: its index for the debug view, and index and taps where the blur
          * runs in GL (dm_pass_diffusion.c) */
-        if (a->gather_index.texels && a->gather_index.width == s->irr_edge) {
-            count_upload(m, &a->gather_index, false);
-            if (in->diffusion_sum && thin && !in->cpu_blur) {
-                count_upload(m, &a->gather_index, false);
-                count_upload(m, &a->gather_taps, false);
-            }
+        const dm_texture *gt, *gi = dm_render_assets_gather(a, s->irr_edge, &gt);
+        if (gi) {
+            count_upload(m, gi, false);
+            if (in->diffusion_sum && thin && !in->cpu_blur) count_upload(m, gi, false), count_upload(m, gt, false);
         }
     }
     if (p->pre_integrated) {
@@ -147,7 +145,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (in->diffusion_sum) m->cpu_blur_size += N2 * 16;
         if (in->diffusion_sum && dm_render_assets_thin_map(a, s->irr_edge))
             m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
-        if (in->diffusion_sum && a->gather_index.width == s->irr_edge && a->gather_index.texels)
+        const dm_texture *gt;
+        if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt))
             m->cpu_blur_size += N2 * 4 + N2 / 2; /* the gather's cell means (N²/4 + N²/16 texels) and cell lists */
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;

@@ -85,6 +85,8 @@ static dm_result stretch(const dm_pack *pack, dm_render_assets *a, dm_error *err
     if (r == DM_OK) r = texture(pack, "thin", &a->thin, err);
     if (r == DM_OK) r = texture(pack, "gather.index", &a->gather_index, err);
     if (r == DM_OK) r = texture(pack, "gather.taps", &a->gather_taps, err);
+    if (r == DM_OK) r = texture(pack, "gather.half.index", &a->gather_half_index, err);
+    if (r == DM_OK) r = texture(pack, "gather.half.taps", &a->gather_half_taps, err);
     return r == DM_OK ? texture(pack, "thin.half", &a->thin_half, err) : r;
 }
 
@@ -174,6 +176,15 @@ dm_result dm_render_assets_from_pack_env(const dm_pack *pack, int env, dm_scene 
 const dm_texture *dm_render_assets_seam_map(const dm_render_assets *a, int n)
 {
     return a->seam.texels && a->seam.width == n && a->seam.height == n ? &a->seam : NULL;
+}
+
+const dm_texture *dm_render_assets_gather(const dm_render_assets *a, int n, const dm_texture **taps)
+{
+    for (int h = 0; h < 2; ++h) {
+        const dm_texture *i = h ? &a->gather_half_index : &a->gather_index, *t = h ? &a->gather_half_taps : &a->gather_taps;
+        if (i->texels && t->texels && i->width == n && i->height == n) return *taps = t, i;
+    }
+    return *taps = NULL, NULL;
 }
 
 const dm_texture *dm_render_assets_thin_map(const dm_render_assets *a, int n)

@@ -57,8 +57,8 @@ static bool allocate(dmr_frame *f, dmr_blur_cpu *b, const dm_render_assets *a)
         !dm_level_sum_thin_make(dm_render_assets_thin_map(a, f->irr_edge)->texels, f->irr_edge, &b->thin))
         return false;
     /* the thin gather, where the thin-part map is used and it was baked at this size */
-    const dm_texture *gi = &a->gather_index, *gt = &a->gather_taps;
-    if (b->sum && f->tex_thin && gi->texels && gt->texels && gi->width == f->irr_edge && gi->height == f->irr_edge)
+    const dm_texture *gt, *gi = dm_render_assets_gather(a, f->irr_edge, &gt);
+    if (b->sum && f->tex_thin && gi)
         (void)dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
                                        f->plan.blur_levels, &b->gather); /* false: not used (its header does not fit) */
     return true;

@@ -13,16 +13,15 @@
 dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a, dm_error *err)
 {
     (void)st;
-    const dm_texture *gi = &a->gather_index, *gt = &a->gather_taps;
-    if (f->plan.texture_space && gi->texels && gi->width == f->irr_edge && gi->height == f->irr_edge) {
+    const dm_texture *gt, *gi = dm_render_assets_gather(a, f->irr_edge, &gt);
+    if (f->plan.texture_space && gi) {
         const float *ix = gi->texels; /* the "gather" debug view's copy (views are per frame) and its scale's top */
         for (size_t i = 0; i < (size_t)gi->width * gi->height; ++i)
             f->gather_view_max = fmaxf(f->gather_view_max, ix[4 * i + 1] + ix[4 * i + 2]);
         dm_result rc = dmr_upload(f, gi, "gather_view", false, GL_NEAREST, &f->tex_gather_view, err);
         if (rc != DM_OK) return rc;
     }
-    if (f->blur_cpu || !f->tex_thin || !gi->texels || !gt->texels || gi->width != f->irr_edge || gi->height != f->irr_edge)
-        return DM_OK;
+    if (f->blur_cpu || !f->tex_thin || !gi) return DM_OK;
     dm_level_sum_gather g; /* the header checked as the CPU path checks it */
     if (!dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
                                   f->plan.blur_levels, &g))
