@@ -89,12 +89,12 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (seam) count_upload(m, seam, false);
         if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
-        /* the thin gather: its index for the debug view, and index and taps where the blur
-         * runs in GL (dm_pass_diffusion.c) */
+        /* the thin gather: its index (for the debug view, and the GL path's too), and its taps
+         * where the blur runs in GL (dm_pass_diffusion.c) */
         const dm_texture *gt, *gi = dm_render_assets_gather(a, s->irr_edge, &gt);
         if (gi) {
             count_upload(m, gi, false);
-            if (in->diffusion_sum && thin && !in->cpu_blur) count_upload(m, gi, false), count_upload(m, gt, false);
+            if (in->diffusion_sum && thin && !in->cpu_blur) count_upload(m, gt, false);
         }
     }
     if (p->pre_integrated) {

@@ -29,8 +29,8 @@ dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a,
     f->gather_first = g.first_level, f->gather_count = g.level_count;
     f->gather_cell[0] = g.cell[0], f->gather_cell[1] = g.cell[1];
     dm_level_sum_gather_free(&g);
-    dm_result rc = dmr_upload(f, gi, "gather_index", false, GL_NEAREST, &f->tex_gather_index, err);
-    return rc == DM_OK ? dmr_upload(f, gt, "gather_taps", false, GL_NEAREST, &f->tex_gather_taps, err) : rc;
+    f->tex_gather_index = f->tex_gather_view; /* the view's upload above: one texture, owned by f->gpu */
+    return dmr_upload(f, gt, "gather_taps", false, GL_NEAREST, &f->tex_gather_taps, err);
 }
 
 bool dmr_diffusion_prepare(dmr_frame *f, void *st, const dm_pass *ps, dmr_output *out)
