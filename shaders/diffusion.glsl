@@ -12,8 +12,10 @@
 //
 // DM_GATHER: the thin gather (bake/dm_thin_gather.h; core/dm_level_sum.h holds the CPU's same
 // sums): a texel whose index counts taps for gathered level g takes, for level u_gather_first + g,
-// sum_t weight_t * mean_c(t) instead of its own term and the candidates', mean_c the mean of
-// level 0's rgb / alpha over cell c's member texels with alpha > 1e-4 (C x C texels).
+// sum_t weight_t * I(uv_s(t)) instead of its own term and the candidates', I level 0 read at the
+// site's UV as dm_level reads it (bilinear, coverage-normalised). The index holds the first tap's
+// row and column (x, w) and each level's tap count (y, z); the taps texture the header, the sites'
+// UVs, then the taps (the site's tap index, weight).
 uniform vec2 u_size; // the irradiance grid's texels
 #ifdef DM_THIN
 uniform sampler2D u_thin;
@@ -22,38 +24,27 @@ uniform float u_level_var[8]; // v_k, mm^2
 #ifdef DM_GATHER
 uniform sampler2D u_gather_index, u_gather_taps;
 uniform int u_gather_first, u_gather_count;
-uniform int u_gather_cell[2];
 #ifdef DM_FRAGMENT
-vec3 dm_gather_mean(int g, int cell)
-{
-    int n = int(u_size.x), C = g == 0 ? u_gather_cell[0] : u_gather_cell[1], m = (n + C - 1) / C;
-    ivec2 o = ivec2(cell % m, cell / m) * C;
-    vec4 s = vec4(0.0);
-    for (int y = o.y; y < o.y + C && y < n; ++y)
-        for (int x = o.x; x < o.x + C && x < n; ++x) {
-            if (!(texelFetch(u_gather_index, ivec2(x, y), 0).w > 0.5)) continue;
-            vec4 l = texelFetch(u_level[0], ivec2(x, y), 0);
-            if (!(l.a > 1e-4)) continue;
-            s += vec4(l / l.a); // rgb / alpha, and 1
-        }
-    return s.w > 0.0 ? (s / s.w).rgb : vec3(0.0);
-}
 vec2 dm_gather_tap(int t)
 {
     return texelFetch(u_gather_taps, ivec2(t % 4096, t / 4096), 0).xy;
 }
+vec3 dm_gather_site(float s)
+{
+    return dm_level(0, dm_gather_tap(int(s)));
+}
 vec3 dm_gathered(int g, vec4 ix)
 {
-    int t = int(ix.x) + (g == 1 ? int(ix.y) : 0), end = t + int(g == 0 ? ix.y : ix.z);
+    int t = int(ix.x) * 4096 + int(ix.w) + (g == 1 ? int(ix.y) : 0), end = t + int(g == 0 ? ix.y : ix.z);
     vec3 s0 = vec3(0.0), s1 = vec3(0.0); // two sums, as the CPU's
     for (; t + 1 < end; t += 2) {
         vec2 a = dm_gather_tap(t), b = dm_gather_tap(t + 1);
-        s0 = s0 + a.y * dm_gather_mean(g, int(a.x));
-        s1 = s1 + b.y * dm_gather_mean(g, int(b.x));
+        s0 = s0 + a.y * dm_gather_site(a.x);
+        s1 = s1 + b.y * dm_gather_site(b.x);
     }
     if (t < end) {
         vec2 a = dm_gather_tap(t);
-        s0 = s0 + a.y * dm_gather_mean(g, int(a.x));
+        s0 = s0 + a.y * dm_gather_site(a.x);
     }
     return s0 + s1;
 }

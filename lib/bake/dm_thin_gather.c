@@ -6,27 +6,34 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/dm_gather_sites.h"
 #include "core/dm_parallel.h"
+#include "mesh/dm_seam_edges.h"
 #include "mesh/dm_uv_raster.h"
 
 #define TWO_PI 6.283185307179586476925
-#define GRID 128 /* hash grid cells per axis over the cells' points */
+#define GRID 128           /* hash grid cells per axis over the points */
+#define SEAM_SAMPLE_MM 0.25 /* the seam edges as points this far apart at most */
 
-typedef struct cells {
-    int C, m;            /* block side in texels, blocks per side (ceil(N / C)) */
-    double *p, *nrm, *a; /* per cell: mean point (mm), summed unit normal, skin area (mm²) */
-    int *head, *next;    /* the hash grid over the points (cells with area) */
+typedef struct grid { /* a hash grid over points */
+    const double *p;
+    int64_t count;
+    int32_t *head, *next;
     double lo[3], step;
-} cells;
+} grid;
 
 typedef struct job {
     const dm_thin_gather_options *o;
     int n;
     const int32_t *tri;
     const double *p, *nrm, *area; /* per texel */
-    cells c[DM_THIN_GATHER_LEVELS];
-    double reach[DM_THIN_GATHER_LEVELS];
-    int32_t *count; /* per texel per level: taps (pass 1) */
+    dm_gather_sites s[DM_THIN_GATHER_LEVELS], cs[DM_THIN_GATHER_LEVELS]; /* fine and coarse sites */
+    int32_t *child_first[DM_THIN_GATHER_LEVELS], *children[DM_THIN_GATHER_LEVELS];
+    grid g[DM_THIN_GATHER_LEVELS], cg[DM_THIN_GATHER_LEVELS], seam;
+    double reach[DM_THIN_GATHER_LEVELS], split[DM_THIN_GATHER_LEVELS];
+    int64_t base[DM_THIN_GATHER_LEVELS], cbase[DM_THIN_GATHER_LEVELS]; /* the tap index of each level's first fine, coarse site */
+    int32_t *count;       /* per texel per level: taps (pass 1) */
+    uint8_t *why;         /* per texel: 1 facing away, 2 seam (pass 1) */
     const int64_t *first; /* per texel: first tap (pass 2) */
     float *taps;
     bool fill;
@@ -38,104 +45,115 @@ static double dist2(const double *a, const double *b)
     return d0 * d0 + d1 * d1 + d2 * d2;
 }
 
-static int grid_at(const cells *c, const double *p, int k)
+static int grid_at(const grid *g, const double *p, int k)
 {
-    int i = (int)floor((p[k] - c->lo[k]) / c->step);
+    int i = (int)floor((p[k] - g->lo[k]) / g->step);
     return i < 0 ? 0 : i >= GRID ? GRID - 1 : i;
 }
 
-/* Cells of C × C texels: the mean point of their member texels, the sum of their areas. */
-static bool make_cells(cells *c, int C, int n, const int32_t *tri, const double *p, const double *nrm,
-                       const double *area, double reach)
+/* The grid over count points (3 doubles each), cells at least `reach` wide. */
+static bool grid_make(grid *g, const double *p, int64_t count, double reach)
 {
-    c->C = C, c->m = (n + C - 1) / C;
-    size_t mm = (size_t)c->m * (size_t)c->m;
-    double *cnt = calloc(mm, sizeof *cnt);
-    c->p = calloc(3 * mm, sizeof *c->p), c->nrm = calloc(3 * mm, sizeof *c->nrm), c->a = calloc(mm, sizeof *c->a);
-    c->head = malloc(sizeof *c->head * GRID * GRID * GRID), c->next = malloc(sizeof *c->next * mm);
-    if (!cnt || !c->p || !c->nrm || !c->a || !c->head || !c->next) return free(cnt), false;
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            size_t i = (size_t)y * n + x, k = (size_t)(y / C) * c->m + (size_t)(x / C);
-            if (tri[i] < 0 || !(area[i] > 0)) continue;
-            for (int d = 0; d < 3; ++d) c->p[3 * k + d] += p[3 * i + d], c->nrm[3 * k + d] += nrm[3 * i + d];
-            c->a[k] += area[i], cnt[k] += 1;
-        }
-    c->lo[0] = c->lo[1] = c->lo[2] = INFINITY;
+    memset(g, 0, sizeof *g);
+    g->p = p, g->count = count;
+    g->head = malloc(sizeof *g->head * GRID * GRID * GRID), g->next = malloc(sizeof *g->next * (size_t)(count ? count : 1));
+    if (!g->head || !g->next) return false;
     double hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t k = 0; k < mm; ++k) {
-        if (!(cnt[k] > 0)) continue;
-        for (int d = 0; d < 3; ++d) {
-            c->p[3 * k + d] /= cnt[k];
-            c->lo[d] = fmin(c->lo[d], c->p[3 * k + d]), hi[d] = fmax(hi[d], c->p[3 * k + d]);
-        }
+    g->lo[0] = g->lo[1] = g->lo[2] = INFINITY;
+    for (int64_t k = 0; k < count; ++k)
+        for (int d = 0; d < 3; ++d) g->lo[d] = fmin(g->lo[d], p[3 * k + d]), hi[d] = fmax(hi[d], p[3 * k + d]);
+    double span = fmax(fmax(hi[0] - g->lo[0], hi[1] - g->lo[1]), hi[2] - g->lo[2]);
+    g->step = fmax(reach, span / GRID) * (1.0 + 1e-9);
+    if (!(g->step > 0) || !isfinite(g->step)) g->step = 1.0;
+    for (int c = 0; c < GRID * GRID * GRID; ++c) g->head[c] = -1;
+    for (int64_t k = count; k-- > 0;) { /* lists in ascending order */
+        int c = (grid_at(g, p + 3 * k, 2) * GRID + grid_at(g, p + 3 * k, 1)) * GRID + grid_at(g, p + 3 * k, 0);
+        g->next[k] = g->head[c], g->head[c] = (int32_t)k;
     }
-    double span = fmax(fmax(hi[0] - c->lo[0], hi[1] - c->lo[1]), hi[2] - c->lo[2]);
-    c->step = fmax(reach, span / GRID) * (1.0 + 1e-9);
-    if (!(c->step > 0) || !isfinite(c->step)) c->step = 1.0;
-    for (int g = 0; g < GRID * GRID * GRID; ++g) c->head[g] = -1;
-    for (size_t k = mm; k-- > 0;) { /* lists in ascending cell order */
-        if (!(cnt[k] > 0)) continue;
-        int g = (grid_at(c, c->p + 3 * k, 2) * GRID + grid_at(c, c->p + 3 * k, 1)) * GRID + grid_at(c, c->p + 3 * k, 0);
-        c->next[k] = c->head[g], c->head[g] = (int)k;
-    }
-    free(cnt);
     return true;
 }
 
-static void free_cells(cells *c)
+static void grid_free(grid *g)
 {
-    free(c->p), free(c->nrm), free(c->a), free(c->head), free(c->next);
-    memset(c, 0, sizeof *c);
+    free(g->head), free(g->next);
+    memset(g, 0, sizeof *g);
 }
 
-/* Visits the cells within r of q in ascending grid order, then list order; fn returns false to stop. */
-typedef bool (*visit_fn)(void *ctx, int cell, double d2);
-static void visit(const cells *c, const double *q, double r, visit_fn fn, void *ctx)
+/* Visits the points within r of q in ascending grid order, then list order; fn returns false to stop. */
+typedef bool (*visit_fn)(void *ctx, int32_t k, double d2);
+static void visit(const grid *g, const double *q, double r, visit_fn fn, void *ctx)
 {
     int g0[3], g1[3];
     for (int k = 0; k < 3; ++k) {
-        g0[k] = grid_at(c, (double[3]){q[0] - r, q[1] - r, q[2] - r}, k);
-        g1[k] = grid_at(c, (double[3]){q[0] + r, q[1] + r, q[2] + r}, k);
+        g0[k] = grid_at(g, (double[3]){q[0] - r, q[1] - r, q[2] - r}, k);
+        g1[k] = grid_at(g, (double[3]){q[0] + r, q[1] + r, q[2] + r}, k);
     }
     for (int z = g0[2]; z <= g1[2]; ++z)
         for (int y = g0[1]; y <= g1[1]; ++y)
             for (int x = g0[0]; x <= g1[0]; ++x)
-                for (int k = c->head[(z * GRID + y) * GRID + x]; k >= 0; k = c->next[k]) {
-                    double d2 = dist2(q, c->p + 3 * (size_t)k);
+                for (int32_t k = g->head[(z * GRID + y) * GRID + x]; k >= 0; k = g->next[k]) {
+                    double d2 = dist2(q, g->p + 3 * (size_t)k);
                     if (d2 <= r * r && !fn(ctx, k, d2)) return;
                 }
 }
 
 typedef struct probe {
     const job *j;
-    const double *n;
+    const double *n, *q;
     int level;
-    bool away;
+    bool found;
     int32_t count;
     float *out;
 } probe;
 
-static bool find_away(void *ctx, int k, double d2)
+static bool find_away(void *ctx, int32_t k, double d2)
 {
     (void)d2;
     probe *p = ctx;
-    const double *cn = p->j->c[p->j->o->level_count - 1].nrm + 3 * (size_t)k;
-    p->away = cn[0] * p->n[0] + cn[1] * p->n[1] + cn[2] * p->n[2] < 0;
-    return !p->away;
+    const double *sn = p->j->s[p->j->o->level_count - 1].nrm + 3 * (size_t)k;
+    p->found = sn[0] * p->n[0] + sn[1] * p->n[1] + sn[2] * p->n[2] < 0;
+    return !p->found;
 }
 
-static bool add_tap(void *ctx, int k, double d2)
+static bool find_any(void *ctx, int32_t k, double d2)
+{
+    (void)k, (void)d2;
+    ((probe *)ctx)->found = true;
+    return false;
+}
+
+/* A tap: a site of area a at distance² d2 as a point of mass G · A, but never more than any patch of
+ * its area can hold under G (a disc around the centre: 1 − exp(−A / 2πv)). */
+static void tap(probe *p, int64_t index, double a, double d2)
+{
+    double v = p->j->o->variance_mm2[p->level];
+    double w = fmin(exp(-d2 / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
+    if (p->out) p->out[2 * p->count] = (float)index, p->out[2 * p->count + 1] = (float)w;
+    ++p->count;
+}
+
+/* A coarse site within reach: itself when split or farther, else its fine sites within reach. */
+static bool add_taps(void *ctx, int32_t k, double d2)
 {
     probe *p = ctx;
-    const cells *c = &p->j->c[p->level];
-    /* the cell as a point of mass G · A, but never more than any patch of its area can hold
-     * under G (a disc around the centre: 1 − exp(−A / 2πv)): a cell far larger than σ (a
-     * squashed chart's texels) would otherwise count many times its light */
-    double v = p->j->o->variance_mm2[p->level], a = c->a[k];
-    double w = fmin(exp(-d2 / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
-    if (p->out) p->out[2 * p->count] = (float)k, p->out[2 * p->count + 1] = (float)w;
-    ++p->count;
+    const job *j = p->j;
+    const int g = p->level;
+    if (d2 >= j->split[g] * j->split[g]) { /* the coarse site's weight: its fine sites' sum, exact */
+        double v = j->o->variance_mm2[g], w = 0.0;
+        for (int32_t c = j->child_first[g][k]; c < j->child_first[g][k + 1]; ++c) {
+            int32_t f = j->children[g][c];
+            double df = dist2(p->q, j->s[g].p + 3 * (size_t)f), a = j->s[g].area[f];
+            w += fmin(exp(-df / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
+        }
+        if (p->out) p->out[2 * p->count] = (float)(j->cbase[g] + k), p->out[2 * p->count + 1] = (float)w;
+        ++p->count;
+        return true;
+    }
+    for (int32_t c = j->child_first[g][k]; c < j->child_first[g][k + 1]; ++c) {
+        int32_t f = j->children[g][c];
+        double df = dist2(p->q, j->s[g].p + 3 * (size_t)f);
+        if (df <= j->reach[g] * j->reach[g]) tap(p, j->base[g] + f, j->s[g].area[f], df);
+    }
     return true;
 }
 
@@ -148,18 +166,23 @@ static void rows(void *ctx, size_t begin, size_t end)
             size_t i = y * (size_t)j->n + (size_t)x;
             if (j->tri[i] < 0 || !(j->area[i] > 0)) continue;
             const double *q = j->p + 3 * i;
-            if (!j->fill) { /* does a cell facing away lie within near_mm? */
-                probe pr = {j, j->nrm + 3 * i, 0, false, 0, NULL};
-                visit(&j->c[L - 1], q, j->o->near_mm, find_away, &pr);
-                if (!pr.away) continue;
+            if (!j->fill) { /* a site facing away within near_mm, or a seam within seam_mm? */
+                probe pr = {j, j->nrm + 3 * i, q, 0, false, 0, NULL};
+                visit(&j->g[L - 1], q, j->o->near_mm, find_away, &pr);
+                j->why[i] = pr.found ? 1 : 0;
+                if (!pr.found && j->o->seam_mm > 0 && j->seam.count) {
+                    visit(&j->seam, q, j->o->seam_mm, find_any, &pr);
+                    j->why[i] = pr.found ? 2 : 0;
+                }
+                if (!pr.found) continue;
             } else if (j->first[i + 1] == j->first[i]) {
                 continue;
             }
             float *out = j->fill ? j->taps + 2 * j->first[i] : NULL;
             for (int g = 0; g < L; ++g) {
-                probe pr = {j, NULL, g, false, 0, out};
-                /* cells in ascending order within the visit: the sum at run time is deterministic */
-                visit(&j->c[g], q, j->reach[g], add_tap, &pr);
+                probe pr = {j, NULL, q, g, false, 0, out};
+                /* sites in ascending order within the visit: the sum at run time is deterministic */
+                visit(&j->cg[g], q, j->reach[g], add_taps, &pr);
                 if (!j->fill) j->count[L * i + g] = pr.count;
                 if (out) out += 2 * pr.count;
             }
@@ -176,6 +199,7 @@ void dm_thin_gather_options_for(const double *variance_mm2, int count, int size,
     opt->first_level = first, opt->level_count = count - first;
     for (int g = 0; g < opt->level_count; ++g) opt->variance_mm2[g] = variance_mm2[first + g];
     opt->near_mm = opt->level_count ? 2.0 * sqrt(variance_mm2[count - 1]) : 0.0;
+    opt->seam_mm = opt->level_count ? DM_THIN_GATHER_SEAM_SIGMAS * sqrt(variance_mm2[count - 1]) : 0.0;
 }
 
 /* Per covered texel: its surface point (mm), unit normal (the triangle's), skin area (mm²). */
@@ -202,10 +226,58 @@ static void texel_geometry(const dm_mesh *m, int n, double mm, const int32_t *tr
     }
 }
 
+/* The seam edges as points at most SEAM_SAMPLE_MM apart (*out malloc'd, 3 doubles each). */
+static dm_result seam_points(const dm_mesh *m, double mm, double **out, int64_t *count, dm_error *err)
+{
+    *out = NULL, *count = 0;
+    dm_seam_edges se;
+    dm_result rc = dm_seam_edges_find(m, &se, err);
+    int64_t total = 0;
+    for (size_t e = 0; rc == DM_OK && e < se.count; ++e) {
+        const float *a = m->positions + 3 * (size_t)se.edges[e].a, *b = m->positions + 3 * (size_t)se.edges[e].b;
+        double len = mm * sqrt((double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]) +
+                               (double)(b[2] - a[2]) * (b[2] - a[2]));
+        total += 1 + (int64_t)fmin(ceil(len / SEAM_SAMPLE_MM), 1e6);
+    }
+    if (rc == DM_OK && !(*out = malloc(sizeof **out * 3 * (size_t)(total ? total : 1))))
+        rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: seam points: out of memory");
+    for (size_t e = 0; rc == DM_OK && e < se.count; ++e) {
+        const float *a = m->positions + 3 * (size_t)se.edges[e].a, *b = m->positions + 3 * (size_t)se.edges[e].b;
+        double len = mm * sqrt((double)(b[0] - a[0]) * (b[0] - a[0]) + (double)(b[1] - a[1]) * (b[1] - a[1]) +
+                               (double)(b[2] - a[2]) * (b[2] - a[2]));
+        int64_t s = (int64_t)fmin(ceil(len / SEAM_SAMPLE_MM), 1e6);
+        for (int64_t k = 0; k <= s; ++k) {
+            double t = s ? (double)k / (double)s : 0.0;
+            for (int d = 0; d < 3; ++d) (*out)[3 * *count + d] = mm * ((1.0 - t) * a[d] + t * b[d]);
+            ++*count;
+        }
+    }
+    dm_seam_edges_free(&se);
+    return rc;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+/* Checks the options; DM_OK or DM_ERR_RANGE. */
+static dm_result check(const dm_thin_gather_options *opt, dm_error *err)
+{
+    if (opt->size < 1 || opt->size > DM_THIN_GATHER_SIZE_MAX || opt->level_count < 1 ||
+        opt->level_count > DM_THIN_GATHER_LEVELS || opt->first_level < 0 || opt->threads < 0)
+        return dm_fail(err, DM_ERR_RANGE, "thin gather: size %d (1..%d), levels %d (1..%d) from %d, threads %d",
+                       opt->size, DM_THIN_GATHER_SIZE_MAX, opt->level_count, DM_THIN_GATHER_LEVELS,
+                       opt->first_level, opt->threads);
+    bool finite = opt->mm_per_unit > 0 && isfinite(opt->mm_per_unit) && opt->near_mm > 0 && isfinite(opt->near_mm) &&
+                  opt->seam_mm >= 0 && isfinite(opt->seam_mm);
+    for (int g = 0; g < opt->level_count; ++g)
+        finite = finite && opt->variance_mm2[g] > 0 && isfinite(opt->variance_mm2[g]);
+    if (!finite)
+        return dm_fail(err, DM_ERR_RANGE,
+                       "thin gather: mm_per_unit, near_mm and the variances must be finite and > 0, seam_mm ≥ 0");
+    return DM_OK;
 }
 
 dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *opt, dm_thin_gather *out,
@@ -213,33 +285,26 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
 {
     memset(out, 0, sizeof *out);
     if (stats) memset(stats, 0, sizeof *stats);
-    if (opt->size < 1 || opt->size > DM_THIN_GATHER_SIZE_MAX || opt->level_count < 1 ||
-        opt->level_count > DM_THIN_GATHER_LEVELS || opt->first_level < 0 || opt->threads < 0)
-        return dm_fail(err, DM_ERR_RANGE, "thin gather: size %d (1..%d), levels %d (1..%d) from %d, threads %d",
-                       opt->size, DM_THIN_GATHER_SIZE_MAX, opt->level_count, DM_THIN_GATHER_LEVELS,
-                       opt->first_level, opt->threads);
-    bool finite = opt->mm_per_unit > 0 && isfinite(opt->mm_per_unit) && opt->near_mm > 0 && isfinite(opt->near_mm);
-    for (int g = 0; g < opt->level_count; ++g)
-        finite = finite && opt->variance_mm2[g] > 0 && isfinite(opt->variance_mm2[g]);
-    if (!finite)
-        return dm_fail(err, DM_ERR_RANGE, "thin gather: mm_per_unit, near_mm and the variances must be finite and > 0");
-    dm_result rc = dm_mesh_validate(m, "thin gather: mesh", err);
+    dm_result rc = check(opt, err);
+    if (rc == DM_OK) rc = dm_mesh_validate(m, "thin gather: mesh", err);
     if (rc != DM_OK) return rc;
     const int n = opt->size, L = opt->level_count;
     const size_t texels = (size_t)n * n;
     job j = {.o = opt, .n = n};
     int32_t *tri = malloc(sizeof *tri * texels);
     double *p = calloc(3 * texels, sizeof *p), *nrm = calloc(3 * texels, sizeof *nrm), *area = calloc(texels, sizeof *area);
-    double *sides = malloc(sizeof *sides * texels);
+    double *sides = malloc(sizeof *sides * texels), *seam = NULL;
     int32_t *count = calloc((size_t)L * texels, sizeof *count);
-    int64_t *first = malloc(sizeof *first * (texels + 1));
+    uint8_t *why = calloc(texels, 1);
+    int64_t *first = malloc(sizeof *first * (texels + 1)), seam_count = 0;
     out->index = calloc(4 * texels, sizeof *out->index);
-    rc = tri && p && nrm && area && sides && count && first && out->index
+    rc = tri && p && nrm && area && sides && count && why && first && out->index
              ? DM_OK
              : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather %dx%d: out of memory", n, n);
     if (rc == DM_OK) rc = dm_uv_raster(m, NULL, n, n, opt->threads, tri, NULL, err);
     double h = 0;
     size_t covered = 0;
+    int64_t sites = DM_THIN_GATHER_HEADER_TAPS;
     if (rc == DM_OK) {
         texel_geometry(m, n, opt->mm_per_unit, tri, p, nrm, area);
         for (size_t i = 0; i < texels; ++i)
@@ -247,26 +312,44 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
         if (covered) qsort(sides, covered, sizeof *sides, cmp_double), h = sides[covered / 2];
         for (int g = 0; g < L && rc == DM_OK; ++g) {
             int C = 1;
-            while (2 * C <= n && 2 * C * h <= DM_THIN_GATHER_CELL_SIGMAS * sqrt(opt->variance_mm2[g])) C *= 2;
-            j.reach[g] = DM_THIN_GATHER_REACH_SIGMAS * sqrt(opt->variance_mm2[g]);
+            double sigma = sqrt(opt->variance_mm2[g]);
+            while (2 * C <= n && 2 * C * h <= DM_THIN_GATHER_CELL_SIGMAS * sigma) C *= 2;
+            j.reach[g] = DM_THIN_GATHER_REACH_SIGMAS * sigma;
             out->cell[g] = C;
-            if (!make_cells(&j.c[g], C, n, tri, p, nrm, area, fmax(j.reach[g], opt->near_mm)))
-                rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: cells: out of memory");
+            j.split[g] = DM_THIN_GATHER_SPLIT_SIGMAS * sigma;
+            rc = dm_gather_sites_build(m, tri, n, opt->mm_per_unit, C, DM_THIN_GATHER_CLUSTER_SIGMAS * sigma, &j.s[g], err);
+            if (rc == DM_OK)
+                rc = dm_gather_sites_coarsen(&j.s[g], tri, n, 2 * C <= n ? 2 * C : C, DM_THIN_GATHER_COARSE_CLUSTER_SIGMAS * sigma,
+                                             &j.cs[g], &j.child_first[g], &j.children[g], err);
+            if (rc == DM_OK && (!grid_make(&j.g[g], j.s[g].p, j.s[g].count, fmax(j.reach[g], opt->near_mm)) ||
+                                !grid_make(&j.cg[g], j.cs[g].p, j.cs[g].count, j.reach[g])))
+                rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: sites: out of memory");
+            j.base[g] = sites, sites += j.s[g].count;
+            j.cbase[g] = sites, sites += j.cs[g].count;
+            out->sites[g] = j.s[g].count + j.cs[g].count;
         }
+        if (rc == DM_OK && (double)sites >= DM_THIN_GATHER_FLOAT_EXACT)
+            rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: %lld sites, a float counts exactly below 2^24", n, n,
+                         (long long)sites);
     }
+    if (rc == DM_OK && opt->seam_mm > 0) rc = seam_points(m, opt->mm_per_unit, &seam, &seam_count, err);
+    if (rc == DM_OK && opt->seam_mm > 0 && !grid_make(&j.seam, seam, seam_count, opt->seam_mm))
+        rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: seam points: out of memory");
     if (rc == DM_OK) {
-        j.tri = tri, j.p = p, j.nrm = nrm, j.area = area, j.count = count;
+        j.tri = tri, j.p = p, j.nrm = nrm, j.area = area, j.count = count, j.why = why;
         dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 1: which texels, how many taps */
-        first[0] = DM_THIN_GATHER_HEADER_TAPS;
+        first[0] = sites;
         for (size_t i = 0; i < texels; ++i) {
             int64_t c = 0;
             for (int g = 0; g < L; ++g) c += count[L * i + g];
+            if ((double)count[L * i] >= DM_THIN_GATHER_FLOAT_EXACT) rc = DM_ERR_RANGE;
             first[i + 1] = first[i] + c;
         }
         out->tap_count = first[texels];
-        if ((double)out->tap_count >= DM_THIN_GATHER_FLOAT_EXACT)
-            rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: %lld taps, a float counts exactly below 2^24", n, n,
-                         (long long)out->tap_count);
+        if (rc != DM_OK) rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: a texel has 2^24 taps or more", n, n);
+        else if (out->tap_count - sites > DM_THIN_GATHER_TAPS_MAX)
+            rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: %lld taps, more than %d", n, n,
+                         (long long)(out->tap_count - sites), DM_THIN_GATHER_TAPS_MAX);
     }
     if (rc == DM_OK) {
         out->taps_rows = (int)((out->tap_count + DM_THIN_GATHER_TAPS_WIDTH - 1) / DM_THIN_GATHER_TAPS_WIDTH);
@@ -277,25 +360,35 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
         j.first = first, j.taps = out->taps, j.fill = true;
         dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 2: the taps */
         out->taps[0] = (float)opt->first_level, out->taps[1] = (float)L;
-        out->taps[2] = (float)out->cell[0], out->taps[3] = (float)(L > 1 ? out->cell[1] : 0);
+        out->taps[2] = (float)DM_THIN_GATHER_FORMAT, out->taps[3] = (float)(sites - DM_THIN_GATHER_HEADER_TAPS);
+        for (int g = 0; g < L; ++g) {
+            memcpy(out->taps + 2 * j.base[g], j.s[g].uv, sizeof(float) * 2 * (size_t)j.s[g].count);
+            memcpy(out->taps + 2 * j.cbase[g], j.cs[g].uv, sizeof(float) * 2 * (size_t)j.cs[g].count);
+        }
         double most = 0;
         int64_t gathering = 0;
         for (size_t i = 0; i < texels; ++i) {
-            float *o = out->index + 4 * i;
-            o[3] = tri[i] >= 0 && area[i] > 0 ? 1.0f : 0.0f;
             if (first[i + 1] == first[i]) continue;
-            o[0] = (float)first[i], o[1] = (float)count[L * i], o[2] = L > 1 ? (float)count[L * i + 1] : 0.0f;
+            float *o = out->index + 4 * i;
+            o[0] = (float)(first[i] / DM_THIN_GATHER_TAPS_WIDTH), o[3] = (float)(first[i] % DM_THIN_GATHER_TAPS_WIDTH);
+            o[1] = (float)count[L * i], o[2] = L > 1 ? (float)count[L * i + 1] : 0.0f;
             ++gathering, most = fmax(most, (double)(first[i + 1] - first[i]));
+            if (stats) stats->thin_texels += why[i] == 1, stats->seam_texels += why[i] == 2;
         }
         out->size = n, out->first_level = opt->first_level, out->level_count = L;
         if (stats) {
             stats->covered_texels = (int64_t)covered, stats->gathering_texels = gathering;
-            stats->taps = out->tap_count - DM_THIN_GATHER_HEADER_TAPS, stats->texel_mm = h, stats->max_taps = most;
-            for (int g = 0; g < L; ++g) stats->cell[g] = out->cell[g];
+            stats->taps = out->tap_count - sites, stats->texel_mm = h, stats->max_taps = most;
+            stats->dropped_mm2 = j.s[L - 1].dropped_mm2;
+            for (int g = 0; g < L; ++g) stats->cell[g] = out->cell[g], stats->sites[g] = out->sites[g];
         }
     }
-    for (int g = 0; g < DM_THIN_GATHER_LEVELS; ++g) free_cells(&j.c[g]);
-    free(tri), free(p), free(nrm), free(area), free(sides), free(count), free(first);
+    for (int g = 0; g < DM_THIN_GATHER_LEVELS; ++g) {
+        grid_free(&j.g[g]), grid_free(&j.cg[g]), dm_gather_sites_free(&j.s[g]), dm_gather_sites_free(&j.cs[g]);
+        free(j.child_first[g]), free(j.children[g]);
+    }
+    grid_free(&j.seam);
+    free(tri), free(p), free(nrm), free(area), free(sides), free(count), free(why), free(first), free(seam);
     if (rc != DM_OK) dm_thin_gather_free(out);
     return rc;
 }
@@ -310,8 +403,13 @@ void dm_thin_gather_stats_prov(const dm_thin_gather_stats *s, dm_provenance *p)
 {
     dm_prov_add_int(p, "gather_covered_texels", s->covered_texels);
     dm_prov_add_int(p, "gathering_texels", s->gathering_texels);
+    dm_prov_add_int(p, "gathering_thin_texels", s->thin_texels);
+    dm_prov_add_int(p, "gathering_seam_texels", s->seam_texels);
     dm_prov_add_int(p, "gather_taps", s->taps);
+    dm_prov_add_int(p, "gather_sites0", s->sites[0]);
+    dm_prov_add_int(p, "gather_sites1", s->sites[1]);
     dm_prov_add_int(p, "gather_cell0", s->cell[0]);
     dm_prov_add_int(p, "gather_cell1", s->cell[1]);
     dm_prov_add_double(p, "gather_texel_mm", s->texel_mm);
+    dm_prov_add_double(p, "gather_dropped_mm2", s->dropped_mm2);
 }

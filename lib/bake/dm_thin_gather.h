@@ -9,35 +9,45 @@
  * 1024² (docs/thin-map.md). Those two levels carry nearly all of the thin region's error: with
  * them exact, it is 1 %.
  *
- * So for a **gathering texel** x — a covered texel with a cell facing away (n_c · n_x < 0)
- * within near_mm — each gathered level k is computed directly:
- *     S_k(x) = Σ_c min(G(v_k, |P(x) − P_c|) · A_c, 1 − e^(−A_c/2πv_k)) · Ī_c   over the cells c within
- *                                                                     reach_sigmas·σ_k
- * G the unit-integral radial Gaussian (core/dm_profile.h), cells the C_k × C_k blocks of the N × N
- * atlas (C_k the largest power of two with C_k · h ≤ σ_k, h the median texel side in mm,
- * at most N), P_c the mean of the surface points of its member texels (the covered ones: a
- * triangle of UV area and 3-D area covers the centre), A_c the sum of their skin areas (mm²),
- * Ī_c the mean of their irradiance, taken at run time (core/dm_level_sum.h). The cap is the most
- * light any patch of area A_c holds under the Gaussian (a disc around the centre): it binds only
- * for a cell near x or one far larger than σ (a squashed chart's texels). The weights
- * G · A_c are light-independent and baked here; a cell is a point of the quadrature, which for
- * a Gaussian sampled finer than its σ is exact to far below a float on a plane (the Poisson
- * sum), and everywhere follows the real 3-D distances: both sheets of an ear, a ridge's far side.
+ * So for a **gathering texel** x each gathered level k is computed directly, as the exact 3-D
+ * convolution's quadrature over the surface's sites (bake/dm_gather_sites.h):
+ *     S_k(x) = Σ_s min(G(v_k, |P(x) − P_s|) · A_s, 1 − e^(−A_s/2πv_k)) · I(uv_s)   over the sites s
+ *                                                                    within reach_sigmas·σ_k
+ * G the unit-integral radial Gaussian (core/dm_profile.h); the sites of level k are patches of
+ * exact area A_s (mm²) grouped within cells of C_k × C_k texels (C_k the largest power of two with
+ * C_k · h ≤ σ_k, h the median texel side in mm) and within cluster_sigmas·σ_k in 3-D, P_s their
+ * mean point; I(uv_s) is level 0 read at the site's UV as the renderer's sampler reads it
+ * (bilinear, coverage-normalised: core/dm_level_sum.h, diffusion.glsl), as the truth reads it. The
+ * cap is the most light any patch of area A_s holds under the Gaussian (a disc around the
+ * centre): it binds only for a site next to x. The weights are light-independent and baked here.
+ *
+ * A texel gathers (a covered texel, P(x) its surface point at the texel centre):
+ *   - near a surface facing away: a site of the widest level with n_s · n_x < 0 within near_mm
+ *     (thin parts and folds: both sheets of an ear, a lip against the other); or
+ *   - near a seam: a UV seam edge (mesh/dm_seam_edges.h: a cut, a boundary, a non-manifold edge)
+ *     within seam_mm in 3-D. There the atlas blur reads the charts pressed against the cut, or
+ *     their squashed rims, as the surface next door (docs/seam-map.md), and the widest levels
+ *     carry nearly all of the seam region's error.
  *
  * Storage (pack entries "gather.index" and "gather.taps", rows bottom-up):
- *   index: N × N RGBA32F per texel (first tap, taps of gathered level 0, taps of gathered
- *          level 1, member 0/1); a texel gathers when its tap counts are not 0;
- *   taps:  DM_THIN_GATHER_TAPS_WIDTH × rows RG32F, 2 floats a tap: (cell index y·(N/C)+x, weight
- *          G · A_c); taps 0 and 1 are the header: (first gathered level, gathered levels) and
- *          (C of gathered level 0, C of gathered level 1). A texel's taps: level 0's, then 1's.
- * Float indices are exact below 2^24: the bake refuses more taps (DM_ERR_RANGE).
+ *   index: N × N RGBA32F per texel (the row of its first tap, taps of gathered level 0, taps of
+ *          gathered level 1, the column of its first tap: the tap t = row · 4096 + column); a
+ *          texel gathers when its tap counts are not 0;
+ *   taps:  DM_THIN_GATHER_TAPS_WIDTH × rows RG32F, 2 floats a tap. Taps 0 and 1 are the header:
+ *          (first gathered level, gathered levels) and (DM_THIN_GATHER_FORMAT, sites). Then the
+ *          sites, one a tap: (u, v), level 0's sites then level 1's. Then each gathering texel's
+ *          taps, level 0's then level 1's: (the site's tap index, weight).
+ * Float indices and counts are exact below 2^24: the bake refuses more sites (DM_ERR_RANGE); the
+ * taps themselves are addressed by row and column, and the bake refuses more than
+ * DM_THIN_GATHER_TAPS_MAX (DM_ERR_RANGE: a pack leaves the gather out).
  * Deterministic: the same bytes for any thread count (texels in parallel, each alone; the
- * offsets a prefix sum in texel order). */
+ * offsets a prefix sum in texel order; the sites built in one thread). */
 #ifndef DM_THIN_GATHER_H
 #define DM_THIN_GATHER_H
 
 #include <stdint.h>
 
+#include "core/dm_level_sum.h"
 #include "core/dm_prov.h"
 #include "core/dm_result.h"
 #include "mesh/dm_mesh.h"
@@ -48,13 +58,19 @@ extern "C" {
 
 enum {
     DM_THIN_GATHER_LEVELS = 2,         /* the profile's widest levels it gathers, at most */
-    DM_THIN_GATHER_TAPS_WIDTH = 4096,  /* the taps texture's width */
-    DM_THIN_GATHER_HEADER_TAPS = 2,
-    DM_THIN_GATHER_SIZE_MAX = 4096
+    DM_THIN_GATHER_TAPS_WIDTH = DM_LEVEL_SUM_TAPS_WIDTH, /* the taps texture's width */
+    DM_THIN_GATHER_HEADER_TAPS = DM_LEVEL_SUM_HEADER_TAPS,
+    DM_THIN_GATHER_SIZE_MAX = 4096,
+    DM_THIN_GATHER_TAPS_MAX = 1 << 25, /* taps (8 bytes each) a gather may have: 256 MiB */
+    DM_THIN_GATHER_FORMAT = DM_LEVEL_SUM_GATHER_FORMAT /* the header's mark of this layout */
 };
-#define DM_THIN_GATHER_FLOAT_EXACT 16777216.0 /* 2^24: taps and cells a float counts exactly */
-#define DM_THIN_GATHER_REACH_SIGMAS 3.5       /* cells within 3.5 σ_k: 99.8 % of a plane's mass */
+#define DM_THIN_GATHER_FLOAT_EXACT 16777216.0 /* 2^24: sites and counts a float counts exactly */
+#define DM_THIN_GATHER_REACH_SIGMAS 3.5       /* sites within 3.5 σ_k: 99.8 % of a plane's mass */
 #define DM_THIN_GATHER_CELL_SIGMAS 1.0        /* C_k · h ≤ σ_k */
+#define DM_THIN_GATHER_CLUSTER_SIGMAS 0.6     /* a site's pieces within 0.6 σ_k of its first */
+#define DM_THIN_GATHER_SPLIT_SIGMAS 2.0       /* from 2 σ_k on, coarse sites: */
+#define DM_THIN_GATHER_COARSE_CLUSTER_SIGMAS 0.9 /* fine ones grouped in 2C × 2C cells within 0.9 σ_k */
+#define DM_THIN_GATHER_SEAM_SIGMAS 1.1        /* seam_mm = 1.1 σ of the widest level (3.0 mm for gems3-skin) */
 
 typedef struct dm_thin_gather_options {
     int size;                                      /* N, 1..DM_THIN_GATHER_SIZE_MAX */
@@ -62,29 +78,34 @@ typedef struct dm_thin_gather_options {
     int first_level;                               /* k of the first gathered level in the profile */
     int level_count;                               /* 1..DM_THIN_GATHER_LEVELS */
     double variance_mm2[DM_THIN_GATHER_LEVELS];    /* v_k of the gathered levels, > 0 */
-    double near_mm;                                /* > 0: a cell facing away this near makes a texel gather */
+    double near_mm;                                /* > 0: a site facing away this near makes a texel gather */
+    double seam_mm;                                /* ≥ 0: a seam edge this near makes a texel gather (0: none) */
     int threads;                                   /* 0: all cores; the result does not depend on it */
 } dm_thin_gather_options;
 
 typedef struct dm_thin_gather_stats {
     int64_t covered_texels, gathering_texels, taps;
-    int cell[DM_THIN_GATHER_LEVELS]; /* C per gathered level */
-    double texel_mm;                 /* h, the median texel side */
-    double max_taps;                 /* the most taps one texel has (both levels) */
+    int64_t thin_texels, seam_texels;   /* gathering for a surface facing away, for a seam (both: thin) */
+    int64_t sites[DM_THIN_GATHER_LEVELS];
+    int cell[DM_THIN_GATHER_LEVELS];    /* C per gathered level */
+    double texel_mm;                    /* h, the median texel side */
+    double max_taps;                    /* the most taps one texel has (both levels) */
+    double dropped_mm2;                 /* sites' area with no covered texel near (widest level) */
 } dm_thin_gather_stats;
 
 typedef struct dm_thin_gather {
     int size, first_level, level_count;
     int cell[DM_THIN_GATHER_LEVELS];
+    int64_t sites[DM_THIN_GATHER_LEVELS];
     float *index;      /* N × N × 4 */
     float *taps;       /* 2 × DM_THIN_GATHER_TAPS_WIDTH × rows */
     int taps_rows;     /* rows of the taps texture */
-    int64_t tap_count; /* with the header */
+    int64_t tap_count; /* with the header and the sites */
 } dm_thin_gather;
 
 /* The options for a profile's widest levels (up to DM_THIN_GATHER_LEVELS, only those with
- * σ_k ≥ 0.5 mm: narrower ones the atlas carries) with near_mm = 2 σ of the widest; level_count
- * 0 when none qualifies. variance_mm2: the profile's count variances, ascending. */
+ * σ_k ≥ 1 mm: narrower ones the atlas carries) with near_mm = 2 σ and seam_mm = 1.1 σ of the widest;
+ * level_count 0 when none qualifies. variance_mm2: the profile's count variances, ascending. */
 void dm_thin_gather_options_for(const double *variance_mm2, int count, int size, double mm_per_unit,
                                 dm_thin_gather_options *opt);
 

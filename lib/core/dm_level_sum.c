@@ -23,6 +23,12 @@ static dm_v4 level_at(const dm_level_sum_pass *p, float u, float v)
     return t[3] > 1e-4f ? t / t[3] : zero;
 }
 
+/* A gathering texel's first tap (the index holds its row and column: exact in floats). */
+static size_t first_tap(const float *ix)
+{
+    return (size_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (size_t)ix[3];
+}
+
 /* The gathered level g's sum at texel i, or −1 in alpha when i does not gather it. */
 static dm_v4 gathered(const dm_level_sum_pass *p, size_t i)
 {
@@ -30,56 +36,31 @@ static dm_v4 gathered(const dm_level_sum_pass *p, size_t i)
     int g = p->level_index - G->first_level;
     const float *ix = G->index + 4 * i;
     if (g < 0 || g >= G->level_count || !(ix[1 + g] > 0.0f)) return (dm_v4){0, 0, 0, -1.0f};
-    size_t t = (size_t)ix[0] + (g ? (size_t)ix[1] : 0), end = t + (size_t)ix[1 + g];
-    const float *mean = G->mean[g];
+    size_t t = first_tap(ix) + (g ? (size_t)ix[1] : 0), end = t + (size_t)ix[1 + g];
+    const float *value = G->value - 4 * DM_LEVEL_SUM_HEADER_TAPS; /* a site's tap index → its value */
     dm_v4 s0 = {0, 0, 0, 0}, s1 = s0; /* two sums: the adds are not one chain */
     const float *tp = G->taps + 2 * t;
     for (; t + 1 < end; t += 2, tp += 4) {
-        s0 = s0 + tp[1] * dm_v4_load(mean + 4 * (size_t)tp[0]);
-        s1 = s1 + tp[3] * dm_v4_load(mean + 4 * (size_t)tp[2]);
+        s0 = s0 + tp[1] * dm_v4_load(value + 4 * (size_t)tp[0]);
+        s1 = s1 + tp[3] * dm_v4_load(value + 4 * (size_t)tp[2]);
     }
-    if (t < end) s0 = s0 + tp[1] * dm_v4_load(mean + 4 * (size_t)tp[0]);
+    if (t < end) s0 = s0 + tp[1] * dm_v4_load(value + 4 * (size_t)tp[0]);
     s0 = s0 + s1;
     s0[3] = 0.0f;
     return s0;
 }
 
-/* Level 0's cell means for each gathered level, for the cells a tap reads: the mean of rgb /
- * alpha over the member texels with alpha > 1e-4 (0 when none); each cell alone. */
-typedef struct means_job {
-    const dm_level_sum_pass *p;
-    int g;
-} means_job;
-
-static void means(void *ctx, size_t begin, size_t end)
+/* Level 0 at the UV of each site some tap reads (level_at: the sampler's read); each alone. */
+static void values(void *ctx, size_t begin, size_t end)
 {
-    const means_job *mj = ctx;
-    const dm_level_sum_pass *p = mj->p;
+    const dm_level_sum_pass *p = ctx;
     const dm_level_sum_gather *G = p->gather;
-    const dm_v4 zero = {0, 0, 0, 0};
-    int C = G->cell[mj->g], m = (p->n + C - 1) / C;
     for (size_t u = begin; u < end; ++u) {
-        int32_t c = G->used[mj->g][u];
-        int x0 = (c % m) * C, y0 = (c / m) * C;
-        dm_v4 s = zero;
-        for (int y = y0; y < y0 + C && y < p->n; ++y)
-            for (int x = x0; x < x0 + C && x < p->n; ++x) {
-                if (!(G->index[4 * ((size_t)y * p->n + x) + 3] > 0.5f)) continue;
-                dm_v4 l = dm_v4_load(p->level + (ptrdiff_t)y * p->stride + 4 * (ptrdiff_t)x);
-                if (!(l[3] > 1e-4f)) continue; /* not lit this frame: no sample */
-                dm_v4 v = l / l[3];
-                v[3] = 1.0f;
-                s = s + v;
-            }
-        dm_v4_store(G->mean[mj->g] + 4 * (size_t)c, s[3] > 0 ? s / s[3] : zero);
-    }
-}
-
-static void gather_means(const dm_level_sum_pass *p)
-{
-    for (int g = 0; g < p->gather->level_count; ++g) {
-        means_job mj = {p, g};
-        dm_parallel_for(p->gather->used_count[g], 256, p->gather->thread_count, means, &mj);
+        size_t s = (size_t)G->used[u];
+        const float *uv = G->taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
+        dm_v4 v = level_at(p, uv[0], uv[1]);
+        v[3] = 0.0f;
+        dm_v4_store(G->value + 4 * s, v);
     }
 }
 
@@ -134,7 +115,7 @@ bool dm_level_sum_add(const dm_level_sum_pass *p)
     if (!p || !p->sum || !p->level || p->n < 1 || p->stride < 4L * p->n) return false;
     if (p->thin && (p->thin->n != p->n || !(p->variance_mm2 > 0.0f))) return false;
     if (p->gather && (p->gather->n != p->n || (p->first && p->gather->first_level == 0))) return false;
-    if (p->gather && p->first) gather_means(p);
+    if (p->gather && p->first) dm_parallel_for(p->gather->used_count, 256, p->gather->thread_count, values, (void *)p);
     dm_parallel_for((size_t)p->n, 0, p->thread_count, rows, (void *)p);
     return true;
 }
@@ -173,34 +154,40 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
                               dm_level_sum_gather *out)
 {
     *out = (dm_level_sum_gather){0};
-    if (!index || !taps || n < 1 || tap_count < 2) return false;
-    int first = (int)taps[0], count = (int)taps[1], c0 = (int)taps[2], c1 = (int)taps[3];
-    if (first < 1 || count < 1 || count > 2 || first + count > levels || c0 < 1 || (count > 1 && c1 < 1)) return false;
-    dm_level_sum_gather g = {n, first, count, {c0, count > 1 ? c1 : 1}, index, taps, tap_count, {NULL, NULL},
-                             {NULL, NULL}, {0, 0}, 0};
-    bool ok = true;
-    for (int k = 0; k < count && ok; ++k) {
-        size_t m = (size_t)((n + g.cell[k] - 1) / g.cell[k]), nn = (size_t)n * n;
-        uint8_t *mark = calloc(m * m, 1);
-        g.mean[k] = calloc(4 * m * m, sizeof(float));
-        ok = mark && g.mean[k];
-        for (size_t i = 0; ok && i < nn; ++i) { /* the cells level k's taps read */
-            const float *ix = index + 4 * i;
-            if (!(ix[1 + k] > 0.0f)) continue;
-            size_t t = (size_t)ix[0] + (k ? (size_t)ix[1] : 0), end = t + (size_t)ix[1 + k];
-            if (end > (size_t)tap_count) { ok = false; break; }
-            for (; t < end; ++t) {
-                size_t c = (size_t)taps[2 * t];
-                if (c >= m * m) { ok = false; break; }
-                mark[c] = 1;
-            }
+    if (!index || !taps || n < 1 || tap_count < DM_LEVEL_SUM_HEADER_TAPS) return false;
+    int first = (int)taps[0], count = (int)taps[1];
+    int64_t sites = (int64_t)taps[3];
+    if (taps[2] != (float)DM_LEVEL_SUM_GATHER_FORMAT || first < 1 || count < 1 || count > 2 || first + count > levels ||
+        sites < 1 || DM_LEVEL_SUM_HEADER_TAPS + sites > tap_count)
+        return false;
+    dm_level_sum_gather g = {n, first, count, index, taps, tap_count, sites, NULL, NULL, 0, 0};
+    size_t nn = (size_t)n * n;
+    uint8_t *mark = calloc((size_t)sites, 1);
+    g.value = calloc(4 * (size_t)sites, sizeof(float));
+    bool ok = mark && g.value;
+    for (size_t i = 0; ok && i < nn; ++i) { /* the sites the taps read */
+        const float *ix = index + 4 * i;
+        if (!(ix[1] > 0.0f) && !(ix[2] > 0.0f)) continue;
+        size_t t = first_tap(ix), end = t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
+        if (!(ix[0] >= 0.0f && ix[3] >= 0.0f && ix[3] < DM_LEVEL_SUM_TAPS_WIDTH) || t < (size_t)(DM_LEVEL_SUM_HEADER_TAPS + sites) ||
+            end > (size_t)tap_count) {
+            ok = false;
+            break;
         }
-        for (size_t c = 0; ok && c < m * m; ++c) g.used_count[k] += mark[c];
-        if (ok && !(g.used[k] = malloc(sizeof(int32_t) * (g.used_count[k] ? g.used_count[k] : 1)))) ok = false;
-        for (size_t c = 0, u = 0; ok && c < m * m; ++c)
-            if (mark[c]) g.used[k][u++] = (int32_t)c;
-        free(mark);
+        for (; t < end; ++t) {
+            float s = taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS;
+            if (!(s >= 0.0f && s < (float)sites)) {
+                ok = false;
+                break;
+            }
+            mark[(size_t)s] = 1;
+        }
     }
+    for (int64_t s = 0; ok && s < sites; ++s) g.used_count += mark[s];
+    if (ok && !(g.used = malloc(sizeof(int32_t) * (g.used_count ? g.used_count : 1)))) ok = false;
+    for (int64_t s = 0, u = 0; ok && s < sites; ++s)
+        if (mark[s]) g.used[u++] = (int32_t)s;
+    free(mark);
     if (!ok) return dm_level_sum_gather_free(&g), false;
     *out = g;
     return true;
@@ -208,6 +195,6 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
 
 void dm_level_sum_gather_free(dm_level_sum_gather *g)
 {
-    free(g->mean[0]), free(g->mean[1]), free(g->used[0]), free(g->used[1]);
+    free(g->value), free(g->used);
     *g = (dm_level_sum_gather){0};
 }

@@ -16,10 +16,10 @@
  *
  * With a thin gather (bake/dm_thin_gather.h) the gathered levels k of a gathering texel take,
  * instead of their own term and the thin candidates',
- *     w_k · Σ_t weight_t · Ī_c(t)
- * Ī_c the mean of level 0's rgb / alpha over cell c's member texels with alpha > 1e-4 (0 when
- * none), computed once per frame when level 0 is added (dm_level_sum_gather); diffusion.glsl's
- * DM_GATHER makes the same sums in GL.
+ *     w_k · Σ_t weight_t · I(uv_s(t))
+ * I level 0 read at the site's UV as the shader's sampler reads it (level_at above: bilinear,
+ * coverage-normalised), computed once per frame for the sites some tap reads when level 0 is
+ * added (dm_level_sum_gather); diffusion.glsl's DM_GATHER makes the same sums in GL.
  *
  * Deterministic: each texel alone, byte-identical for any thread count. */
 #ifndef DM_LEVEL_SUM_H
@@ -33,6 +33,11 @@
 extern "C" {
 #endif
 
+/* The thin gather's layout (bake/dm_thin_gather.h names them too): its taps texture's width, the
+ * header's taps, and the header's mark of this layout (sites read at their UV; first taps by row
+ * and column). */
+enum { DM_LEVEL_SUM_TAPS_WIDTH = 4096, DM_LEVEL_SUM_HEADER_TAPS = 2, DM_LEVEL_SUM_GATHER_FORMAT = -2 };
+
 /* A thin-part map's candidates per texel: texel i = x + y·n has candidates first[i] ..
  * first[i + 1] − 1 of cand, 4 floats each (u′, v′, d mm, 0), layer 0's before layer 1's. */
 typedef struct dm_level_sum_thin {
@@ -43,17 +48,16 @@ typedef struct dm_level_sum_thin {
 } dm_level_sum_thin;
 
 /* A thin gather's baked index and taps (bake/dm_thin_gather.h, as the pack holds them) and the
- * per-frame cell means of level 0 it reads. */
+ * per-frame light of the sites it reads. */
 typedef struct dm_level_sum_gather {
     int n, first_level, level_count;
-    int cell[2];       /* C per gathered level */
-    const float *index; /* n·n·4: first tap, taps of gathered level 0, of level 1, member */
-    const float *taps;  /* 2 floats a tap */
-    int64_t tap_count;
-    float *mean[2];     /* per gathered level ceil(n/C)² × 4: the cell means (owned) */
-    int32_t *used[2];   /* per gathered level the cells some tap reads, ascending (owned) */
-    size_t used_count[2];
-    int thread_count;   /* for the means; 0 = every core */
+    const float *index; /* n·n·4: first tap's row, taps of gathered level 0, of level 1, first tap's column */
+    const float *taps;  /* 2 floats a tap: the header, the sites' (u, v), the texels' (site, weight) */
+    int64_t tap_count, site_count;
+    float *value;       /* per site 4: level 0 at its UV this frame (owned) */
+    int32_t *used;      /* the sites some tap reads, ascending (owned) */
+    size_t used_count;
+    int thread_count;   /* for the values; 0 = every core */
 } dm_level_sum_gather;
 
 typedef struct dm_level_sum_pass {
@@ -68,7 +72,7 @@ typedef struct dm_level_sum_pass {
     int thread_count; /* 0 = every core */
     const dm_level_sum_thin *thin; /* NULL: none; else its n is this n */
     float variance_mm2;            /* v_k, with thin */
-    dm_level_sum_gather *gather;   /* NULL: none; else its n is this n; level 0 fills its means */
+    dm_level_sum_gather *gather;   /* NULL: none; else its n is this n; level 0 fills its values */
     int level_index;               /* k, with gather */
 } dm_level_sum_pass;
 
@@ -83,8 +87,9 @@ bool dm_level_sum_thin_make(const float *map, int n, dm_level_sum_thin *out);
 void dm_level_sum_thin_free(dm_level_sum_thin *t);
 
 /* A gather over a pack's entries: index n × n × 4, taps (2 per tap, header first; its count
- * tap_count). False (out empty) when the header does not fit n and the levels (first_level +
- * level_count ≤ levels) or out of memory. Free with dm_level_sum_gather_free. */
+ * tap_count). False (out empty) when the header is not this layout's (DM_THIN_GATHER_FORMAT) or
+ * does not fit the levels (first_level + level_count ≤ levels), a texel's taps or a tap's site lie
+ * outside, or out of memory. Free with dm_level_sum_gather_free. */
 bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int64_t tap_count, int levels,
                               dm_level_sum_gather *out);
 void dm_level_sum_gather_free(dm_level_sum_gather *g);

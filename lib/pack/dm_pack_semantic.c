@@ -197,16 +197,16 @@ static dm_result thin(const ctx *c)
     return DM_OK;
 }
 
-/* The thin gather (bake/dm_thin_gather.h): the index's first tap and counts whole and below
- * 2^24 (a float counts exactly there; checked as ranges), member 0 or 1 (as [0, 1]); the taps
- * 4096 wide, cell indices and weights in [0, 2^24] (the header's small counts among them). */
+/* The thin gather (bake/dm_thin_gather.h): the index's first tap's row and counts below 2^24 (a
+ * float counts exactly there; checked as ranges), its column in [0, 4095]; the taps 4096 wide,
+ * site indices, UVs and weights in [0, 2^24], the header's mark of the layout (−2) among them. */
 static dm_result gather_index(const ctx *c)
 {
     dm_result r = single(c);
-    const range comp[4] = {{0.0, 16777216.0, false, "the first tap, below 2^24"},
+    const range comp[4] = {{0.0, 16777216.0, false, "the first tap's row, below 2^24"},
                            {0.0, 16777216.0, false, "taps of the first gathered level"},
                            {0.0, 16777216.0, false, "taps of the second gathered level"},
-                           {0.0, 1.0, false, "1 a member of its cells, 0 not"}};
+                           {0.0, 4095.0, false, "the first tap's column"}};
     return r != DM_OK ? r : texels_in(c, comp);
 }
 
@@ -215,8 +215,8 @@ static dm_result gather_taps(const ctx *c)
     dm_result r = single(c);
     if (r != DM_OK) return r;
     if (c->e->width != 4096) return FAIL(c, DM_ERR_FORMAT, "%d wide, expected 4096 taps a row", c->e->width);
-    const range comp[2] = {{0.0, 16777216.0, false, "a cell index (or the header), below 2^24"},
-                           {0.0, 16777216.0, false, "a tap's weight (or the header)"}};
+    const range comp[2] = {{-2.0, 16777216.0, false, "a site's tap index or u (or the header), below 2^24"},
+                           {0.0, 16777216.0, false, "a tap's weight or a site's v (or the header)"}};
     return texels_in(c, comp);
 }
 

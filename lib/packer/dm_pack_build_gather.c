@@ -1,8 +1,8 @@
 /* dm_pack_build_gather.c — the pack's thin gather (bake/dm_thin_gather.h) at the scene's
  * irradiance size: "gather.index" (RGBA32F, N × N) and "gather.taps" (RG32F, 4096 wide), and at
  * half of it ("gather.half.index", "gather.half.taps": a renderer at N/2, as thin.half), for the
- * profile's widest levels with σ ≥ 1 mm; nothing when no level qualifies, or when the taps are
- * more than a float counts exactly (2^24: the head at 2048², a note on stderr). */
+ * profile's widest levels with σ ≥ 1 mm; nothing when no level qualifies, or when the taps would
+ * pass DM_THIN_GATHER_TAPS_MAX (the head at 2048², a note on stderr). */
 #include <stdio.h>
 
 #include "bake/dm_thin_gather.h"
@@ -19,22 +19,25 @@ static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
     dm_thin_gather g;
     dm_thin_gather_stats st;
     if ((r = dm_thin_gather_bake(&j->mesh, &o, &g, &st, err)) == DM_ERR_RANGE) {
-        /* more taps than a float counts (at 2048² on the head): the pack goes without; the
+        /* more taps than a pack should carry (at 2048² on the head): the pack goes without; the
          * renderer then takes the widest levels from the atlas blur and the thin-part map */
         if (!j->opt->quiet) fprintf(stderr, "note: %s: left out of the pack\n", err->detail);
         return DM_OK;
     }
     if (r != DM_OK) return r;
     dm_provenance p;
-    dmpb_mesh_prov(j, &p, "thin gather: the widest levels as a 3-D sum over atlas cells where a surface facing away "
-                          "is near (first tap, taps of gathered level 0, of level 1, member)");
+    dmpb_mesh_prov(j, &p, "thin gather: the widest levels as a 3-D sum over the surface's sites where a surface "
+                          "facing away or a seam is near (first tap's row, taps of gathered level 0, of level 1, "
+                          "first tap's column)");
     dm_prov_add_int(&p, "size", g.size);
     dm_prov_add_int(&p, "first_level", g.first_level);
     dm_prov_add_int(&p, "level_count", g.level_count);
     dm_prov_add_double(&p, "near_mm", o.near_mm);
+    dm_prov_add_double(&p, "seam_mm", o.seam_mm);
+    dm_prov_add_double(&p, "split_sigmas", DM_THIN_GATHER_SPLIT_SIGMAS);
     dm_prov_add_double(&p, "reach_sigmas", DM_THIN_GATHER_REACH_SIGMAS);
     dm_thin_gather_stats_prov(&st, &p);
-    static const char *const ch[4] = {"first", "taps0", "taps1", "member"};
+    static const char *const ch[4] = {"first_row", "taps0", "taps1", "first_col"};
     r = dmpb_add_mesh_rgba32f(j, half ? "gather.half.index" : "gather.index", g.size, g.size, ch, g.index, &p, err);
     if (r == DM_OK) {
         char src[200];
@@ -42,15 +45,16 @@ static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
         dm_pack_entry d = dm_pack_texture_entry(half ? "gather.half.taps" : "gather.taps", DM_TEX_RG32F,
                                                 DM_THIN_GATHER_TAPS_WIDTH, g.taps_rows);
         d.channel_count = 2;
-        snprintf(d.channels[0], sizeof d.channels[0], "cell");
-        snprintf(d.channels[1], sizeof d.channels[1], "weight");
+        snprintf(d.channels[0], sizeof d.channels[0], "site_u");
+        snprintf(d.channels[1], sizeof d.channels[1], "weight_v");
         r = dmpb_add(j, &d, g.taps, sizeof *g.taps * 2 * (size_t)DM_THIN_GATHER_TAPS_WIDTH * (size_t)g.taps_rows, &p,
                      src, err);
     }
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
-        fprintf(stderr, "thin gather at %d: %lld texels gather levels %d..%d, %lld taps (cells %d, %d)\n", g.size,
-                (long long)st.gathering_texels, g.first_level, g.first_level + g.level_count - 1, (long long)st.taps,
-                st.cell[0], st.cell[1]);
+        fprintf(stderr, "thin gather at %d: %lld texels (%lld near a surface facing away, %lld near a seam) gather "
+                "levels %d..%d, %lld taps over %lld + %lld sites\n", g.size, (long long)st.gathering_texels,
+                (long long)st.thin_texels, (long long)st.seam_texels, g.first_level, g.first_level + g.level_count - 1,
+                (long long)st.taps, (long long)st.sites[0], (long long)st.sites[1]);
     dm_thin_gather_free(&g);
     return r;
 }

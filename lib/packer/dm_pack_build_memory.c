@@ -2,6 +2,7 @@
  * formula: packer/dm_pack_build.h), and the refusal of a build that would not fit. */
 #include <stdio.h>
 
+#include "bake/dm_thin_gather.h"
 #include "packer/dm_pack_build.h"
 #include "core/dm_memory.h"
 
@@ -18,10 +19,12 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
      * grid, written like the chain */
     if (dm_pack_build_wants(b, "seam")) m->pack_size += n * n * 16;
     if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32 + n * n * 8; /* and thin.half, N/2 × N */
-    /* the thin gather: its index (RGBA32F, N²) and taps, about 9 taps (72 bytes) a texel on the
-     * head at 1024², counted as 80; left out where its taps would pass 2^24 (dm_pack_build_gather.c) */
-    if (dm_pack_build_wants(b, "gather.index") && n * n * 9 < (1u << 24)) m->pack_size += n * n * (16 + 80);
-    if (dm_pack_build_wants(b, "gather.half.index") && n * n / 4 * 9 < (1u << 24)) m->pack_size += n * n / 4 * (16 + 80);
+    /* the thin gather: its index (RGBA32F, N²), sites and taps, about 16 taps and 1.1 sites (137
+     * bytes) a texel on the head at 1024², counted as 160; left out where its taps would pass
+     * DM_THIN_GATHER_TAPS_MAX (dm_pack_build_gather.c) */
+    if (dm_pack_build_wants(b, "gather.index") && n * n * 16 < DM_THIN_GATHER_TAPS_MAX) m->pack_size += n * n * (16 + 160);
+    if (dm_pack_build_wants(b, "gather.half.index") && n * n / 4 * 16 < DM_THIN_GATHER_TAPS_MAX)
+        m->pack_size += n * n / 4 * (16 + 160);
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;

@@ -68,5 +68,5 @@ bool dm_renderer_thin_map(const dm_renderer *r)
 bool dm_renderer_thin_gather(const dm_renderer *r)
 {
     return r && r->f.plan.texture_space &&
-           (r->f.blur_cpu ? r->blur_cpu.gather.mean[0] != NULL : r->f.tex_gather_index != 0);
+           (r->f.blur_cpu ? r->blur_cpu.gather.value != NULL : r->f.tex_gather_index != 0);
 }

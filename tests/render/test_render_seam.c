@@ -65,13 +65,17 @@ static void pack_plate(const char *dir, const char *name, const seam_plate *p, p
     dm_mesh_free(&m);
 }
 
-/* The diffusion view (IRR², RGBA) of the assets, the seam map left out when without_seam. */
+/* The diffusion view (IRR², RGBA) of the assets, the seam map left out when without_seam. The
+ * pack's thin gather (which also takes the widest levels near seams) is left out unless
+ * with_gather: these tests hold the seam map's own work. */
 static dm_blur_path blur_path = DM_BLUR_PATH_AUTO; /* llvmpipe: the CPU's */
+static bool with_gather = false;
 
 static float *view_at(const plate_pack *pp, bool without_seam, int irr, dm_view view)
 {
     dm_render_assets a = pp->assets;
     if (without_seam) a.seam = (dm_texture){0};
+    if (!with_gather) a.gather_index = a.gather_taps = a.gather_half_index = a.gather_half_taps = (dm_texture){0};
     dm_osmesa *ctx = NULL;
     dm_renderer *r = NULL;
     dm_error err = {0};
@@ -169,6 +173,20 @@ Test(seam, the_blur_crosses_into_a_mirrored_chart, .timeout = 120)
     cut_against_whole(&(seam_plate){.a = 0.01, .b = 0.01, .mirrored = 1}, &with, &without);
     cr_expect_lt(with, 0.005, "with the seam map: %.3f %%", 100 * with);
     cr_expect_gt(without, 5 * with, "without: %.3f %%, with: %.3f %%", 100 * without, 100 * with);
+}
+
+/* With the pack's thin gather, which takes the two widest levels within 3 mm of the cut as the
+ * 3-D sum over the plate's surface: even without the seam map the cut side then receives the
+ * light from across (measured 0.34 %, against 2.0 % with neither; with the seam map too 0.17 %).
+ * The truth, the whole plate, is rendered with its gather too (along its outer rim, clear of the
+ * band measured). */
+Test(seam, the_gather_carries_the_widest_levels_across_a_cut, .timeout = 120)
+{
+    double with, without;
+    with_gather = true;
+    cut_against_whole(&(seam_plate){.a = 0.01, .b = 0.01}, &with, &without);
+    cr_expect_lt(with, 0.005, "with the seam map and the gather: %.3f %%", 100 * with);
+    cr_expect_lt(without, 0.005, "with the gather alone: %.3f %%", 100 * without);
 }
 
 /* The same on the blurs in GL: both paths read the band the irradiance pass lit. */

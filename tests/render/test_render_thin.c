@@ -163,11 +163,12 @@ Test(thin, parallel_sheets_exact_on_the_gl_blur, .timeout = 120) { check_sheet(D
 Test(thin, a_sheet_thinner_than_a_texel, .timeout = 120) { check_sheet(DM_BLUR_PATH_CPU, 0.04); }
 
 /* The pack's thin gather (bake/dm_thin_gather.h) on the sheet: the two widest levels become the
- * 3-D sum over the cells of both plates. Over the plates' middle the bottom over the top is the
+ * 3-D sum over the sites of both plates. Over the plates' middle the bottom over the top is the
  * closed form Σ_k w_k exp(−s²/2v_k) as with the map alone, and the top is the map alone's: to
- * 0.3 % — what the sum leaves out beyond 3.5 σ of each gathered level (e^−6.1 = 0.22 % of a
- * plane's light) and the cells along the disc's edge. The GL path gathers the same sums
- * (diffusion.glsl's DM_GATHER): to 1e-4 of the range, as the blur paths agree. */
+ * 0.4 % — the sites' quadrature of a plane (each gathered level's sum within 0.4 % of the
+ * truncated closed form, tests/unit/test_thin_gather.c) and what it leaves out beyond 3.5 σ. The
+ * GL path gathers the same sums (diffusion.glsl's DM_GATHER): to 1e-4 of the range, as the blur
+ * paths agree. */
 Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
 {
     char dir[64];
@@ -200,8 +201,8 @@ Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
     cr_log_info("gathered sheet: bottom/top off the closed form by %.2e at most, top by %.2e, moved %.2e of the top; "
                 "GL against the CPU %.2e of the range", worst_bottom, worst_top, moved, gl_worst / range);
     cr_assert_gt(moved, 1e-6, "the gather must run here");
-    cr_assert_lt(worst_bottom, 3e-3, "worst %.2e", worst_bottom);
-    cr_assert_lt(worst_top, 3e-3, "worst %.2e", worst_top);
+    cr_assert_lt(worst_bottom, 4e-3, "worst %.2e", worst_bottom);
+    cr_assert_lt(worst_top, 4e-3, "worst %.2e", worst_top);
     cr_assert_lt(gl_worst, 1e-4 * range);
     free(gathered), free(alone), free(gl), free(gl_alone), free(map);
     dm_pack_close(&sp.pack);

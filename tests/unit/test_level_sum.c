@@ -199,31 +199,35 @@ Test(level_sum, thin_candidates_match_the_formula_in_double)
     free(map), free(sum), free(plain), free(many);
 }
 
-/* With a thin gather (first gathered level 2, two levels, cells of 2 and 4 texels): a quarter
- * of the texels gather, with taps on random cells (some empty) and random weights; members are
- * three quarters of the texels. The gathered levels of a gathering texel are, in double,
- * w_k Σ_t weight_t Ī_c(t), Ī_c the mean of level 0's rgb / alpha over the cell's members with
- * alpha > 1e-4; every other term is the plain sum's, and a texel that does not gather is the
- * plain sum bit for bit. */
+/* With a thin gather (first gathered level 2, two levels, 300 sites at random UVs, some at the
+ * image's edge): a quarter of the texels gather, with taps on random sites and random weights, the
+ * taps placed past 4096 so that the index's row and column both count. The gathered levels of a
+ * gathering texel are, in double, w_k Σ_t weight_t I(uv_s(t)), I level 0 read as the sampler reads
+ * it (level_at above); every other term is the plain sum's, and a texel that does not gather is
+ * the plain sum bit for bit. */
 Test(level_sum, gathered_levels_match_the_formula_in_double)
 {
     float *buf[LEVELS], *px[LEVELS];
     for (int k = 0; k < LEVELS; ++k) buf[k] = make_level(k, &px[k]);
-    const int cell[2] = {2, 4}, m[2] = {(N + 1) / 2, (N + 3) / 4}, per = 5;
-    float *index = calloc((size_t)4 * N * N, sizeof(float)), *taps = calloc((size_t)2 * (2 + 2 * per * N * N), sizeof(float));
-    taps[0] = 2, taps[1] = 2, taps[2] = (float)cell[0], taps[3] = (float)cell[1];
+    enum { SITES = 300, PER = 5, FIRST = 2 + SITES + 5000 };
+    float *index = calloc((size_t)4 * N * N, sizeof(float)), *taps = calloc((size_t)2 * (FIRST + 2 * PER * N * N), sizeof(float));
+    taps[0] = 2, taps[1] = 2, taps[2] = (float)DM_LEVEL_SUM_GATHER_FORMAT, taps[3] = (float)SITES;
     unsigned seed = 7u;
-    int64_t t = 2;
+    for (int s = 0; s < SITES; ++s)
+        for (int q = 0; q < 2; ++q) {
+            seed = seed * 1664525u + 1013904223u;
+            taps[2 * (2 + s) + q] = s % 17 == 0 ? (float)q : (float)(seed >> 8) / 16777216.0f;
+        }
+    int64_t t = FIRST;
     for (int i = 0; i < N * N; ++i) {
         seed = seed * 1664525u + 1013904223u;
-        index[4 * i + 3] = (seed >> 24) % 4 ? 1.0f : 0.0f;
         if ((seed >> 16) % 4) continue;
-        index[4 * i] = (float)t;
+        index[4 * i] = (float)(t / DM_LEVEL_SUM_TAPS_WIDTH), index[4 * i + 3] = (float)(t % DM_LEVEL_SUM_TAPS_WIDTH);
         for (int g = 0; g < 2; ++g) {
-            index[4 * i + 1 + g] = (float)per;
-            for (int k = 0; k < per; ++k, ++t) {
+            index[4 * i + 1 + g] = (float)PER;
+            for (int k = 0; k < PER; ++k, ++t) {
                 seed = seed * 1664525u + 1013904223u;
-                taps[2 * t] = (float)((seed >> 8) % (unsigned)(m[g] * m[g]));
+                taps[2 * t] = (float)(2 + (seed >> 8) % SITES);
                 seed = seed * 1664525u + 1013904223u;
                 taps[2 * t + 1] = (float)(seed >> 8) / 16777216.0f * 0.3f;
             }
@@ -231,6 +235,7 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
     }
     dm_level_sum_gather g;
     cr_assert(dm_level_sum_gather_make(index, N, taps, t, LEVELS, &g));
+    cr_assert(g.used_count > SITES * 9 / 10);
     float *sum = malloc(sizeof(float) * 4 * N * N), *plain = malloc(sizeof(float) * 4 * N * N);
     for (int k = 0; k < LEVELS; ++k)
         cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
@@ -238,22 +243,6 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
                                                         k == LEVELS - 1, 0, NULL, variance[k], &g, k}));
     sum_levels(px, plain, 0);
     long stride = dm_level_blur_stride(N);
-    /* the cell means in double */
-    double *mean[2];
-    for (int l = 0; l < 2; ++l) {
-        mean[l] = calloc((size_t)3 * m[l] * m[l], sizeof(double));
-        for (int c = 0; c < m[l] * m[l]; ++c) {
-            double s[3] = {0, 0, 0}, n = 0;
-            for (int y = (c / m[l]) * cell[l]; y < (c / m[l] + 1) * cell[l] && y < N; ++y)
-                for (int x = (c % m[l]) * cell[l]; x < (c % m[l] + 1) * cell[l] && x < N; ++x) {
-                    const float *q = px[0] + y * stride + 4 * x;
-                    if (!(index[4 * (y * N + x) + 3] > 0.5f) || !(q[3] > 1e-4f)) continue;
-                    for (int ch = 0; ch < 3; ++ch) s[ch] += (double)q[ch] / q[3];
-                    n += 1;
-                }
-            for (int ch = 0; ch < 3; ++ch) mean[l][3 * c + ch] = n > 0 ? s[ch] / n : 0.0;
-        }
-    }
     int gathering = 0;
     for (int y = 0; y < N; ++y)
         for (int x = 0; x < N; ++x) {
@@ -270,10 +259,13 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
                     const float *q = px[k] + y * stride + 4 * x;
                     e += weight[k][c] * (q[3] > 1e-4f ? (double)q[c] / q[3] : 0.0);
                 }
-                int64_t tt = (int64_t)ix[0];
+                int64_t tt = (int64_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (int64_t)ix[3];
                 for (int l = 0; l < 2; ++l) {
                     double gs = 0;
-                    for (int k = 0; k < (int)ix[1 + l]; ++k, ++tt) gs += taps[2 * tt + 1] * mean[l][3 * (int)taps[2 * tt] + c];
+                    for (int k = 0; k < (int)ix[1 + l]; ++k, ++tt) {
+                        const float *uv = taps + 2 * (int64_t)taps[2 * tt];
+                        gs += taps[2 * tt + 1] * level_at(px[0], c, uv[0], uv[1]);
+                    }
                     e += weight[2 + l][c] * gs;
                 }
                 e *= cov;
@@ -283,7 +275,16 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
             cr_assert_eq(s[3], (float)cov);
         }
     cr_assert_gt(gathering, N * N / 8);
+    /* a header of the old layout, a tap past the sites and a site beyond them are refused */
+    dm_level_sum_gather bad;
+    taps[2] = 2.0f;
+    cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
+    taps[2] = (float)DM_LEVEL_SUM_GATHER_FORMAT;
+    cr_expect(!dm_level_sum_gather_make(index, N, taps, t - 1, LEVELS, &bad));
+    taps[2 * (t - 1)] = (float)(2 + SITES);
+    cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
+    cr_expect(bad.value == NULL && bad.used == NULL);
     dm_level_sum_gather_free(&g);
-    free(mean[0]), free(mean[1]), free(sum), free(plain), free(index), free(taps);
+    free(sum), free(plain), free(index), free(taps);
     for (int k = 0; k < LEVELS; ++k) free(buf[k]);
 }

@@ -21,8 +21,9 @@ void render_explain_maps(const dm_renderer *r, const dm_render_assets *a, int ir
                : "the pack's is not used: the levels are summed per pixel (reduced levels or "
                  "--diffusion-per-pixel), where it has no texel to read");
     printf("thin gather: %s\n",
-           dm_renderer_thin_gather(r) ? "the pack's: near a surface facing away, the widest levels are the 3-D sum "
-                                        "over atlas cells (the exact convolution's quadrature) instead of the atlas blur"
+           dm_renderer_thin_gather(r) ? "the pack's: near a surface facing away and near a seam, the widest levels are "
+                                        "the 3-D sum over the surface's sites (the exact convolution's quadrature) "
+                                        "instead of the atlas blur"
            : !a->gather_index.texels && !a->gather_half_index.texels ? "none in the pack: the widest levels come from the atlas blur and the "
                                        "thin-part map"
            : !dm_renderer_thin_map(r) ? "the pack's is not used: it goes with the thin-part map, which is not"

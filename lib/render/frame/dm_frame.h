@@ -120,7 +120,7 @@ struct dmr_frame {
     /* the thin gather in GL (diffusion.glsl's DM_GATHER; 0 without, or when the blur runs on
      * the CPU, which reads the pack's own texels): index, taps, and the header's numbers */
     GLuint tex_gather_index, tex_gather_taps;
-    int gather_first, gather_count, gather_cell[2];
+    int gather_first, gather_count;
     GLuint tex_gather_view; /* the index for the "gather" debug view, and its most taps a texel */
     float gather_view_max;
     GLuint ts_cover_tex; /* texture space's G-buffer positions: w = 1 on the texels a triangle covers */

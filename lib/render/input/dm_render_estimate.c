@@ -147,7 +147,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
             m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
         const dm_texture *gt;
         if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt))
-            m->cpu_blur_size += N2 * 4 + N2 / 2; /* the gather's cell means (N²/4 + N²/16 texels) and cell lists */
+            m->cpu_blur_size += gt->width * (uint64_t)gt->height / 8 * 20; /* the sites' values and list (an eighth of the taps, at most) */
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
     m->readback_size = px * (16 + 4 + 4);

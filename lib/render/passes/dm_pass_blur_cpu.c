@@ -72,7 +72,7 @@ static void add_to_sum(const dmr_frame *f, dmr_blur_cpu *b, int k)
     dm_level_sum_add(&(dm_level_sum_pass){b->sum, b->level, dm_level_blur_stride(n), n,
                                           {f->level_weight[k][0], f->level_weight[k][1], f->level_weight[k][2]},
                                           k == 0, k == f->plan.blur_levels - 1, 0, b->thin.first ? &b->thin : NULL,
-                                          (float)f->profile.variance_mm2[k], b->gather.mean[0] ? &b->gather : NULL, k});
+                                          (float)f->profile.variance_mm2[k], b->gather.value ? &b->gather : NULL, k});
     b->sum_level = k;
 }
 

@@ -3,7 +3,8 @@
  * final pass reads it through dm_diffusion (shaders/common.glsl). The levels come through the
  * binder; a level whose upload a CPU chain deferred is brought up first. With a thin-part map
  * (DM_THIN) it adds the light from across thin parts and folds; with a thin gather (DM_GATHER)
- * the widest levels of the texels near a surface facing away are the 3-D sum over atlas cells. */
+ * the widest levels of the texels near a surface facing away or a seam are the 3-D sum over the
+ * surface's sites. */
 #include "render/passes/dm_pass_diffusion.h"
 
 #include <math.h>
@@ -27,7 +28,6 @@ dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a,
                                   f->plan.blur_levels, &g))
         return DM_OK;
     f->gather_first = g.first_level, f->gather_count = g.level_count;
-    f->gather_cell[0] = g.cell[0], f->gather_cell[1] = g.cell[1];
     dm_level_sum_gather_free(&g);
     f->tex_gather_index = f->tex_gather_view; /* the view's upload above: one texture, owned by f->gpu */
     return dmr_upload(f, gt, "gather_taps", false, GL_NEAREST, &f->tex_gather_taps, err);
@@ -52,10 +52,9 @@ void dmr_diffusion_run(dmr_frame *f, void *st, const dm_pass *ps, const dm_frame
         glUniform1fv(dmg_loc(p, "u_level_var"), f->profile.count, v);
         dmg_bind(UNIT_THIN, GL_TEXTURE_2D, f->tex_thin);
     }
-    if (f->tex_gather_index) { /* DM_GATHER: the widest levels as the 3-D sum over atlas cells */
+    if (f->tex_gather_index) { /* DM_GATHER: the widest levels as the 3-D sum over the surface's sites */
         glUniform1i(dmg_loc(p, "u_gather_first"), f->gather_first);
         glUniform1i(dmg_loc(p, "u_gather_count"), f->gather_count);
-        glUniform1iv(dmg_loc(p, "u_gather_cell"), 2, f->gather_cell);
         dmg_bind(UNIT_GATHER_INDEX, GL_TEXTURE_2D, f->tex_gather_index);
         dmg_bind(UNIT_GATHER_TAPS, GL_TEXTURE_2D, f->tex_gather_taps);
     }
