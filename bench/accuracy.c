@@ -121,6 +121,12 @@ static void add_rows(bool quick, bool large, int B)
     /* the thin gather left out: the widest levels from the atlas blur and the thin-part map */
     if (!quick) add(1024, 0, 0, false, (dm_render_desc){0}, "1024 no gather",
                     "1024, without the thin gather (the widest levels from the atlas blur)")->no_gather = true;
+    /* none of issue #29's maps: the texture-space frame its cost aim is measured against */
+    if (!quick) {
+        setting *s = add(1024, 0, 0, false, (dm_render_desc){0}, "1024 no maps",
+                         "1024, without the seam map, the thin-part map and the gather (before issue #29)");
+        s->no_seam = s->no_thin = true;
+    }
     snprintf(n, sizeof n, "%d no stretch", B), snprintf(w, sizeof w, "%d, stretch correction off (one median s_u, s_v)", B);
     add(B, 0, 0, true, (dm_render_desc){0}, n, w);
     snprintf(n, sizeof n, "%d reduce3", B), snprintf(w, sizeof w, "%d, --blur-reduce-from 3 (levels 3..5 at %d)", B, B / 2);
