@@ -116,8 +116,8 @@ typedef struct dm_render_assets {
      * 512² on the head it made the seam region worse, docs/seam-map.md.) */
     dm_texture thin_half;
     /* the thin gather (bake/dm_thin_gather.h): "gather.index" RGBA32F N × N and "gather.taps"
-     * RG32F: the profile's widest levels as a 3-D sum over atlas cells where a surface facing
-     * away is near; optional. Used with the thin-part map, when N is the irradiance size and the
+     * RG32F: the profile's widest levels as a 3-D sum over the surface's sites where a surface
+     * facing away or a UV seam is near; optional. Used with the thin-part map, when N is the irradiance size and the
      * levels are summed per texel (dm_renderer_thin_gather says whether it is used). */
     dm_texture gather_index, gather_taps;
     /* the thin gather baked at half the size ("gather.half.index", "gather.half.taps"): what a
