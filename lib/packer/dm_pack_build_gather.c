@@ -34,7 +34,9 @@ static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
     dm_prov_add_int(&p, "level_count", g.level_count);
     dm_prov_add_double(&p, "near_mm", o.near_mm);
     dm_prov_add_double(&p, "seam_mm", o.seam_mm);
+    dm_prov_add_double(&p, "cluster_sigmas", DM_THIN_GATHER_CLUSTER_SIGMAS);
     dm_prov_add_double(&p, "split_sigmas", DM_THIN_GATHER_SPLIT_SIGMAS);
+    dm_prov_add_double(&p, "coarse_cluster_sigmas", DM_THIN_GATHER_COARSE_CLUSTER_SIGMAS);
     dm_prov_add_double(&p, "reach_sigmas", DM_THIN_GATHER_REACH_SIGMAS);
     dm_thin_gather_stats_prov(&st, &p);
     static const char *const ch[4] = {"first_row", "taps0", "taps1", "first_col"};

@@ -95,7 +95,8 @@ Test(gather_sites, zero_uv_area_and_mirrored_triangles_keep_their_area)
 }
 
 /* Sliver triangles, their UV images a hair (1e-9 UV) off a line: no site strays off the sheet
- * (the centroid's barycentrics of a clipped sliver are rounding), and the areas still add up. */
+ * (the centroid's barycentrics of a clipped sliver are rounding), and the areas still add up; a
+ * triangle of zero 3-D area (its corners one vertex) gives no site and no NaN. */
 Test(gather_sites, slivers_stay_on_the_surface)
 {
     dm_mesh m;
@@ -104,12 +105,14 @@ Test(gather_sites, slivers_stay_on_the_surface)
         float *uv = m.uvs + 6 * t;
         uv[4] = 0.5f * (uv[0] + uv[2]) + 1e-9f, uv[5] = 0.5f * (uv[1] + uv[3]) - 1e-9f;
     }
+    m.indices[3 * 70 + 1] = m.indices[3 * 70 + 2] = m.indices[3 * 70]; /* zero 3-D area */
     int32_t *tri = coverage(&m, N);
     dm_gather_sites s;
     dm_error err = {0};
     cr_assert_eq(dm_gather_sites_build(&m, tri, N, 1.0, 2, 0.85, &s, &err), DM_OK, "%s", err.detail);
     for (int64_t i = 0; i < s.count; ++i) {
         const double *p = s.p + 3 * i;
+        cr_assert(isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]) && s.area[i] > 0);
         cr_assert(p[0] >= -1e-9 && p[0] <= THIN_SHEET_L + 1e-9 && p[1] >= -1e-9 && p[1] <= THIN_SHEET_L + 1e-9 &&
                       p[2] >= -S_MM - 1e-9 && p[2] <= 1e-9,
                   "site %lld at (%g, %g, %g), off the sheet", (long long)i, p[0], p[1], p[2]);

@@ -146,8 +146,13 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (in->diffusion_sum && dm_render_assets_thin_map(a, s->irr_edge))
             m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
         const dm_texture *gt;
-        if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt))
-            m->cpu_blur_size += gt->width * (uint64_t)gt->height / 8 * 20; /* the sites' values and list (an eighth of the taps, at most) */
+        if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt) && gt->texels) {
+            /* the sites' values and list (RGBA32F and an index each): the header's site count
+             * (bake/dm_thin_gather.h), within the texture */
+            const float *h = gt->texels;
+            uint64_t all = texels(gt->width, gt->height), sites = all >= 2 && h[3] > 0.0f ? (uint64_t)h[3] : 0;
+            m->cpu_blur_size += (sites < all ? sites : all) * 20;
+        }
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
     m->readback_size = px * (16 + 4 + 4);
