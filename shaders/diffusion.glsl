@@ -7,8 +7,9 @@
 //
 // DM_THIN: the thin-part map (bake/dm_thin_map.h, N x 2N: layer j in rows [jN, (j+1)N)) gives a
 // texel up to two points across a thin part or a fold, (u', v', d mm, 1); each level k then
-// adds, right after its own term, w_k exp(-d^2 / 2 v_k) L_k(u', v') per candidate: the light of
-// the sheet across, exact for parallel sheets at distance d.
+// adds, right after its own term, w_k exp(-d^2 / 2 v_k) L_k(u', v') per candidate within
+// d^2 <= DM_THIN_CUT v_k (core/dm_level_sum.h): the light of the sheet across, exact for
+// parallel sheets at distance d.
 //
 // DM_GATHER: the thin gather (bake/dm_thin_gather.h; core/dm_level_sum.h holds the CPU's same
 // sums): a texel whose index counts taps for gathered level g takes, for level u_gather_first + g,
@@ -72,8 +73,9 @@ void main()
         }
 #endif
         sum += u_level_weight[k] * dm_level(k, gl_FragCoord.xy / u_size);
-        if (c0.w > 0.5) sum += u_level_weight[k] * (exp(-c0.z * c0.z / (2.0 * u_level_var[k])) * dm_level(k, c0.xy));
-        if (c1.w > 0.5) sum += u_level_weight[k] * (exp(-c1.z * c1.z / (2.0 * u_level_var[k])) * dm_level(k, c1.xy));
+        float cut = DM_THIN_CUT * u_level_var[k]; /* core/dm_level_sum.h: beyond, exp(-d^2/2v) < e^-18 */
+        if (c0.w > 0.5 && c0.z * c0.z <= cut) sum += u_level_weight[k] * (exp(-c0.z * c0.z / (2.0 * u_level_var[k])) * dm_level(k, c0.xy));
+        if (c1.w > 0.5 && c1.z * c1.z <= cut) sum += u_level_weight[k] * (exp(-c1.z * c1.z / (2.0 * u_level_var[k])) * dm_level(k, c1.xy));
     }
     o_color = vec4(sum * c, c);
 #else

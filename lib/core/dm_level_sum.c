@@ -23,42 +23,31 @@ static dm_v4 level_at(const dm_level_sum_pass *p, float u, float v)
     return t[3] > 1e-4f ? t / t[3] : zero;
 }
 
-/* A gathering texel's first tap (the index holds its row and column: exact in floats). */
-static size_t first_tap(const float *ix)
+/* Gathering texel j's sum of gathered level g: even and odd taps in two sums (the adds are not
+ * one chain), then added, as diffusion.glsl's dm_gathered. */
+static dm_v4 gathered(const dm_level_sum_gather *G, size_t j, int g)
 {
-    return (size_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (size_t)ix[3];
-}
-
-/* The gathered level g's sum at texel i, or −1 in alpha when i does not gather it. */
-static dm_v4 gathered(const dm_level_sum_pass *p, size_t i)
-{
-    const dm_level_sum_gather *G = p->gather;
-    int g = p->level_index - G->first_level;
-    const float *ix = G->index + 4 * i;
-    if (g < 0 || g >= G->level_count || !(ix[1 + g] > 0.0f)) return (dm_v4){0, 0, 0, -1.0f};
-    size_t t = first_tap(ix) + (g ? (size_t)ix[1] : 0), end = t + (size_t)ix[1 + g];
-    const float *value = G->value - 4 * DM_LEVEL_SUM_HEADER_TAPS; /* a site's tap index → its value */
-    dm_v4 s0 = {0, 0, 0, 0}, s1 = s0; /* two sums: the adds are not one chain */
-    const float *tp = G->taps + 2 * t;
-    for (; t + 1 < end; t += 2, tp += 4) {
-        s0 = s0 + tp[1] * dm_v4_load(value + 4 * (size_t)tp[0]);
-        s1 = s1 + tp[3] * dm_v4_load(value + 4 * (size_t)tp[2]);
+    const int32_t *f = G->first + (G->gathering + 1) * (size_t)g + j;
+    const dm_level_sum_tap *t = G->taps + f[0], *end = G->taps + f[1];
+    const float *value = G->value;
+    dm_v4 s0 = {0, 0, 0, 0}, s1 = s0;
+    for (; t + 1 < end; t += 2) {
+        s0 = s0 + t[0].weight * dm_v4_load(value + 4 * (size_t)t[0].slot);
+        s1 = s1 + t[1].weight * dm_v4_load(value + 4 * (size_t)t[1].slot);
     }
-    if (t < end) s0 = s0 + tp[1] * dm_v4_load(value + 4 * (size_t)tp[0]);
+    if (t < end) s0 = s0 + t->weight * dm_v4_load(value + 4 * (size_t)t->slot);
     s0 = s0 + s1;
     s0[3] = 0.0f;
     return s0;
 }
 
-/* Level 0 at the UV of each site some tap reads (level_at: the sampler's read); each alone. */
+/* Level 0 at each slot's UV (level_at: the sampler's read); each alone. */
 static void values(void *ctx, size_t begin, size_t end)
 {
     const dm_level_sum_pass *p = ctx;
     const dm_level_sum_gather *G = p->gather;
-    for (size_t u = begin; u < end; ++u) {
-        size_t s = (size_t)G->used[u];
-        const float *uv = G->taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
-        dm_v4 v = level_at(p, uv[0], uv[1]);
+    for (size_t s = begin; s < end; ++s) {
+        dm_v4 v = level_at(p, G->uv[2 * s], G->uv[2 * s + 1]);
         v[3] = 0.0f;
         dm_v4_store(G->value + 4 * s, v);
     }
@@ -67,19 +56,30 @@ static void values(void *ctx, size_t begin, size_t end)
 static void rows(void *ctx, size_t begin, size_t end)
 {
     const dm_level_sum_pass *p = ctx;
+    const dm_level_sum_gather *G = p->gather;
+    const dm_level_sum_thin *th = p->thin;
+    const int g = G ? p->level_index - G->first_level : -1;
+    const bool gathers = G && g >= 0 && g < G->level_count;
     /* alpha's weight 0: alpha / alpha is 1 (or the 0 of an empty texel), so the sum's alpha
      * stays as it is, bit for bit */
     const dm_v4 w = {p->weight[0], p->weight[1], p->weight[2], 0.0f}, zero = {0, 0, 0, 0};
     for (size_t y = begin; y < end; ++y) {
         const float *t = p->level + (ptrdiff_t)y * p->stride;
         float *s = p->sum + y * (size_t)p->n * 4;
+        /* the row's gathering texels and texels with thin candidates, walked beside x */
+        size_t gj = gathers ? (size_t)G->row[y] : 0, gend = gathers ? (size_t)G->row[y + 1] : 0;
+        size_t tj = th ? (size_t)th->row[y] : 0, tend = th ? (size_t)th->row[y + 1] : 0;
         for (int x = 0; x < p->n; ++x, t += 4, s += 4) {
             dm_v4 l = dm_v4_load(t), sum;
             float a = l[3];
             /* dm_level: rgb / alpha where alpha > 1e-4, else 0; then sum += w · that */
             dm_v4 v = a > 1e-4f ? l / a : zero;
-            dm_v4 gs = p->gather ? gathered(p, y * (size_t)p->n + (size_t)x) : (dm_v4){0, 0, 0, -1.0f};
-            if (gs[3] == 0.0f) { /* a gathered level: its 3-D sum replaces the level and the candidates */
+            bool gathering = gj < gend && G->x[gj] == x, candidates = tj < tend && th->x[tj] == x;
+            size_t here = gathering ? gj++ : 0, cands = candidates ? tj++ : 0;
+            const int32_t *gf = gathering ? G->first + (G->gathering + 1) * (size_t)g + here : NULL;
+            if (gf && gf[1] > gf[0]) {
+                /* a gathered level: its 3-D sum replaces the level and the candidates */
+                dm_v4 gs = gathered(G, here, g);
                 float keep = dm_v4_load(s)[3];
                 sum = dm_v4_load(s) + w * gs;
                 sum[3] = keep;
@@ -93,17 +93,16 @@ static void rows(void *ctx, size_t begin, size_t end)
             } else {
                 sum = dm_v4_load(s) + w * v;
             }
-            if (p->thin) { /* diffusion.glsl's DM_THIN: each candidate after the level's own term */
-                size_t i = y * (size_t)p->n + (size_t)x;
-                for (int32_t j = p->thin->first[i]; j < p->thin->first[i + 1]; ++j) {
-                    const float *c = p->thin->cand + 4 * (size_t)j;
-                    float g = expf(-c[2] * c[2] / (2.0f * p->variance_mm2));
+            if (candidates) /* diffusion.glsl's DM_THIN: each candidate after the level's own term */
+                for (int32_t j = th->first[cands]; j < th->first[cands + 1]; ++j) {
+                    const float *c = th->cand + 4 * (size_t)j;
+                    if (c[2] * c[2] > (float)DM_LEVEL_SUM_THIN_CUT * p->variance_mm2) continue; /* e < e^-18 */
+                    float e = expf(-c[2] * c[2] / (2.0f * p->variance_mm2));
                     dm_v4 lc = level_at(p, c[0], c[1]);
                     float keep = sum[3];
-                    sum = sum + w * (g * lc);
+                    sum = sum + w * (e * lc);
                     sum[3] = keep;
                 }
-            }
             if (p->last) sum = sum * (dm_v4){sum[3], sum[3], sum[3], 1.0f};
             dm_v4_store(s, sum);
         }
@@ -115,7 +114,7 @@ bool dm_level_sum_add(const dm_level_sum_pass *p)
     if (!p || !p->sum || !p->level || p->n < 1 || p->stride < 4L * p->n) return false;
     if (p->thin && (p->thin->n != p->n || !(p->variance_mm2 > 0.0f))) return false;
     if (p->gather && (p->gather->n != p->n || (p->first && p->gather->first_level == 0))) return false;
-    if (p->gather && p->first) dm_parallel_for(p->gather->used_count, 256, p->gather->thread_count, values, (void *)p);
+    if (p->gather && p->first) dm_parallel_for(p->gather->slot_count, 256, p->gather->thread_count, values, (void *)p);
     dm_parallel_for((size_t)p->n, 0, p->thread_count, rows, (void *)p);
     return true;
 }
@@ -124,70 +123,170 @@ bool dm_level_sum_thin_make(const float *map, int n, dm_level_sum_thin *out)
 {
     *out = (dm_level_sum_thin){0};
     if (!map || n < 1) return false;
-    size_t nn = (size_t)n * (size_t)n, count = 0;
-    for (size_t i = 0; i < 2 * nn; ++i) count += map[4 * i + 3] > 0.5f;
-    int32_t *first = malloc(sizeof *first * (nn + 1));
-    float *cand = malloc(sizeof *cand * 4 * (count ? count : 1));
-    if (!first || !cand) return free(first), free(cand), false;
-    size_t k = 0;
+    size_t nn = (size_t)n * (size_t)n, count = 0, texels = 0;
     for (size_t i = 0; i < nn; ++i) {
-        first[i] = (int32_t)k;
-        for (size_t layer = 0; layer < 2; ++layer) {
-            const float *c = map + 4 * (layer * nn + i);
-            if (!(c[3] > 0.5f)) continue;
-            cand[4 * k] = c[0], cand[4 * k + 1] = c[1], cand[4 * k + 2] = c[2], cand[4 * k + 3] = 0.0f;
-            ++k;
+        int here = (map[4 * i + 3] > 0.5f) + (map[4 * (nn + i) + 3] > 0.5f);
+        count += (size_t)here, texels += here > 0;
+    }
+    if (count >= INT32_MAX) return false;
+    dm_level_sum_thin t = {n, malloc(sizeof(int32_t) * ((size_t)n + 1)), malloc(sizeof(int32_t) * (texels ? texels : 1)),
+                           malloc(sizeof(int32_t) * (texels + 1)), malloc(sizeof(float) * 4 * (count ? count : 1)), count};
+    if (!t.row || !t.x || !t.first || !t.cand) return dm_level_sum_thin_free(&t), false;
+    size_t k = 0, j = 0;
+    for (int y = 0; y < n; ++y) {
+        t.row[y] = (int32_t)j;
+        for (int x = 0; x < n; ++x) {
+            size_t i = (size_t)y * (size_t)n + (size_t)x, before = k;
+            for (size_t layer = 0; layer < 2; ++layer) {
+                const float *c = map + 4 * (layer * nn + i);
+                if (!(c[3] > 0.5f)) continue;
+                t.cand[4 * k] = c[0], t.cand[4 * k + 1] = c[1], t.cand[4 * k + 2] = c[2], t.cand[4 * k + 3] = 0.0f;
+                ++k;
+            }
+            if (k > before) t.x[j] = x, t.first[j++] = (int32_t)before;
         }
     }
-    first[nn] = (int32_t)k;
-    *out = (dm_level_sum_thin){n, first, cand, count};
+    t.row[n] = (int32_t)j, t.first[j] = (int32_t)k;
+    *out = t;
     return true;
 }
 
 void dm_level_sum_thin_free(dm_level_sum_thin *t)
 {
-    free(t->first), free(t->cand);
+    free(t->row), free(t->x), free(t->first), free(t->cand);
     *t = (dm_level_sum_thin){0};
+}
+
+/* A gathering texel's first tap (the index holds its row and column: exact in floats). */
+static size_t first_tap(const float *ix)
+{
+    return (size_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (size_t)ix[3];
+}
+
+/* Texel i's taps of every gathered level, within the taps: false when they lie outside. */
+static bool texel_taps(const float *ix, int count, int64_t sites, int64_t tap_count, size_t *t, size_t *end)
+{
+    if (!(ix[0] >= 0.0f && ix[3] >= 0.0f && ix[3] < DM_LEVEL_SUM_TAPS_WIDTH && ix[1] >= 0.0f && ix[2] >= 0.0f &&
+          ix[1] < 16777216.0f && ix[2] < 16777216.0f))
+        return false;
+    *t = first_tap(ix), *end = *t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
+    return *t >= (size_t)(DM_LEVEL_SUM_HEADER_TAPS + sites) && *end <= (size_t)tap_count;
+}
+
+typedef struct site_key {
+    int64_t texel, site;
+} site_key;
+
+static int cmp_key(const void *a, const void *b)
+{
+    const site_key *p = a, *q = b;
+    return p->texel != q->texel ? (p->texel > q->texel) - (p->texel < q->texel) : (p->site > q->site) - (p->site < q->site);
+}
+
+static bool gathers(const float *ix)
+{
+    return ix[1] > 0.0f || ix[2] > 0.0f;
+}
+
+bool dm_level_sum_gather_check(const float *index, int n, const float *taps, int64_t tap_count, int levels,
+                               int *first_level, int *level_count)
+{
+    if (!index || !taps || n < 1 || tap_count < DM_LEVEL_SUM_HEADER_TAPS) return false;
+    int first = (int)taps[0], count = (int)taps[1];
+    int64_t sites = (int64_t)taps[3], total = 0;
+    if (taps[2] != (float)DM_LEVEL_SUM_GATHER_FORMAT || first < 1 || count < 1 || count > 2 || first + count > levels ||
+        sites < 1 || DM_LEVEL_SUM_HEADER_TAPS + sites > tap_count)
+        return false;
+    for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) {
+        const float *ix = index + 4 * i;
+        size_t t, end;
+        if (!gathers(ix)) continue;
+        if (!texel_taps(ix, count, sites, tap_count, &t, &end) || (total += (int64_t)(end - t)) >= INT32_MAX) return false;
+        for (; t < end; ++t) {
+            float s = taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS;
+            if (!(s >= 0.0f && s < (float)sites)) return false;
+        }
+    }
+    if (first_level) *first_level = first;
+    if (level_count) *level_count = count;
+    return true;
 }
 
 bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int64_t tap_count, int levels,
                               dm_level_sum_gather *out)
 {
     *out = (dm_level_sum_gather){0};
-    if (!index || !taps || n < 1 || tap_count < DM_LEVEL_SUM_HEADER_TAPS) return false;
-    int first = (int)taps[0], count = (int)taps[1];
+    int first, count;
+    if (!dm_level_sum_gather_check(index, n, taps, tap_count, levels, &first, &count)) return false;
     int64_t sites = (int64_t)taps[3];
-    if (taps[2] != (float)DM_LEVEL_SUM_GATHER_FORMAT || first < 1 || count < 1 || count > 2 || first + count > levels ||
-        sites < 1 || DM_LEVEL_SUM_HEADER_TAPS + sites > tap_count)
-        return false;
-    dm_level_sum_gather g = {n, first, count, index, taps, tap_count, sites, NULL, NULL, 0, 0};
-    size_t nn = (size_t)n * n;
-    uint8_t *mark = calloc((size_t)sites, 1);
-    g.value = calloc(4 * (size_t)sites, sizeof(float));
-    bool ok = mark && g.value;
-    for (size_t i = 0; ok && i < nn; ++i) { /* the sites the taps read */
+    size_t nn = (size_t)n * (size_t)n, gathering = 0, total = 0;
+    for (size_t i = 0; i < nn; ++i) {
         const float *ix = index + 4 * i;
-        if (!(ix[1] > 0.0f) && !(ix[2] > 0.0f)) continue;
-        size_t t = first_tap(ix), end = t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
-        if (!(ix[0] >= 0.0f && ix[3] >= 0.0f && ix[3] < DM_LEVEL_SUM_TAPS_WIDTH) || t < (size_t)(DM_LEVEL_SUM_HEADER_TAPS + sites) ||
-            end > (size_t)tap_count) {
-            ok = false;
-            break;
-        }
-        for (; t < end; ++t) {
-            float s = taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS;
-            if (!(s >= 0.0f && s < (float)sites)) {
-                ok = false;
-                break;
-            }
-            mark[(size_t)s] = 1;
-        }
+        if (!gathers(ix)) continue;
+        ++gathering, total += (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
     }
-    for (int64_t s = 0; ok && s < sites; ++s) g.used_count += mark[s];
-    if (ok && !(g.used = malloc(sizeof(int32_t) * (g.used_count ? g.used_count : 1)))) ok = false;
+    dm_level_sum_gather g = {n, first, count, malloc(sizeof(int32_t) * ((size_t)n + 1)),
+                             malloc(sizeof(int32_t) * (gathering ? gathering : 1)),
+                             malloc(sizeof(int32_t) * ((gathering + 1) * (size_t)count)),
+                             malloc(sizeof(dm_level_sum_tap) * (total ? total : 1)), NULL, NULL, gathering, total, 0, 0};
+    int32_t *slot = malloc(sizeof(int32_t) * (size_t)sites);
+    bool ok = g.row && g.x && g.first && g.taps && slot;
+    for (int64_t s = 0; ok && s < sites; ++s) slot[s] = -1;
+    for (size_t i = 0; ok && i < nn; ++i) { /* the sites some tap reads */
+        const float *ix = index + 4 * i;
+        if (!gathers(ix)) continue;
+        for (size_t t = first_tap(ix), e = t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0); t < e; ++t)
+            slot[(size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS)] = 0;
+    }
+    /* numbered by the texel their UV falls in, row by row (ties: the pack's order), so that the
+     * frame's values read level 0 in its own order */
+    size_t used = 0;
+    for (int64_t s = 0; ok && s < sites; ++s) used += slot[s] == 0;
+    site_key *key = ok ? malloc(sizeof *key * (used ? used : 1)) : NULL;
+    ok = ok && key;
     for (int64_t s = 0, u = 0; ok && s < sites; ++s)
-        if (mark[s]) g.used[u++] = (int32_t)s;
-    free(mark);
+        if (slot[s] == 0) {
+            const float *uv = taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
+            float x = floorf(uv[0] * (float)n), y = floorf(uv[1] * (float)n);
+            x = x >= 0.0f ? x < (float)n ? x : (float)n : -1.0f, y = y >= 0.0f ? y < (float)n ? y : (float)n : -1.0f;
+            key[u++] = (site_key){(int64_t)(y + 1.0f) * (n + 2) + (int64_t)(x + 1.0f), s};
+        }
+    if (ok) qsort(key, used, sizeof *key, cmp_key);
+    for (size_t u = 0; ok && u < used; ++u) slot[key[u].site] = (int32_t)u;
+    g.slot_count = ok ? used : 0;
+    free(key);
+    size_t k = 0;
+    for (int l = 0; ok && l < count; ++l) { /* level by level, the texels in order, each one's taps in the pack's order */
+        int32_t *lf = g.first + (gathering + 1) * (size_t)l;
+        size_t j = 0;
+        for (int y = 0; y < n; ++y) {
+            if (l == 0) g.row[y] = (int32_t)j;
+            for (int x = 0; x < n; ++x) {
+                const float *ix = index + 4 * ((size_t)y * (size_t)n + (size_t)x);
+                if (!gathers(ix)) continue;
+                size_t t = first_tap(ix) + (l ? (size_t)ix[1] : 0);
+                if (l == 0) g.x[j] = x;
+                lf[j++] = (int32_t)k;
+                for (size_t e = t + (size_t)ix[1 + l]; t < e; ++t, ++k) {
+                    size_t s = (size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS);
+                    g.taps[k] = (dm_level_sum_tap){slot[s], taps[2 * t + 1]};
+                }
+            }
+        }
+        lf[j] = (int32_t)k;
+        if (l == 0) g.row[n] = (int32_t)j;
+    }
+    if (ok) {
+        g.uv = malloc(sizeof(float) * 2 * (g.slot_count ? g.slot_count : 1));
+        g.value = calloc(4 * (g.slot_count ? g.slot_count : 1), sizeof(float));
+        ok = g.uv && g.value;
+    }
+    for (int64_t s = 0; ok && s < sites; ++s)
+        if (slot[s] >= 0) {
+            const float *uv = taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
+            g.uv[2 * (size_t)slot[s]] = uv[0], g.uv[2 * (size_t)slot[s] + 1] = uv[1];
+        }
+    free(slot);
     if (!ok) return dm_level_sum_gather_free(&g), false;
     *out = g;
     return true;
@@ -195,6 +294,6 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
 
 void dm_level_sum_gather_free(dm_level_sum_gather *g)
 {
-    free(g->value), free(g->used);
+    free(g->row), free(g->x), free(g->first), free(g->taps), free(g->uv), free(g->value);
     *g = (dm_level_sum_gather){0};
 }

@@ -8,7 +8,7 @@
  * renderer sums reduced levels per pixel instead).
  *
  * With a thin-part map (bake/dm_thin_map.h, DM_THIN in the shader) each level k also adds, right
- * after its own term, per candidate j of the texel (u′_j, v′_j, d_j mm):
+ * after its own term, per candidate j of the texel (u′_j, v′_j, d_j mm) within the cut below:
  *     w_k · (exp(−d_j²/(2 v_k)) · L_k(u′_j, v′_j))
  * L_k read as the shader's sampler reads it: bilinear at the texel centres, zero outside the
  * image, then coverage-normalised as above. The candidates come in a compact form
@@ -19,7 +19,8 @@
  *     w_k · Σ_t weight_t · I(uv_s(t))
  * I level 0 read at the site's UV as the shader's sampler reads it (level_at above: bilinear,
  * coverage-normalised), computed once per frame for the sites some tap reads when level 0 is
- * added (dm_level_sum_gather); diffusion.glsl's DM_GATHER makes the same sums in GL.
+ * added (dm_level_sum_gather); diffusion.glsl's DM_GATHER makes the same sums in GL. A texel's
+ * taps are summed in two alternating sums (even taps, odd taps), then added, as the shader does.
  *
  * Deterministic: each texel alone, byte-identical for any thread count. */
 #ifndef DM_LEVEL_SUM_H
@@ -38,26 +39,49 @@ extern "C" {
  * and column). */
 enum { DM_LEVEL_SUM_TAPS_WIDTH = 4096, DM_LEVEL_SUM_HEADER_TAPS = 2, DM_LEVEL_SUM_GATHER_FORMAT = -2 };
 
-/* A thin-part map's candidates per texel: texel i = x + y·n has candidates first[i] ..
- * first[i + 1] − 1 of cand, 4 floats each (u′, v′, d mm, 0), layer 0's before layer 1's. */
+/* A thin candidate adds to level k only where d² ≤ DM_LEVEL_SUM_THIN_CUT · v_k: beyond, its
+ * weight exp(−d²/2v_k) is below e^−18 = 1.5e-8, under a float's rounding of a sum it shares
+ * with light of its size (diffusion.glsl reads the same cut as DM_THIN_CUT). The narrow levels
+ * skip almost every candidate: a thin part is millimetres across, level 0's σ 0.08 mm. */
+enum { DM_LEVEL_SUM_THIN_CUT = 36 };
+
+/* A thin-part map's candidates, compact: the texels with any, row by row (row y's are
+ * [row[y], row[y + 1]), their columns ascending in x), texel j's candidates first[j] ..
+ * first[j + 1] − 1 of cand, 4 floats each (u′, v′, d mm, 0), layer 0's before layer 1's. The sum
+ * walks a row's list beside its texels, so a texel without candidates costs one compare. */
 typedef struct dm_level_sum_thin {
     int n;
-    int32_t *first; /* n·n + 1 */
+    int32_t *row;   /* n + 1 */
+    int32_t *x;     /* per texel with candidates: its column */
+    int32_t *first; /* per texel with candidates, + 1 */
     float *cand;
-    size_t count;
+    size_t count;   /* candidates */
 } dm_level_sum_thin;
 
-/* A thin gather's baked index and taps (bake/dm_thin_gather.h, as the pack holds them) and the
- * per-frame light of the sites it reads. */
+/* A thin gather as the sums read it, made from the pack's entries (dm_level_sum_gather_make) and
+ * owned: the gathering texels row by row (as the thin candidates above), each one's taps per
+ * gathered level, a tap (slot, weight); a slot is a site some tap reads, numbered in the order
+ * the texels first read them (neighbouring texels read neighbouring slots), its UV and its light
+ * this frame. The same weights and sites, in the same order, as the pack's taps. */
+typedef struct dm_level_sum_tap {
+    int32_t slot;
+    float weight;
+} dm_level_sum_tap;
+
 typedef struct dm_level_sum_gather {
     int n, first_level, level_count;
-    const float *index; /* n·n·4: first tap's row, taps of gathered level 0, of level 1, first tap's column */
-    const float *taps;  /* 2 floats a tap: the header, the sites' (u, v), the texels' (site, weight) */
-    int64_t tap_count, site_count;
-    float *value;       /* per site 4: level 0 at its UV this frame (owned) */
-    int32_t *used;      /* the sites some tap reads, ascending (owned) */
-    size_t used_count;
-    int thread_count;   /* for the values; 0 = every core */
+    int32_t *row;           /* n + 1: row y's gathering texels are [row[y], row[y + 1]) */
+    int32_t *x;             /* per gathering texel: its column, ascending within a row */
+    int32_t *first;         /* per gathered level, per gathering texel, + 1: texel j's taps of level g
+                             * are first[g·(gathering + 1) + j] .. first[g·(gathering + 1) + j + 1] − 1:
+                             * a level's taps are one run in texel order, as its pass reads them
+                             * (interleaved with the other level's, the hardware prefetch lost the
+                             * stream: 2.3 ns a tap against 0.5 on the 2-core machine) */
+    dm_level_sum_tap *taps;
+    float *uv;              /* per slot 2: the site's (u, v) */
+    float *value;           /* per slot 4: level 0 at its UV this frame */
+    size_t gathering, tap_count, slot_count;
+    int thread_count;       /* for the values; 0 = every core */
 } dm_level_sum_gather;
 
 typedef struct dm_level_sum_pass {
@@ -86,10 +110,17 @@ bool dm_level_sum_add(const dm_level_sum_pass *p);
 bool dm_level_sum_thin_make(const float *map, int n, dm_level_sum_thin *out);
 void dm_level_sum_thin_free(dm_level_sum_thin *t);
 
-/* A gather over a pack's entries: index n × n × 4, taps (2 per tap, header first; its count
- * tap_count). False (out empty) when the header is not this layout's (DM_THIN_GATHER_FORMAT) or
- * does not fit the levels (first_level + level_count ≤ levels), a texel's taps or a tap's site lie
- * outside, or out of memory. Free with dm_level_sum_gather_free. */
+/* Checks a pack's gather entries: index n × n × 4 (first tap's row, taps of gathered level 0, of
+ * level 1, first tap's column), taps 2 floats each (the header, the sites' (u, v), the texels'
+ * (site, weight)), tap_count of them. False when the header is not this layout's
+ * (DM_LEVEL_SUM_GATHER_FORMAT) or does not fit the levels (first_level + level_count ≤ levels), a
+ * texel's taps or a tap's site lie outside, or there are 2^31 taps or more; else its first gathered
+ * level and their count (either pointer may be NULL). */
+bool dm_level_sum_gather_check(const float *index, int n, const float *taps, int64_t tap_count, int levels,
+                               int *first_level, int *level_count);
+/* The sums' own compact copy of them (the caller may free its arrays afterwards). False (out
+ * empty) when dm_level_sum_gather_check refuses them or out of memory. Free with
+ * dm_level_sum_gather_free (safe on a zeroed one). */
 bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int64_t tap_count, int levels,
                               dm_level_sum_gather *out);
 void dm_level_sum_gather_free(dm_level_sum_gather *g);

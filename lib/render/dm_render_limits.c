@@ -96,7 +96,7 @@ dm_result dmr_check_limits(const dm_renderer *r, const dm_render_assets *a, dm_e
     dmr_sizes s = {r->f.width, r->f.height, r->f.irr_edge, r->f.shadow_edge, {0}};
     memcpy(s.level_edge, r->f.level_edge, sizeof s.level_edge);
     bool wanted = dmr_blur_cpu_wanted(&r->f.desc, r->f.software_gl);
-    dmr_memory_in in = {.a = a, .plan = p, .sizes = &s, .half_levels = r->f.level_format != GL_RGBA32F,
+    dmr_memory_in in = {.a = a, .plan = p, .sizes = &s, .desc = &r->f.desc, .half_levels = r->f.level_format != GL_RGBA32F,
                         .diffusion_sum = r->f.diffusion_sum, .software_gl = r->f.software_gl,
                         .cpu_blur = wanted && r->f.level_format == GL_RGBA32F, .cpu_glow = wanted};
     dm_render_memory m;

@@ -233,9 +233,14 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
             }
         }
     }
+    /* made from copies freed at once: the sums keep no pointer into the pack's arrays */
+    float *index_copy = malloc(sizeof(float) * 4 * N * N), *taps_copy = malloc(sizeof(float) * 2 * (size_t)t);
+    memcpy(index_copy, index, sizeof(float) * 4 * N * N), memcpy(taps_copy, taps, sizeof(float) * 2 * (size_t)t);
     dm_level_sum_gather g;
-    cr_assert(dm_level_sum_gather_make(index, N, taps, t, LEVELS, &g));
-    cr_assert(g.used_count > SITES * 9 / 10);
+    cr_assert(dm_level_sum_gather_make(index_copy, N, taps_copy, t, LEVELS, &g));
+    memset(index_copy, 0xff, sizeof(float) * 4 * N * N), memset(taps_copy, 0xff, sizeof(float) * 2 * (size_t)t);
+    free(index_copy), free(taps_copy);
+    cr_assert(g.slot_count > SITES * 9 / 10 && g.slot_count <= SITES);
     float *sum = malloc(sizeof(float) * 4 * N * N), *plain = malloc(sizeof(float) * 4 * N * N);
     for (int k = 0; k < LEVELS; ++k)
         cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
@@ -283,8 +288,39 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
     cr_expect(!dm_level_sum_gather_make(index, N, taps, t - 1, LEVELS, &bad));
     taps[2 * (t - 1)] = (float)(2 + SITES);
     cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
-    cr_expect(bad.value == NULL && bad.used == NULL);
+    cr_expect(bad.value == NULL && bad.taps == NULL);
     dm_level_sum_gather_free(&g);
     free(sum), free(plain), free(index), free(taps);
     for (int k = 0; k < LEVELS; ++k) free(buf[k]);
+}
+
+/* The thin candidates' cut (DM_LEVEL_SUM_THIN_CUT): a candidate adds to a level only where
+ * d² ≤ cut · v. One dark texel with one candidate on a texel of light 1e6: just inside the cut it
+ * adds 1e6 · exp(−d²/2v) (≈ 0.015), just beyond it adds nothing, bit for bit. */
+Test(level_sum, thin_candidates_stop_at_the_cut)
+{
+    float *buf = calloc(dm_level_blur_floats(N, N), sizeof(float)), *px = dm_level_blur_frame(buf, N, N);
+    long stride = dm_level_blur_stride(N);
+    for (int y = 0; y < N; ++y)
+        for (int x = 0; x < N; ++x) px[y * stride + 4 * x + 3] = 1.0f; /* covered, dark */
+    const int ax = 5, ay = 7, bx = 20, by = 30;
+    for (int c = 0; c < 3; ++c) px[by * stride + 4 * bx + c] = 1e6f;
+    const float v = 0.187f;
+    for (int side = 0; side < 2; ++side) { /* 0: inside, 1: beyond */
+        float *map = calloc((size_t)4 * 2 * N * N, sizeof(float)), *c = map + 4 * (ay * N + ax);
+        double d = sqrt(DM_LEVEL_SUM_THIN_CUT * (double)v) * (side ? 1.001 : 0.999);
+        c[0] = (bx + 0.5f) / N, c[1] = (by + 0.5f) / N, c[2] = (float)d, c[3] = 1.0f;
+        dm_level_sum_thin thin;
+        cr_assert(dm_level_sum_thin_make(map, N, &thin));
+        cr_assert_eq(thin.count, 1u);
+        float *sum = calloc((size_t)4 * N * N, sizeof(float));
+        cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px, stride, N, {1, 1, 1}, true, true, 0, &thin, v, NULL, 0}));
+        double want = side ? 0.0 : 1e6 * exp(-(double)c[2] * c[2] / (2.0 * v));
+        const float *s = sum + 4 * (ay * N + ax);
+        if (side) cr_expect(s[0] == 0.0f && s[1] == 0.0f && s[2] == 0.0f, "beyond the cut: %g", (double)s[0]);
+        else cr_expect(fabs(s[0] - want) <= 1e-5 * want && want > 0.01, "inside the cut: %.9g, expected %.9g", (double)s[0], want);
+        dm_level_sum_thin_free(&thin);
+        free(map), free(sum);
+    }
+    free(buf);
 }

@@ -118,8 +118,9 @@ struct dmr_frame {
     GLuint tex_thin; /* the thin-part map (0 without one): diffusion.glsl's DM_THIN; the blur on
                       * the CPU keeps its candidates in its own compact copy */
     /* the thin gather in GL (diffusion.glsl's DM_GATHER; 0 without, or when the blur runs on
-     * the CPU, which reads the pack's own texels): index, taps, and the header's numbers */
+     * the CPU, which keeps its own compact copy): index, taps, and the header's numbers */
     GLuint tex_gather_index, tex_gather_taps;
+    bool gather_ok; /* the pack has a gather at this size that the sums read (dm_pass_tsd.c's upload) */
     int gather_first, gather_count;
     GLuint tex_gather_view; /* the index for the "gather" debug view, and its most taps a texel */
     float gather_view_max;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dm_level_sum.h"
 #include "render/frame/dm_frame.h"
 #include "render/frame/dm_frame_bind.h"
 #include "render/gpu/dm_gpu_program.h"
@@ -110,7 +111,8 @@ static void frame_defines(const dmr_frame *f, const char *extra, char *defines, 
     if (f->spec_in_normal) n += (size_t)snprintf(defines + n, size - n, "#define DM_SPEC_IN_NORMAL 1\n");
     if (f->diffusion_sum) n += (size_t)snprintf(defines + n, size - n, "#define DM_DIFFUSION_SUM 1\n");
     if (f->tex_seam && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_SEAM 1\n");
-    if (f->tex_thin && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_THIN 1\n");
+    if (f->tex_thin && p->texture_space)
+        n += (size_t)snprintf(defines + n, size - n, "#define DM_THIN 1\n#define DM_THIN_CUT %d.0\n", DM_LEVEL_SUM_THIN_CUT);
     if (f->tex_gather_index && p->texture_space) n += (size_t)snprintf(defines + n, size - n, "#define DM_GATHER 1\n");
     if (extra) snprintf(defines + n, size - n, "%s", extra);
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/dm_level_blur.h"
+#include "core/dm_level_sum.h"
 #include "core/dm_memory.h"
 #include "render/dm_render_pack.h"
 #include "render/input/dm_render_estimate.h"
@@ -31,6 +32,22 @@ bool dmr_diffusion_summed(const dm_render_plan *p, const dm_render_desc *d)
 bool dmr_blur_cpu_wanted(const dm_render_desc *d, bool software_gl)
 {
     return d->blur_path == DM_BLUR_PATH_CPU || (d->blur_path == DM_BLUR_PATH_AUTO && software_gl);
+}
+
+bool dmr_gather_wanted(const dm_render_assets *a, int n, bool diffusion_sum)
+{
+    const dm_texture *gt, *gi = dm_render_assets_gather(a, n, &gt);
+    const float *h = gt ? gt->texels : NULL;
+    return diffusion_sum && dm_render_assets_thin_map(a, n) && gi && h && (int64_t)gt->width * gt->height >= 2 &&
+           h[2] == (float)DM_LEVEL_SUM_GATHER_FORMAT;
+}
+
+const dm_texture *dmr_seam_map_used(const dm_render_assets *a, const dm_render_desc *d, int n, bool diffusion_sum)
+{
+    /* beside the gather the seam map measured no better on the head (bench/results/accuracy.md:
+     * seam region 0.69 % red without it, 0.70 % with) and cost 10–20 % of the frame */
+    if (!d->seam_map_with_gather && dmr_gather_wanted(a, n, diffusion_sum)) return NULL;
+    return dm_render_assets_seam_map(a, n);
 }
 
 static uint64_t texels(int w, int h)
@@ -85,7 +102,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
             count_upload(m, &a->stretch[k], false);
         count_upload(m, &a->stretch_mask, false);
         /* the seam and thin-part maps, uploaded at the size they were baked for (dm_pass_tsd.c) */
-        const dm_texture *seam = dm_render_assets_seam_map(a, s->irr_edge), *thin = dm_render_assets_thin_map(a, s->irr_edge);
+        const dm_texture *seam = dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum),
+                         *thin = dm_render_assets_thin_map(a, s->irr_edge);
         if (seam) count_upload(m, seam, false);
         if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
         if (in->diffusion_sum && thin) count_upload(m, thin, false);
@@ -118,7 +136,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         }
         if (in->diffusion_sum) m->texture_space_size += N2 * 16;
         m->texture_space_size += N2 * (4 * 16 + 4); /* the surface G-buffer and its depth */
-        if (dm_render_assets_seam_map(a, s->irr_edge)) m->texture_space_size += N2 * 16; /* the seam points */
+        if (dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum))
+            m->texture_space_size += N2 * 16; /* the seam points */
     }
 
     /* the screen (frame/dm_frame_targets.c) */
@@ -136,22 +155,36 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
     m->driver_size = in->software_gl ? DM_RENDER_MEMORY_DRIVER_SIZE : 0;
 
     /* the CPU's share: blur buffers, read-back (the seam points and their cuts, read back once) */
-    if (p->texture_space && dm_render_assets_seam_map(a, s->irr_edge)) m->cpu_blur_size += N2 * (16 + 8);
+    if (p->texture_space && dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum)) m->cpu_blur_size += N2 * (16 + 8);
     if (p->texture_space && in->cpu_blur) {
         const int *e = s->level_edge;
         m->cpu_blur_size += 3 * (uint64_t)dm_level_blur_floats(s->irr_edge, s->irr_edge) * 4;
         for (int k = 1; k < p->blur_levels; ++k)
             m->cpu_blur_size += (texels(e[k], e[k - 1]) + texels(e[k], e[k])) * 4;
         if (in->diffusion_sum) m->cpu_blur_size += N2 * 16;
-        if (in->diffusion_sum && dm_render_assets_thin_map(a, s->irr_edge))
-            m->cpu_blur_size += N2 * 4; /* the candidates' compact copy: the index (their texels: a few %) */
+        const dm_texture *thin = dm_render_assets_thin_map(a, s->irr_edge);
+        if (in->diffusion_sum && thin && thin->texels) { /* the candidates' compact copy (core/dm_level_sum.h) */
+            const float *tx = thin->texels;
+            uint64_t with = 0, cands = 0;
+            for (uint64_t i = 0; i < N2; ++i) {
+                int c = (tx[4 * i + 3] > 0.5f) + (tx[4 * (N2 + i) + 3] > 0.5f);
+                with += c > 0, cands += (uint64_t)c;
+            }
+            m->cpu_blur_size += ((uint64_t)s->irr_edge + 1) * 4 + with * 8 + cands * 16;
+        }
         const dm_texture *gt;
         if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt) && gt->texels) {
-            /* the sites' values and list (RGBA32F and an index each): the header's site count
-             * (bake/dm_thin_gather.h), within the texture */
+            /* the sums' compact copy (core/dm_level_sum.h): 8 bytes a tap, a UV and a value (24
+             * bytes) a site read (the header's site count, bake/dm_thin_gather.h, at most), a
+             * gathering texel's column and first taps */
             const float *h = gt->texels;
             uint64_t all = texels(gt->width, gt->height), sites = all >= 2 && h[3] > 0.0f ? (uint64_t)h[3] : 0;
-            m->cpu_blur_size += (sites < all ? sites : all) * 20;
+            sites = sites < all ? sites : all;
+            uint64_t gathering = 0;
+            const dm_texture *gi = dm_render_assets_gather(a, s->irr_edge, &gt);
+            const float *ix = gi->texels;
+            for (uint64_t i = 0; ix && i < N2; ++i) gathering += ix[4 * i + 1] > 0.0f || ix[4 * i + 2] > 0.0f;
+            m->cpu_blur_size += (all - sites) * 8 + sites * 24 + gathering * 12 + ((uint64_t)s->irr_edge + 1) * 4;
         }
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
@@ -173,7 +206,7 @@ dm_result dm_render_memory_estimate(const dm_render_assets *a, const dm_render_d
     dmr_resolve_sizes(a, desc, &s);
     if (plan.texture_space) dmr_auto_level_edges(a, desc, &scene.profile, s.irr_edge, s.level_edge);
     bool wanted = dmr_blur_cpu_wanted(desc, software_gl);
-    dmr_memory_in in = {.a = a, .plan = &plan, .sizes = &s, .half_levels = desc->blur_half_float,
+    dmr_memory_in in = {.a = a, .plan = &plan, .sizes = &s, .desc = desc, .half_levels = desc->blur_half_float,
                         .diffusion_sum = dmr_diffusion_summed(&plan, desc), .software_gl = software_gl,
                         .cpu_blur = wanted && !desc->blur_half_float, .cpu_glow = wanted};
     dmr_memory_count(&in, out);

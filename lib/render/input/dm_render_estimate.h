@@ -23,11 +23,19 @@ void dmr_resolve_sizes(const dm_render_assets *a, const dm_render_desc *d, dmr_s
 bool dmr_blur_cpu_wanted(const dm_render_desc *d, bool software_gl);
 /* Whether the diffusion pass sums the levels per texel (not per pixel in the final pass). */
 bool dmr_diffusion_summed(const dm_render_plan *p, const dm_render_desc *d);
+/* Whether the thin gather is used at irradiance size n: the levels summed per texel, the
+ * thin-part map and a gather baked for n, its header of this layout (create checks the rest:
+ * core/dm_level_sum.h). */
+bool dmr_gather_wanted(const dm_render_assets *a, int n, bool diffusion_sum);
+/* The seam map used at irradiance size n: the pack's for n, but not beside the thin gather
+ * unless desc->seam_map_with_gather (dm_render_desc). NULL: none. */
+const dm_texture *dmr_seam_map_used(const dm_render_assets *a, const dm_render_desc *d, int n, bool diffusion_sum);
 /* What the estimate counts, as create resolved it. */
 typedef struct dmr_memory_in {
     const dm_render_assets *a;
     const dm_render_plan *plan;
     const dmr_sizes *sizes;
+    const dm_render_desc *desc;
     bool half_levels, diffusion_sum, software_gl;
     bool cpu_blur, cpu_glow; /* the texture-space blurs, the glow's, on the CPU */
 } dmr_memory_in;

@@ -58,7 +58,7 @@ static bool allocate(dmr_frame *f, dmr_blur_cpu *b, const dm_render_assets *a)
         return false;
     /* the thin gather, where the thin-part map is used and it was baked at this size */
     const dm_texture *gt, *gi = dm_render_assets_gather(a, f->irr_edge, &gt);
-    if (b->sum && f->tex_thin && gi)
+    if (b->sum && f->tex_thin && gi && f->gather_ok)
         (void)dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
                                        f->plan.blur_levels, &b->gather); /* false: not used (its header does not fit) */
     return true;

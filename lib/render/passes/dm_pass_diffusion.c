@@ -22,13 +22,7 @@ dm_result dmr_diffusion_setup(dmr_frame *f, void *st, const dm_render_assets *a,
         dm_result rc = dmr_upload(f, gi, "gather_view", false, GL_NEAREST, &f->tex_gather_view, err);
         if (rc != DM_OK) return rc;
     }
-    if (f->blur_cpu || !f->tex_thin || !gi) return DM_OK;
-    dm_level_sum_gather g; /* the header checked as the CPU path checks it */
-    if (!dm_level_sum_gather_make(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
-                                  f->plan.blur_levels, &g))
-        return DM_OK;
-    f->gather_first = g.first_level, f->gather_count = g.level_count;
-    dm_level_sum_gather_free(&g);
+    if (f->blur_cpu || !f->tex_thin || !f->gather_ok) return DM_OK; /* checked at upload (dm_pass_tsd.c) */
     f->tex_gather_index = f->tex_gather_view; /* the view's upload above: one texture, owned by f->gpu */
     return dmr_upload(f, gt, "gather_taps", false, GL_NEAREST, &f->tex_gather_taps, err);
 }

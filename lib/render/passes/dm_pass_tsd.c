@@ -10,9 +10,11 @@
 #include <stdlib.h>
 
 #include "core/dm_level_blur.h"
+#include "core/dm_level_sum.h"
 
 #include "render/frame/dm_frame_bind.h"
 #include "render/gpu/dm_gpu_target.h"
+#include "render/input/dm_render_estimate.h"
 #include "render/passes/dm_pass_tsd.h"
 
 dm_result dmr_tsd_check(const dmr_frame *f, const dm_render_assets *a, dm_error *err)
@@ -56,11 +58,18 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
         rc = dmr_upload(f, &a->stretch[k], "stretch", false, GL_LINEAR, &f->tex_stretch[k], err);
     if (rc == DM_OK && a->stretch_mask.texels)
         rc = dmr_upload(f, &a->stretch_mask, "stretch_mask", false, GL_LINEAR, &f->tex_mask, err);
+    /* the thin gather, checked once for both sums (dm_pass_diffusion.c in GL, dm_pass_blur_cpu.c):
+     * with the thin-part map, where the levels are summed per texel */
+    const dm_texture *gt, *gi = dm_render_assets_gather(a, f->irr_edge, &gt);
+    f->gather_ok = dmr_gather_wanted(a, f->irr_edge, f->diffusion_sum) &&
+                   dm_level_sum_gather_check(gi->texels, f->irr_edge, gt->texels, (int64_t)gt->width * gt->height,
+                                             f->plan.blur_levels, &f->gather_first, &f->gather_count);
     /* the seam map, read at texel centres (nearest): the irradiance pass lights the gutter
      * texels it continues (DM_SEAM; dm_renderer_seam_map). Only at the size it was baked for:
      * at another the gutters are other texels, and its continuations (a texel centre's, half a
-     * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). */
-    const dm_texture *seam = dm_render_assets_seam_map(a, f->irr_edge);
+     * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). Not
+     * beside the gather unless asked (dm_render_desc.seam_map_with_gather, dmr_seam_map_used). */
+    const dm_texture *seam = f->gather_ok && !f->desc.seam_map_with_gather ? NULL : dm_render_assets_seam_map(a, f->irr_edge);
     if (rc == DM_OK && seam) rc = dmr_upload(f, seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
     /* the thin-part map, read at texel centres (nearest) by the diffusion pass (DM_THIN;
      * dm_renderer_thin_map): only at the size it was baked for, and only where the levels are
