@@ -30,7 +30,8 @@ static const dm_pack_need needs[] = {
     {"stretch.mask", DM_PACK_TEXTURE, DM_TEX_R8, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "chart coverage mask (gutter handling)", false},
     {"seam", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
-     "seam map: per gutter texel a blur reaches, where the surface continues across the UV seam (u, v, 1, mm)", true},
+     "seam map: per gutter texel a blur reaches, where the surface continues across the UV seam (u, v, 1, mm); "
+     "the renderer uses it where the thin gather is not (levels summed per pixel, reduced levels)", true},
     {"thin", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,
      "thin-part map: per texel up to 2 surfaces across a thin part or a fold (u, v, mm, 1), N x 2N", true},
     {"thin.half", DM_PACK_TEXTURE, DM_TEX_RGBA32F, DM_FX(DM_EFFECT_SUBSURFACE), DM_NEED_IF_TEXTURE_SPACE,

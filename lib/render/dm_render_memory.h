@@ -24,7 +24,10 @@
  *               shows (N², S², the stretch or curvature map) x 16
  *   CPU blur    when the blurs run on the CPU: 3 padded level buffers (N+4)² x 16, the
  *               stretch per texel Σ_k (n_k n_(k-1) + n_k²) x 4, the diffusion sum N² x 16, the
- *               glow's two images W/2 x H/2 x 32
+ *               glow's two images W/2 x H/2 x 32; with the thin-part map its candidates
+ *               (16 each, 8 a texel that has any, (N+1) x 4), with the gather its compact copy
+ *               (8 a tap, 24 a site, 12 a gathering texel, (N+1) x 4: core/dm_level_sum.h);
+ *               with the seam map (used: not beside the gather) its points and cuts N² x 24
  *   read-back   one read of the output at full precision by the caller and the renderer:
  *               W x H x (16 + 16 + 4 + 4), and a texture view's W_v x H_v x 16
  * Not counted: a texture view's target and its read-back (2 x 16 bytes a texel of the texture

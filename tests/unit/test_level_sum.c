@@ -294,8 +294,8 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
     for (int k = 0; k < LEVELS; ++k) free(buf[k]);
 }
 
-/* The thin candidates' cut (DM_LEVEL_SUM_THIN_CUT): a candidate adds to a level only where
- * d² ≤ cut · v. One dark texel with one candidate on a texel of light 1e6: just inside the cut it
+/* The thin candidates' cut (DM_LEVEL_SUM_THIN_CUT): a candidate adds to a level only where its
+ * weight exp(−d²/2v) ≥ e^−18, i.e. d² ≤ 36 v (the value written out here, not the constant). One dark texel with one candidate on a texel of light 1e6: just inside the cut it
  * adds 1e6 · exp(−d²/2v) (≈ 0.015), just beyond it adds nothing, bit for bit. */
 Test(level_sum, thin_candidates_stop_at_the_cut)
 {
@@ -308,7 +308,7 @@ Test(level_sum, thin_candidates_stop_at_the_cut)
     const float v = 0.187f;
     for (int side = 0; side < 2; ++side) { /* 0: inside, 1: beyond */
         float *map = calloc((size_t)4 * 2 * N * N, sizeof(float)), *c = map + 4 * (ay * N + ax);
-        double d = sqrt(DM_LEVEL_SUM_THIN_CUT * (double)v) * (side ? 1.001 : 0.999);
+        double d = sqrt(2.0 * 18.0 * (double)v) * (side ? 1.001 : 0.999); /* exp(−d²/2v) = e^−18 ∓ 0.2 % in d² */
         c[0] = (bx + 0.5f) / N, c[1] = (by + 0.5f) / N, c[2] = (float)d, c[3] = 1.0f;
         dm_level_sum_thin thin;
         cr_assert(dm_level_sum_thin_make(map, N, &thin));
