@@ -207,8 +207,8 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         snprintf(opt + strlen(opt), sizeof opt - strlen(opt), " --without %s", without);
     }
     if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
-    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d%s.exr", dir, hex, truth, FW, FH, FRAME_ATLAS, FRAME_AS,
-                  FRAME_PS, wo);
+    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d-r%d%s.exr", dir, hex, truth, FW, FH, FRAME_ATLAS,
+                  FRAME_AS, FRAME_PS, FRAME_REFINE, wo);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
@@ -223,7 +223,8 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             bool truth_ok = dip == SKIN ? sk && !strcmp(sk->s, spec) && rg && rg->i == SKIN_RADIAL && !dp && !bp
                             : dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) && !sk
                                   : !dp && !bp && !sk;
-            bool frame_ok = ps && ps->i == FRAME_PS && df && !strcmp(df->s, "pixel") && wt &&
+            const dm_param *rf = dm_prov_find(&ref->prov, "refine_samples");
+            bool frame_ok = ps && ps->i == FRAME_PS && rf && rf->i == FRAME_REFINE && df && !strcmp(df->s, "pixel") && wt &&
                             !strcmp(wt->s, without ? without : "");
             /* texture space: the renderer's irradiance at this build's shadow map size */
             char shadow[48];
@@ -239,8 +240,9 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         if (attempt) break;
         if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d%s -o %s --quiet", bin, pack, N, opt, path);
         else snprintf(cmd, sizeof cmd,
-                      "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d%s -o %s --quiet",
-                      bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, opt, path);
+                      "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d "
+                      "--refine %d%s -o %s --quiet",
+                      bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, FRAME_REFINE, opt, path);
         if (run(cmd) != 0) break;
     }
     fprintf(stderr, "error: no usable reference %s: %s\n", path, err.detail);

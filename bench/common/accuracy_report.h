@@ -23,13 +23,16 @@
 
 /* The frame references: at the frame size, atlas FRAME_ATLAS with FRAME_AS² samples a texel,
  * FRAME_PS² sub-pixel rays a pixel with the diffusion at each (the converged defaults of
- * dermis-reference --frame: docs/dermis-reference.md, Convergence). */
-enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3 };
+ * dermis-reference --frame: docs/dermis-reference.md, Convergence), and the pixels whose rays
+ * spread shaded again from FRAME_REFINE² rays (--refine; issue #27). */
+enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3, FRAME_REFINE = 8 };
 /* The frame reference's own error bar in the transport run's normalised unit at these
- * settings (3² rays, no --refine): all channels, red (docs/dermis-reference.md, Convergence:
- * the 2² → 3² step at 1280x720 and the 3² → 6² step at 640x360, extrapolated as 1/k²). */
-#define FRAME_ERROR_BAR_RGB 0.08
-#define FRAME_ERROR_BAR_RED 0.035
+ * settings (3² rays, --refine 8): all channels, red — an estimate (docs/dermis-reference.md,
+ * Convergence: --refine 6 measured within 0.008 % of 6² everywhere at 640x360; the 3² → 6²
+ * step there and the 2² → 3² step at 1280x720 extrapolated as 1/k² to 8²). At 3² without
+ * --refine it was 8 % (red 3.5 %). */
+#define FRAME_ERROR_BAR_RGB 0.01
+#define FRAME_ERROR_BAR_RED 0.005
 enum { MAX_FRAMES = 64, MAX_ROWS = 48, MAX_G = 8 };
 /* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit */
 enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, NPACKS };
@@ -192,8 +195,9 @@ static void frame_rankings(FILE *md, const row *rows)
     int bad = 0, checked = 0;
     fprintf(md, "\n**Rankings** (transport run, normalised over all channels). The reference's own error bar in this "
                 "unit at these settings is about %.0f %% of the signal (red %.1f %%: `docs/dermis-reference.md`, "
-                "Convergence; %dx%d rays, no `--refine`): a margin below it is marked *not resolved*.\n\n",
-            100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS);
+                "Convergence; %dx%d rays, `--refine %d`, estimated by 1/k² from the measured steps): a margin "
+                "below it is marked *not resolved*.\n\n",
+            100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS, FRAME_REFINE);
     for (int c = 0; flat && c < nrows; ++c) {
         if (&rows[c] == flat || !rows[c].fok) continue;
         double e = frame_norm3(&rows[c].fr.tr[REG_ALL]), f = frame_norm3(&flat->fr.tr[REG_ALL]);
@@ -284,13 +288,13 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "**Frame (transport)**: the final linear frame at %dx%d (`dermis-render`'s picture before the "
                 "tonemap) of the *transport run* — white albedo, no normal map, no shadows, in the renderer and in "
                 "`dermis-reference PACK --frame --without albedo,normal-map,shadows` alike (atlas %d, %dx%d samples a "
-                "texel, %dx%d sub-pixel rays a pixel with the diffusion at each) — over the interior skin pixels where "
+                "texel, %dx%d sub-pixel rays a pixel with the diffusion at each, `--refine %d`) — over the interior skin pixels where "
                 "subsurface changes the reference by more than 2 %% (against the same reference `--without ...,"
                 "subsurface`): **normalised** = Σ|render − ref| / Σ|no-subsurface − ref| over them (100 %% = no "
                 "better than leaving subsurface out) and the **mean** relative error there "
                 "(`lib/reference/dm_ref_frame_compare.h`). What the surface terms and the shadows add: the next "
                 "section.\n\n",
-            FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_AS, FRAME_PS, FRAME_PS);
+            FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_AS, FRAME_PS, FRAME_PS, FRAME_REFINE);
     fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame transport, normalised %%: all (R / G / B) | frame transport mean %% |\n"
                 "|---|---:|---:|---:|---:|---:|\n");
     for (int c = 0; c < nrows; ++c) {
