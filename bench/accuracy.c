@@ -22,7 +22,8 @@
  *   - frame error, taken apart (common/frame_truth.h): the final linear frame at 1280x720
  *     against `dermis-reference PACK --frame` in a transport run (white albedo, no normal
  *     map, no shadows; normalised by the no-subsurface frame where subsurface shows), then
- *     with the surface terms and with shadows; a no-subsurface row is the floor.
+ *     with the surface terms and with shadows; a no-subsurface row is the floor. The 2048
+ *     row renders the scene packed at irradiance 2048 (its maps baked for that size).
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
@@ -80,10 +81,12 @@ static void add_rows(bool quick, bool large, int B)
     char n[40], w[160];
     for (int N = 256; N <= (large ? 2048 : 1024) && (N == 256 || !quick); N *= 2) {
         snprintf(n, sizeof n, "%d", N), snprintf(w, sizeof w, "irradiance %d, 7 taps%s", N, N == 1024 ? " (the scene's default)" : "");
-        add(N, 0, 0, false, (dm_render_desc){0}, n, w);
+        add(N, 0, 0, false, (dm_render_desc){0}, n, w)->technique_row = N >= 1024; /* the scene's size, or finer */
     }
-    if (!quick && !large) /* the frame's ranking of 2048 (its texture-space reference: DERMIS_BENCH_LARGE) */
-        add(2048, 0, 0, false, (dm_render_desc){0}, "2048 frame", "irradiance 2048, 7 taps (frame only)")->frame_only = true;
+    if (!quick && !large) { /* the frame's ranking of 2048 (its texture-space reference: DERMIS_BENCH_LARGE) */
+        setting *f = add(2048, 0, 0, false, (dm_render_desc){0}, "2048 frame", "irradiance 2048, 7 taps (frame only)");
+        f->frame_only = f->technique_row = true;
+    }
     /* the floor: what leaving subsurface out costs */
     add(B, 0, 0, false, (dm_render_desc){0}, "no subsurface", "no subsurface (Lambert x albedo): the floor")->no_subsurface = true;
     /* the levels summed per pixel by the final pass instead of once per texel by the diffusion
@@ -146,15 +149,16 @@ static void add_rows(bool quick, bool large, int B)
     add(B, 0, 0, false, (dm_render_desc){.blur_half_float = true}, n, w);
     snprintf(n, sizeof n, "%d reuse", B), snprintf(w, sizeof w, "%d, texture space reused (camera-only frames)", B);
     add(B, 0, 0, false, (dm_render_desc){.reuse_texture_space = true}, n, w);
-    if (!quick) add(1024, 0, 0, false, (dm_render_desc){.reuse_texture_space = true}, "1024 reuse", "1024, texture space reused");
+    if (!quick) add(1024, 0, 0, false, (dm_render_desc){.reuse_texture_space = true}, "1024 reuse", "1024, texture space reused")
+                    ->technique_row = true;
     /* the other techniques: frame error only (no texture-space diffusion to compare) */
     for (int i = 0, t; i < 3 && (t = (int[]){11, 17, 25}[i]); ++i) {
         snprintf(n, sizeof n, "screen %d", t), snprintf(w, sizeof w, "screen-space separable SSS, %d taps", t);
         setting *s = add(B, 0, 0, false, (dm_render_desc){0}, n, w);
-        s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = t;
+        s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = t, s->technique_row = t >= 17; /* the default, or finer */
     }
-    add(B, 0, 0, false, (dm_render_desc){0}, "pre-integrated", "pre-integrated (Penner): the table by N.L and curvature")
-        ->technique = DM_SSS_PRE_INTEGRATED;
+    setting *p = add(B, 0, 0, false, (dm_render_desc){0}, "pre-integrated", "pre-integrated (Penner): the table by N.L and curvature");
+    p->technique = DM_SSS_PRE_INTEGRATED, p->technique_row = true;
     add(256, 0, BURLEY_G, false, (dm_render_desc){0}, "256 Burley G6",
         "256, 6 Gaussians fitted to Burley (A 0.8/0.6/0.4, mfp 1/0.5/0.25 mm), vs Burley")
         ->burley = true;
@@ -163,9 +167,10 @@ static void add_rows(bool quick, bool large, int B)
         ->skin = true;
     int T = quick ? 256 : 1024;
     snprintf(n, sizeof n, "%d + transl.", T), snprintf(w, sizeof w, "irradiance %d + translucency", T);
-    add(T, 0, 0, false, (dm_render_desc){0}, n, w)->translucency = true;
+    setting *t = add(T, 0, 0, false, (dm_render_desc){0}, n, w);
+    t->translucency = true, t->technique_row = T >= 1024;
     setting *s = add(B, 0, 0, false, (dm_render_desc){0}, "screen 17 + transl.", "screen-space 17 taps + translucency");
-    s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = 17, s->translucency = true;
+    s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = 17, s->translucency = s->technique_row = true;
 }
 
 /* The cached reference (texture space at N, or the frame when N = 0), computed by
@@ -183,7 +188,9 @@ static const char *row_truth(const setting *s)
 
 static int row_pack(const setting *s)
 {
-    return s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->skin ? PACK_SKIN : s->gaussians;
+    return s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->skin ? PACK_SKIN
+           : s->size == 2048 && !s->gaussians                ? PACK_2048
+                                                              : s->gaussians;
 }
 
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
@@ -206,9 +213,12 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         for (char *t = wo; *t; ++t) *t = *t == ',' ? '_' : *t;
         snprintf(opt + strlen(opt), sizeof opt - strlen(opt), " --without %s", without);
     }
+    /* the scene profile's transport runs (white albedo: the transport and its flat) refined,
+     * where the rankings are read; not the dipole's (FRAME_REFINE: twelve times the time) */
+    int refine = !dip && without && strstr(without, "albedo") ? FRAME_REFINE : 0;
     if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
     else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d-r%d%s.exr", dir, hex, truth, FW, FH, FRAME_ATLAS,
-                  FRAME_AS, FRAME_PS, FRAME_REFINE, wo);
+                  FRAME_AS, FRAME_PS, refine, wo);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
@@ -224,7 +234,7 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
                             : dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) && !sk
                                   : !dp && !bp && !sk;
             const dm_param *rf = dm_prov_find(&ref->prov, "refine_samples");
-            bool frame_ok = ps && ps->i == FRAME_PS && rf && rf->i == FRAME_REFINE && df && !strcmp(df->s, "pixel") && wt &&
+            bool frame_ok = ps && ps->i == FRAME_PS && (refine ? rf && rf->i == refine : !rf) && df && !strcmp(df->s, "pixel") && wt &&
                             !strcmp(wt->s, without ? without : "");
             /* texture space: the renderer's irradiance at this build's shadow map size */
             char shadow[48];
@@ -239,10 +249,14 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         dm_refcmp_ref_free(ref);
         if (attempt) break;
         if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d%s -o %s --quiet", bin, pack, N, opt, path);
-        else snprintf(cmd, sizeof cmd,
-                      "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d "
-                      "--refine %d%s -o %s --quiet",
-                      bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, FRAME_REFINE, opt, path);
+        else {
+            char rk[32] = "";
+            if (refine) snprintf(rk, sizeof rk, " --refine %d", refine);
+            snprintf(cmd, sizeof cmd,
+                     "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d%s%s -o %s "
+                     "--quiet",
+                     bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, rk, opt, path);
+        }
         if (run(cmd) != 0) break;
     }
     fprintf(stderr, "error: no usable reference %s: %s\n", path, err.detail);
@@ -382,6 +396,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "error: the skin pack's profile has %d Gaussians, expected %d\n", packs[PACK_SKIN].profile.count, SKIN_G);
             return 3;
         }
+        if (row_pack(&rows_s[c]) == PACK_2048 && !packs[PACK_2048].open &&
+            (!pack_2048(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_2048])))
+            return 3;
         if (rows_s[c].technique == DM_SSS_PRE_INTEGRATED && !packs[PACK_PREINT].open &&
             (!pack_preint(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_PREINT])))
             return 3;

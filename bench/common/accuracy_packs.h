@@ -159,4 +159,15 @@ static int pack_preint(const char *bin, const char *dir, const char *hash, char 
                         pack_path);
 }
 
+/* The scene packed at irradiance 2048: its seam and thin-part maps and its gather baked for
+ * that size (the renderer uploads them at the size they were baked for, and leaves them out at
+ * any other: the 2048 row rendered from the 1024 pack has none of them). */
+static int pack_2048(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-2048.dpk", dir, hex);
+    if (cached(pack_path)) return 1;
+    return pack_variant(bin, "\"irradiance_size\": 1024", "\"irradiance_size\": 2048", "i2048", pack_path);
+}
+
 #endif

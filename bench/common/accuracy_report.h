@@ -23,19 +23,33 @@
 
 /* The frame references: at the frame size, atlas FRAME_ATLAS with FRAME_AS² samples a texel,
  * FRAME_PS² sub-pixel rays a pixel with the diffusion at each (the converged defaults of
- * dermis-reference --frame: docs/dermis-reference.md, Convergence), and the pixels whose rays
- * spread shaded again from FRAME_REFINE² rays (--refine; issue #27). */
+ * dermis-reference --frame: docs/dermis-reference.md, Convergence), and in the transport runs
+ * (transport and its flat, where the rankings are read) the pixels whose rays spread shaded
+ * again from FRAME_REFINE² rays (--refine; issue #27). The surface and full runs stay at
+ * FRAME_PS²: there the albedo and normal map's texture spreads nearly every pixel's rays, so
+ * --refine would shade nearly all again (over 3x the time), and the rays move their mean error
+ * by about 0.1 % (3² -> 4² with D at the centre 0.03 %; the transport's 2² -> 3² step, 12 % of a
+ * subsurface signal of about 1 % of the value), a tenth of what they report. */
 enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3, FRAME_REFINE = 8 };
 /* The frame reference's own error bar in the transport run's normalised unit at these
- * settings (3² rays, --refine 8): all channels, red — an estimate (docs/dermis-reference.md,
- * Convergence: --refine 6 measured within 0.008 % of 6² everywhere at 640x360; the 3² → 6²
- * step there and the 2² → 3² step at 1280x720 extrapolated as 1/k² to 8²). At 3² without
- * --refine it was 8 % (red 3.5 %). */
-#define FRAME_ERROR_BAR_RGB 0.01
-#define FRAME_ERROR_BAR_RED 0.005
+ * settings, all channels and red: the sum of its terms' bounds (docs/dermis-reference.md,
+ * Convergence, from bench/results/ref_convergence.md's measured steps):
+ *   rays, 3² with --refine 8: the 2² -> 3² step at 1280x720 (12.3 %, red 5.4) extrapolated
+ *     as 1/k² to 8²: 1.4 % (red 0.6); --refine's own departure from 8² everywhere, 0.008 %;
+ *   atlas 4096: the 4096 -> 8192 step (1.1 %, red 0.56) as 1/N²'s remainder: 1.5 % (red 0.75);
+ *   quadrature: the cut and spacing step, 0.12 % (red 0.13).
+ * At 3² without --refine it was 8 % (red 3.5 %) for the rays alone. A ranking's margin below
+ * it is not resolved; the issue asks five times it. */
+#define FRAME_ERROR_BAR_RGB 0.03
+#define FRAME_ERROR_BAR_RED 0.015
+/* The dipole's transport frame (the Gaussian-count rows' truth) without --refine: its twelve
+ * Gaussians reach far (a frame at 3² takes twelve times the scene profile's), so the rays' term
+ * is 3²'s, about 8 % (red 3.5), plus the same atlas and quadrature terms. */
+#define FRAME_ERROR_BAR_DIPOLE_RGB 0.096
+#define FRAME_ERROR_BAR_DIPOLE_RED 0.044
 enum { MAX_FRAMES = 64, MAX_ROWS = 48, MAX_G = 8 };
-/* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit */
-enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, NPACKS };
+/* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit, the scene at irradiance 2048 */
+enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, PACK_2048, NPACKS };
 enum { MAX_SIZED = 8 }; /* texture-space references: one per (size, truth) */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
@@ -55,6 +69,7 @@ typedef struct setting {
     bool skin;   /* its own truth and pack: the packer's fit of the physical skin SKIN against SKIN itself */
     bool frame_only;    /* no texture-space comparison (2048: its reference takes 15+ min) */
     bool no_subsurface; /* the floor: the renderer's Lambert, subsurface off */
+    bool technique_row; /* a technique at the scene's settings or finer: must beat the floor */
     dm_render_desc knobs;
 } setting;
 
@@ -186,49 +201,75 @@ static const row *row_named(const row *rows, const char *name)
     return NULL;
 }
 
-/* The instrument's own test (issue #27): no subsurface scores worse than every technique,
- * more Gaussians never worse than fewer, and TSD 2048 <= 1024 <= 512, in the transport run
- * (normalised, R/G/B averaged). Writes one line per check. */
+/* A margin against the reference's error bar: "resolved" (at least the bar), "resolved five
+ * times over" (the issue's standard: the bar at most a fifth of it) or "*not resolved*". */
+static const char *margin_word(double m, double bar)
+{
+    return m >= 5 * bar ? "resolved five times over" : m >= bar ? "resolved (under five times the bar)" : "*not resolved*";
+}
+
+/* The instrument's own test (issue #27), in the transport run (normalised over all channels):
+ * no subsurface scores worse than every technique at the scene's settings (the rows marked
+ * technique, against the same truth; the other settings are listed, as what the metric says
+ * of them), more Gaussians never worse than fewer, and TSD 2048 <= 1024 <= 512. One line per
+ * check, with its margin against the reference's error bar. */
 static void frame_rankings(FILE *md, const row *rows)
 {
     const row *flat = row_named(rows, "no subsurface");
     int bad = 0, checked = 0;
     fprintf(md, "\n**Rankings** (transport run, normalised over all channels). The reference's own error bar in this "
-                "unit at these settings is about %.0f %% of the signal (red %.1f %%: `docs/dermis-reference.md`, "
-                "Convergence; %dx%d rays, `--refine %d`, estimated by 1/k² from the measured steps): a margin "
-                "below it is marked *not resolved*.\n\n",
-            100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS, FRAME_REFINE);
-    for (int c = 0; flat && c < nrows; ++c) {
-        if (&rows[c] == flat || !rows[c].fok) continue;
-        double e = frame_norm3(&rows[c].fr.tr[REG_ALL]), f = frame_norm3(&flat->fr.tr[REG_ALL]);
-        ++checked;
-        if (!(e < f)) fprintf(md, "- **violated**: %s scores %.2f %%, not below no subsurface's %.2f %%\n", rows[c].s.name, 100 * e, 100 * f), ++bad;
-        else if (f - e < FRAME_ERROR_BAR_RGB) fprintf(md, "- %s scores %.2f %% against no subsurface's %.2f %%: *not resolved*\n", rows[c].s.name, 100 * e, 100 * f);
+                "unit at these settings is %.1f %% of the signal (red %.1f %%): the sum of its terms' bounds "
+                "(`docs/dermis-reference.md`, Convergence: %dx%d rays with `--refine %d`, atlas %d, quadrature). "
+                "Each margin is given in points and against that bar: *not resolved* below it, *resolved* above "
+                "it, *resolved five times over* where the bar is at most a fifth of it (the issue's standard).\n\n",
+            100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS, FRAME_REFINE, FRAME_ATLAS);
+    double f = flat ? frame_norm3(&flat->fr.tr[REG_ALL]) : 0;
+    for (int pass = 0; flat && pass < 2; ++pass) {
+        fprintf(md, pass ? "\nThe other settings against the floor (what the metric says of them; not a check):\n\n"
+                         : "The techniques at the scene's settings or finer against the floor, no subsurface at %.2f %%:\n\n",
+                100 * f);
+        for (int c = 0; c < nrows; ++c) {
+            if (&rows[c] == flat || !rows[c].fok || rows[c].ft != flat->ft || rows[c].s.technique_row != !pass) continue;
+            double e = frame_norm3(&rows[c].fr.tr[REG_ALL]);
+            if (!pass) ++checked, bad += !(e < f);
+            fprintf(md, "- %s%s: %.2f %%, %s by %.2f points: %s\n", !pass && !(e < f) ? "**violated**: " : "",
+                    rows[c].s.name, 100 * e, e < f ? "better" : "worse", 100 * fabs(f - e), margin_word(fabs(f - e), FRAME_ERROR_BAR_RGB));
+        }
+        if (!pass) fprintf(md, "- no subsurface scores worse than each of these %d technique rows%s\n", checked,
+                           bad ? ": NOT ALL (above)" : "");
     }
-    if (flat) fprintf(md, "- no subsurface (%.2f %%) scores worse than each of the %d other rows%s\n",
-                      100 * frame_norm3(&flat->fr.tr[REG_ALL]), checked, bad ? ": NOT ALL (above)" : "");
     char a[40], b[40];
     double prev = INFINITY;
     int g_bad = 0, g_n = 0;
+    if (dipole)
+        fprintf(md, "\nMore Gaussians, against their own truth (the skin1 dipole's transport frame, 3x3 rays without "
+                    "`--refine`: its error bar %.1f %%, red %.1f %%):\n\n",
+                100 * FRAME_ERROR_BAR_DIPOLE_RGB, 100 * FRAME_ERROR_BAR_DIPOLE_RED);
+    else fprintf(md, "\nMore Gaussians, against gems3-skin:\n\n");
     for (int g = 1; g <= MAX_G; ++g) {
         const row *r = NULL;
         for (int B = 256; B <= 1024 && !r; B *= 2) snprintf(a, sizeof a, "%d G%d", B, g), r = row_named(rows, a);
         if (!r) continue;
         double e = frame_norm3(&r->fr.tr[REG_ALL]);
-        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: %s (%.2f %%) scores worse than fewer Gaussians (%.2f %%)%s\n", a, 100 * e, 100 * prev, e - prev < FRAME_ERROR_BAR_RGB ? ", *not resolved*" : ""), ++g_bad;
+        if (prev == INFINITY) fprintf(md, "- %s: %.2f %%\n", a, 100 * e);
+        else fprintf(md, "- %s%s: %.2f %%, %s than the best of fewer by %.2f points: %s\n", e > prev * (1 + 1e-9) ? "**violated**: " : "",
+                     a, 100 * e, e > prev ? "worse" : "better", 100 * fabs(e - prev), margin_word(fabs(e - prev), dipole ? FRAME_ERROR_BAR_DIPOLE_RGB : FRAME_ERROR_BAR_RGB));
+        g_bad += e > prev * (1 + 1e-9);
         prev = fmin(prev, e), ++g_n;
     }
     if (g_n) fprintf(md, "- more Gaussians never score worse than fewer (%d rows)%s\n", g_n, g_bad ? ": NOT SO (above)" : "");
     prev = INFINITY;
     int t_bad = 0, t_n = 0;
+    fprintf(md, "\nTexture space by irradiance size:\n\n");
     for (int N = 256; N <= 2048; N *= 2) {
         snprintf(a, sizeof a, "%d", N), snprintf(b, sizeof b, "%d frame", N);
         const row *r = row_named(rows, a) ? row_named(rows, a) : row_named(rows, b);
         if (!r) continue;
         double e = frame_norm3(&r->fr.tr[REG_ALL]);
-        fprintf(md, "- TSD irradiance %d: %.2f %%\n", N, 100 * e);
-        if (e > prev * (1 + 1e-9)) fprintf(md, "- **violated**: TSD %d scores worse than the size below it%s\n", N, e - prev < FRAME_ERROR_BAR_RGB ? " (*not resolved*)" : ""), ++t_bad;
-        else if (prev < INFINITY && prev - e < FRAME_ERROR_BAR_RGB) fprintf(md, "- TSD %d against the size below it: *not resolved* (%.2f points)\n", N, 100 * (prev - e));
+        if (prev == INFINITY) fprintf(md, "- TSD %d: %.2f %%\n", N, 100 * e);
+        else fprintf(md, "- %sTSD %d: %.2f %%, %s than %d by %.2f points: %s\n", e > prev * (1 + 1e-9) ? "**violated**: " : "", N,
+                     100 * e, e > prev ? "worse" : "better", N / 2, 100 * fabs(e - prev), margin_word(fabs(e - prev), FRAME_ERROR_BAR_RGB));
+        t_bad += e > prev * (1 + 1e-9);
         prev = e, ++t_n;
     }
     if (t_n > 1) fprintf(md, "- texture space: a larger irradiance never scores worse%s\n", t_bad ? ": NOT SO (above)" : "");
@@ -288,7 +329,8 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "**Frame (transport)**: the final linear frame at %dx%d (`dermis-render`'s picture before the "
                 "tonemap) of the *transport run* — white albedo, no normal map, no shadows, in the renderer and in "
                 "`dermis-reference PACK --frame --without albedo,normal-map,shadows` alike (atlas %d, %dx%d samples a "
-                "texel, %dx%d sub-pixel rays a pixel with the diffusion at each, `--refine %d`) — over the interior skin pixels where "
+                "texel, %dx%d sub-pixel rays a pixel with the diffusion at each, `--refine %d`; the surface and full runs "
+                "without `--refine`) — over the interior skin pixels where "
                 "subsurface changes the reference by more than 2 %% (against the same reference `--without ...,"
                 "subsurface`): **normalised** = Σ|render − ref| / Σ|no-subsurface − ref| over them (100 %% = no "
                 "better than leaving subsurface out) and the **mean** relative error there "
