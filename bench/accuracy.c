@@ -23,7 +23,8 @@
  *     against `dermis-reference PACK --frame` in a transport run (white albedo, no normal
  *     map, no shadows; normalised by the no-subsurface frame where subsurface shows), then
  *     with the surface terms and with shadows; a no-subsurface row is the floor. The 2048
- *     row renders the scene packed at irradiance 2048 (its maps baked for that size).
+ *     row renders the scene packed at irradiance 2048 (its maps baked for that size; its
+ *     thin gather, more taps than a pack carries, left out).
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.
@@ -189,6 +190,7 @@ static const char *row_truth(const setting *s)
 static int row_pack(const setting *s)
 {
     return s->technique == DM_SSS_PRE_INTEGRATED ? PACK_PREINT : s->burley ? PACK_BURLEY : s->skin ? PACK_SKIN
+           : s->translucency                                 ? PACK_TRANSL
            : s->size == 2048 && !s->gaussians                ? PACK_2048
                                                               : s->gaussians;
 }
@@ -396,6 +398,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "error: the skin pack's profile has %d Gaussians, expected %d\n", packs[PACK_SKIN].profile.count, SKIN_G);
             return 3;
         }
+        if (row_pack(&rows_s[c]) == PACK_TRANSL && !packs[PACK_TRANSL].open &&
+            (!pack_transl(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_TRANSL])))
+            return 3;
         if (row_pack(&rows_s[c]) == PACK_2048 && !packs[PACK_2048].open &&
             (!pack_2048(bin, dir, hash, p, sizeof p) || !open_pack(p, &packs[PACK_2048])))
             return 3;

@@ -149,25 +149,40 @@ static int pack_skin(const char *bin, const char *dir, const char *hash, char *p
     return pack_variant(bin, "\"profile\": \"gems3-skin\"", value, "skin", pack_path);
 }
 
+/* The scene with `key` replaced by `value`, packed once per base pack (lps-sss-HASH-TAG.dpk)
+ * while this build's renderer still reads it. */
+static int pack_keyed(const char *bin, const char *dir, const char *hash, const char *key, const char *value,
+                      const char *tag, char *pack_path, size_t size)
+{
+    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
+    snprintf(pack_path, size, "%s/lps-sss-%.16s-%s.dpk", dir, hex, tag);
+    return cached(pack_path) || pack_variant(bin, key, value, tag, pack_path);
+}
+
 /* The scene as the pre-integrated technique packs it (its table and curvature map). */
 static int pack_preint(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
 {
-    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
-    snprintf(pack_path, size, "%s/lps-sss-%.16s-preint.dpk", dir, hex);
-    if (cached(pack_path)) return 1;
-    return pack_variant(bin, "\"taps\": 7, \"irradiance_size\": 1024,", "\"technique\": \"pre-integrated\",", "preint",
-                        pack_path);
+    return pack_keyed(bin, dir, hash, "\"taps\": 7, \"irradiance_size\": 1024,", "\"technique\": \"pre-integrated\",",
+                      "preint", pack_path, size);
 }
 
-/* The scene packed at irradiance 2048: its seam and thin-part maps and its gather baked for
- * that size (the renderer uploads them at the size they were baked for, and leaves them out at
- * any other: the 2048 row rendered from the 1024 pack has none of them). */
+/* The scene packed at irradiance 2048: its seam and thin-part maps baked for that size (the
+ * renderer uploads them at the size they were baked for and leaves them out at any other: the
+ * 2048 row rendered from the 1024 pack has none of them). Its thin gather is left out by
+ * dermis-pack all the same: on the head at 2048² it has more taps than a pack carries. */
 static int pack_2048(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
 {
-    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash;
-    snprintf(pack_path, size, "%s/lps-sss-%.16s-2048.dpk", dir, hex);
-    if (cached(pack_path)) return 1;
-    return pack_variant(bin, "\"irradiance_size\": 1024", "\"irradiance_size\": 2048", "i2048", pack_path);
+    return pack_keyed(bin, dir, hash, "\"irradiance_size\": 1024", "\"irradiance_size\": 2048", "i2048", pack_path, size);
+}
+
+/* The scene with translucency asked for (intensity 1): the "+ transl." rows render it (the
+ * scene's own pack, which does not ask for it, gives the renderer no intensity to transmit
+ * with, and the rows equalled their base rows). In texture space it still adds nothing by
+ * design: the thin-part map carries that light (--explain says so). */
+static int pack_transl(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
+{
+    return pack_keyed(bin, dir, hash, "\"shadows\": true,", "\"translucency\": { \"intensity\": 1.0 }, \"shadows\": true,",
+                      "transl", pack_path, size);
 }
 
 #endif

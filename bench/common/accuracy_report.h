@@ -48,8 +48,8 @@ enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2,
 #define FRAME_ERROR_BAR_DIPOLE_RGB 0.096
 #define FRAME_ERROR_BAR_DIPOLE_RED 0.044
 enum { MAX_FRAMES = 64, MAX_ROWS = 48, MAX_G = 8 };
-/* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit, the scene at irradiance 2048 */
-enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, PACK_2048, NPACKS };
+/* packs[]: 0 the scene's, g fitted to g Gaussians, pre-integrated, Burley's fit, the physical skin's fit, the scene at irradiance 2048, with translucency */
+enum { PACK_PREINT = MAX_G + 1, PACK_BURLEY, PACK_SKIN, PACK_2048, PACK_TRANSL, NPACKS };
 enum { MAX_SIZED = 8 }; /* texture-space references: one per (size, truth) */
 enum { REG_ALL = DM_REF_REGION_COUNT, NREG = DM_REF_REGION_COUNT + 1 }; /* stats index: region, or all */
 static const char *SCENE = "assets/scenes/lps-sss.json";
