@@ -15,8 +15,9 @@
 // sums): a texel whose index counts taps for gathered level g takes, for level u_gather_first + g,
 // sum_t weight_t * I(uv_s(t)) instead of its own term and the candidates', I level 0 read at the
 // site's UV as dm_level reads it (bilinear, coverage-normalised). The index holds the first tap's
-// row and column (x, w) and each level's tap count (y, z); the taps texture the header, the sites'
-// UVs, then the taps (the site's tap index, weight).
+// row and column (x, w) and levels 0 and 1's tap counts (y, z); the taps texture the header, the
+// sites' UVs, then the runs: with 3 or 4 levels a count tap (levels 2 and 3's), then the taps
+// level by level (the site's tap index, weight).
 uniform vec2 u_size; // the irradiance grid's texels
 #ifdef DM_THIN
 uniform sampler2D u_thin;
@@ -34,9 +35,11 @@ vec3 dm_gather_site(float s)
 {
     return dm_level(0, dm_gather_tap(int(s)));
 }
-vec3 dm_gathered(int g, vec4 ix)
+// gathered level g of the run whose level 0 starts at tap t, n its levels' taps
+vec3 dm_gathered(int g, int t, float n[4])
 {
-    int t = int(ix.x) * 4096 + int(ix.w) + (g == 1 ? int(ix.y) : 0), end = t + int(g == 0 ? ix.y : ix.z);
+    for (int m = 0; m < g; ++m) t += int(n[m]);
+    int end = t + int(n[g]);
     vec3 s0 = vec3(0.0), s1 = vec3(0.0); // two sums, as the CPU's
     for (; t + 1 < end; t += 2) {
         vec2 a = dm_gather_tap(t), b = dm_gather_tap(t + 1);
@@ -63,12 +66,16 @@ void main()
     vec3 sum = vec3(0.0);
 #ifdef DM_GATHER
     vec4 gix = texelFetch(u_gather_index, t, 0);
+    int run = int(gix.x) * 4096 + int(gix.w);
+    vec2 more = vec2(0.0); // with 3 or 4 levels the run's count tap: levels 2 and 3's taps
+    if (u_gather_count > 2 && gix.y + gix.z > 0.0) more = dm_gather_tap(run), run += 1;
+    float gn[4] = float[4](gix.y, gix.z, more.x, more.y);
 #endif
     for (int k = 0; k < DM_LEVELS; ++k) {
 #ifdef DM_GATHER
         int g = k - u_gather_first;
-        if (g >= 0 && g < u_gather_count && (g == 0 ? gix.y : gix.z) > 0.0) {
-            sum += u_level_weight[k] * dm_gathered(g, gix);
+        if (g >= 0 && g < u_gather_count && gn[g] > 0.0) {
+            sum += u_level_weight[k] * dm_gathered(g, run, gn);
             continue;
         }
 #endif

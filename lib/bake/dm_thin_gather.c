@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdbool.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,14 +30,19 @@ typedef struct job {
     const double *p, *nrm, *area; /* per texel */
     dm_gather_sites s[DM_THIN_GATHER_LEVELS], cs[DM_THIN_GATHER_LEVELS]; /* fine and coarse sites */
     int32_t *child_first[DM_THIN_GATHER_LEVELS], *children[DM_THIN_GATHER_LEVELS];
+    int32_t most_children; /* the most fine sites a coarse site holds */
     grid g[DM_THIN_GATHER_LEVELS], cg[DM_THIN_GATHER_LEVELS], seam;
     double reach[DM_THIN_GATHER_LEVELS], split[DM_THIN_GATHER_LEVELS];
     int64_t base[DM_THIN_GATHER_LEVELS], cbase[DM_THIN_GATHER_LEVELS]; /* the tap index of each level's first fine, coarse site */
-    int32_t *count;       /* per texel per level: taps (pass 1) */
+    int32_t *count;       /* per leader texel per level: its group's taps (pass 2) */
     uint8_t *why;         /* per texel: 1 facing away, 2 seam (pass 1) */
-    const int64_t *first; /* per texel: first tap (pass 2) */
+    int32_t *lead;        /* per texel: its group's leader texel (−1: uncovered) */
+    int32_t *next;        /* per texel: the next member of its group (−1: the last) */
+    double *radius;       /* per leader texel: its farthest member, mm */
+    uint8_t *gathers;     /* per leader texel: some member gathers */
+    const int64_t *first; /* per texel: first tap (pass 3) */
     float *taps;
-    bool fill;
+    int pass;             /* 1 which texels gather, 2 how many taps, 3 the taps */
 } job;
 
 static double dist2(const double *a, const double *b)
@@ -104,6 +110,10 @@ typedef struct probe {
     bool found;
     int32_t count;
     float *out;
+    int32_t leader;   /* the group whose taps these are (its members: j->next from it) */
+    double members;   /* how many */
+    double *fine;     /* scratch: a coarse site's fine sites' weights summed over the members */
+    uint8_t *used;    /* scratch: which of them some member reads */
 } probe;
 
 static bool find_away(void *ctx, int32_t k, double d2)
@@ -122,38 +132,55 @@ static bool find_any(void *ctx, int32_t k, double d2)
     return false;
 }
 
-/* A tap: a site of area a at distance² d2 as a point of mass G · A, but never more than any patch of
- * its area can hold under G (a disc around the centre: 1 − exp(−A / 2πv)). */
-static void tap(probe *p, int64_t index, double a, double d2)
+/* A site of area a at distance² d2 as a point of mass G · A, but never more than any patch of its
+ * area can hold under G (a disc around the centre: 1 − exp(−A / 2πv)). */
+static double site_weight(double v, double a, double d2)
 {
-    double v = p->j->o->variance_mm2[p->level];
-    double w = fmin(exp(-d2 / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
+    return fmin(exp(-d2 / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
+}
+
+static void emit(probe *p, int64_t index, double w)
+{
     if (p->out) p->out[2 * p->count] = (float)index, p->out[2 * p->count + 1] = (float)w;
     ++p->count;
 }
 
-/* A coarse site within reach: itself when split or farther, else its fine sites within reach. */
+/* A coarse site near the group: for each member within reach of it, the coarse site itself when
+ * split or farther (its weight its fine sites' sum, exact), else its fine sites within reach;
+ * each tap's weight the members' mean (one member: the texel's own). */
 static bool add_taps(void *ctx, int32_t k, double d2)
 {
+    (void)d2;
     probe *p = ctx;
     const job *j = p->j;
     const int g = p->level;
-    if (d2 >= j->split[g] * j->split[g]) { /* the coarse site's weight: its fine sites' sum, exact */
-        double v = j->o->variance_mm2[g], w = 0.0;
-        for (int32_t c = j->child_first[g][k]; c < j->child_first[g][k + 1]; ++c) {
-            int32_t f = j->children[g][c];
-            double df = dist2(p->q, j->s[g].p + 3 * (size_t)f), a = j->s[g].area[f];
-            w += fmin(exp(-df / (2.0 * v)) / (TWO_PI * v) * a, -expm1(-a / (TWO_PI * v)));
+    const double v = j->o->variance_mm2[g], reach2 = j->reach[g] * j->reach[g], split2 = j->split[g] * j->split[g];
+    const int32_t c0 = j->child_first[g][k], c1 = j->child_first[g][k + 1];
+    const double *cp = j->cs[g].p + 3 * (size_t)k;
+    double coarse = 0.0;
+    bool any_coarse = false;
+    for (int32_t c = c0; c < c1; ++c) p->fine[c - c0] = 0.0, p->used[c - c0] = 0;
+    for (int32_t m = p->leader; m >= 0; m = j->next[m]) {
+        const double *q = j->p + 3 * (size_t)m, dm = dist2(q, cp);
+        if (dm > reach2) continue;
+        if (dm >= split2) {
+            double w = 0.0;
+            for (int32_t c = c0; c < c1; ++c) {
+                int32_t f = j->children[g][c];
+                w += site_weight(v, j->s[g].area[f], dist2(q, j->s[g].p + 3 * (size_t)f));
+            }
+            coarse += w, any_coarse = true;
+            continue;
         }
-        if (p->out) p->out[2 * p->count] = (float)(j->cbase[g] + k), p->out[2 * p->count + 1] = (float)w;
-        ++p->count;
-        return true;
+        for (int32_t c = c0; c < c1; ++c) {
+            int32_t f = j->children[g][c];
+            double df = dist2(q, j->s[g].p + 3 * (size_t)f);
+            if (df <= reach2) p->fine[c - c0] += site_weight(v, j->s[g].area[f], df), p->used[c - c0] = 1;
+        }
     }
-    for (int32_t c = j->child_first[g][k]; c < j->child_first[g][k + 1]; ++c) {
-        int32_t f = j->children[g][c];
-        double df = dist2(p->q, j->s[g].p + 3 * (size_t)f);
-        if (df <= j->reach[g] * j->reach[g]) tap(p, j->base[g] + f, j->s[g].area[f], df);
-    }
+    if (any_coarse) emit(p, j->cbase[g] + k, coarse / p->members);
+    for (int32_t c = c0; c < c1; ++c)
+        if (p->used[c - c0]) emit(p, j->base[g] + j->children[g][c], p->fine[c - c0] / p->members);
     return true;
 }
 
@@ -161,32 +188,69 @@ static void rows(void *ctx, size_t begin, size_t end)
 {
     job *j = ctx;
     const int L = j->o->level_count;
+    double *fine = j->pass > 1 ? malloc(sizeof *fine * (size_t)(j->most_children + 1)) : NULL;
+    uint8_t *used = j->pass > 1 ? malloc((size_t)(j->most_children + 1)) : NULL;
+    if (j->pass > 1 && (!fine || !used)) abort(); /* a few kB */
     for (size_t y = begin; y < end; ++y)
         for (int x = 0; x < j->n; ++x) {
             size_t i = y * (size_t)j->n + (size_t)x;
             if (j->tri[i] < 0 || !(j->area[i] > 0)) continue;
             const double *q = j->p + 3 * i;
-            if (!j->fill) { /* a site facing away within near_mm, or a seam within seam_mm? */
-                probe pr = {j, j->nrm + 3 * i, q, 0, false, 0, NULL};
+            if (j->pass == 1) { /* a site facing away within near_mm, or a seam within seam_mm? */
+                probe pr = {j, j->nrm + 3 * i, q, 0, false, 0, NULL, 0, 0, NULL, NULL};
                 visit(&j->g[L - 1], q, j->o->near_mm, find_away, &pr);
                 j->why[i] = pr.found ? 1 : 0;
                 if (!pr.found && j->o->seam_mm > 0 && j->seam.count) {
                     visit(&j->seam, q, j->o->seam_mm, find_any, &pr);
                     j->why[i] = pr.found ? 2 : 0;
                 }
-                if (!pr.found) continue;
-            } else if (j->first[i + 1] == j->first[i]) {
                 continue;
             }
-            float *out = j->fill ? j->taps + 2 * j->first[i] : NULL;
+            if (j->lead[i] != (int32_t)i || !j->gathers[i] || (j->pass == 3 && j->first[i + 1] == j->first[i])) continue;
+            float *out = j->pass == 3 ? j->taps + 2 * j->first[i] : NULL;
+            if (out && L > 2) /* the run's count tap: gathered levels 2 and 3's taps */
+                out[0] = (float)j->count[L * i + 2], out[1] = L > 3 ? (float)j->count[L * i + 3] : 0.0f, out += 2;
+            double members = 0;
+            for (int32_t m = (int32_t)i; m >= 0; m = j->next[m]) ++members;
             for (int g = 0; g < L; ++g) {
-                probe pr = {j, NULL, q, g, false, 0, out};
+                probe pr = {j, NULL, q, g, false, 0, out, (int32_t)i, members, fine, used};
                 /* sites in ascending order within the visit: the sum at run time is deterministic */
-                visit(&j->cg[g], q, j->reach[g], add_taps, &pr);
-                if (!j->fill) j->count[L * i + g] = pr.count;
+                visit(&j->cg[g], q, j->reach[g] + j->radius[i], add_taps, &pr);
+                if (j->pass == 2) j->count[L * i + g] = pr.count;
                 if (out) out += 2 * pr.count;
             }
         }
+    free(fine), free(used);
+}
+
+/* The groups of `block` × `block` texels that share one run of taps: in each block, in row order,
+ * a covered texel not yet taken leads a group of the block's untaken covered texels within
+ * 2 · block · h of it in 3-D (a block across a chart's edge gives two groups); a group gathers
+ * when one of its members does. block 1: every texel alone. */
+static void group(job *j, int block, double h)
+{
+    const int n = j->n;
+    const double join2 = (2.0 * block * h) * (2.0 * block * h);
+    for (size_t i = 0; i < (size_t)n * n; ++i) j->lead[i] = -1, j->next[i] = -1, j->radius[i] = 0, j->gathers[i] = 0;
+    for (int by = 0; by < n; by += block)
+        for (int bx = 0; bx < n; bx += block)
+            for (int y = by; y < by + block && y < n; ++y)
+                for (int x = bx; x < bx + block && x < n; ++x) {
+                    int32_t l = y * n + x, last = l;
+                    if (j->tri[l] < 0 || !(j->area[l] > 0) || j->lead[l] >= 0) continue;
+                    j->lead[l] = l, j->gathers[l] = j->why[l] != 0;
+                    for (int yy = y; yy < by + block && yy < n; ++yy)
+                        for (int xx = yy == y ? x + 1 : bx; xx < bx + block && xx < n; ++xx) {
+                            int32_t m = yy * n + xx;
+                            double d2;
+                            if (j->tri[m] < 0 || !(j->area[m] > 0) || j->lead[m] >= 0 ||
+                                (d2 = dist2(j->p + 3 * (size_t)l, j->p + 3 * (size_t)m)) > join2)
+                                continue;
+                            j->lead[m] = l, j->next[last] = m, last = m;
+                            j->radius[l] = fmax(j->radius[l], sqrt(d2));
+                            j->gathers[l] |= j->why[m] != 0;
+                        }
+                }
 }
 
 void dm_thin_gather_options_for(const double *variance_mm2, int count, int size, double mm_per_unit,
@@ -266,10 +330,13 @@ static int cmp_double(const void *a, const void *b)
 static dm_result check(const dm_thin_gather_options *opt, dm_error *err)
 {
     if (opt->size < 1 || opt->size > DM_THIN_GATHER_SIZE_MAX || opt->level_count < 1 ||
-        opt->level_count > DM_THIN_GATHER_LEVELS || opt->first_level < 0 || opt->threads < 0)
-        return dm_fail(err, DM_ERR_RANGE, "thin gather: size %d (1..%d), levels %d (1..%d) from %d, threads %d",
-                       opt->size, DM_THIN_GATHER_SIZE_MAX, opt->level_count, DM_THIN_GATHER_LEVELS,
-                       opt->first_level, opt->threads);
+        opt->level_count > DM_THIN_GATHER_LEVELS || opt->first_level < 0 || opt->threads < 0 || opt->block < 0 ||
+        opt->block > DM_THIN_GATHER_BLOCK_MAX || (opt->block & (opt->block - 1)) || opt->taps_max < 0)
+        return dm_fail(err, DM_ERR_RANGE,
+                       "thin gather: size %d (1..%d), levels %d (1..%d) from %d, threads %d, block %d (0 or a power of "
+                       "two up to %d), taps_max %lld (>= 0)", opt->size, DM_THIN_GATHER_SIZE_MAX, opt->level_count,
+                       DM_THIN_GATHER_LEVELS, opt->first_level, opt->threads, opt->block, DM_THIN_GATHER_BLOCK_MAX,
+                       (long long)opt->taps_max);
     bool finite = opt->mm_per_unit > 0 && isfinite(opt->mm_per_unit) && opt->near_mm > 0 && isfinite(opt->near_mm) &&
                   opt->seam_mm >= 0 && isfinite(opt->seam_mm);
     for (int g = 0; g < opt->level_count; ++g)
@@ -295,10 +362,12 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
     double *p = calloc(3 * texels, sizeof *p), *nrm = calloc(3 * texels, sizeof *nrm), *area = calloc(texels, sizeof *area);
     double *sides = malloc(sizeof *sides * texels), *seam = NULL;
     int32_t *count = calloc((size_t)L * texels, sizeof *count);
-    uint8_t *why = calloc(texels, 1);
+    uint8_t *why = calloc(texels, 1), *gathers = malloc(texels);
+    int32_t *lead = malloc(sizeof *lead * texels), *next = malloc(sizeof *next * texels);
+    double *radius = malloc(sizeof *radius * texels);
     int64_t *first = malloc(sizeof *first * (texels + 1)), seam_count = 0;
     out->index = calloc(4 * texels, sizeof *out->index);
-    rc = tri && p && nrm && area && sides && count && why && first && out->index
+    rc = tri && p && nrm && area && sides && count && why && gathers && lead && next && radius && first && out->index
              ? DM_OK
              : dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather %dx%d: out of memory", n, n);
     if (rc == DM_OK) rc = dm_uv_raster(m, NULL, n, n, opt->threads, tri, NULL, err);
@@ -324,6 +393,9 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
             if (rc == DM_OK && (!grid_make(&j.g[g], j.s[g].p, j.s[g].count, fmax(j.reach[g], opt->near_mm)) ||
                                 !grid_make(&j.cg[g], j.cs[g].p, j.cs[g].count, j.reach[g])))
                 rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: sites: out of memory");
+            for (int64_t k = 0; rc == DM_OK && k < j.cs[g].count; ++k)
+                j.most_children = j.most_children > j.child_first[g][k + 1] - j.child_first[g][k]
+                                      ? j.most_children : j.child_first[g][k + 1] - j.child_first[g][k];
             j.base[g] = sites, sites += j.s[g].count;
             j.cbase[g] = sites, sites += j.cs[g].count;
             out->sites[g] = j.s[g].count + j.cs[g].count;
@@ -335,21 +407,39 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
     if (rc == DM_OK && opt->seam_mm > 0) rc = seam_points(m, opt->mm_per_unit, &seam, &seam_count, err);
     if (rc == DM_OK && opt->seam_mm > 0 && !grid_make(&j.seam, seam, seam_count, opt->seam_mm))
         rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: seam points: out of memory");
+    int block = opt->block ? opt->block : 1;
+    const int64_t taps_max = opt->taps_max ? opt->taps_max : DM_THIN_GATHER_TAPS_MAX;
     if (rc == DM_OK) {
         j.tri = tri, j.p = p, j.nrm = nrm, j.area = area, j.count = count, j.why = why;
-        dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 1: which texels, how many taps */
+        j.lead = lead, j.next = next, j.radius = radius, j.gathers = gathers;
+        j.pass = 1;
+        dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 1: which texels */
+    }
+    while (rc == DM_OK) { /* pass 2: how many taps, block by block until they fit (block 0: auto) */
+        group(&j, block, h);
+        memset(count, 0, sizeof *count * (size_t)L * texels);
+        j.pass = 2;
+        dm_parallel_for((size_t)n, 1, opt->threads, rows, &j);
         first[0] = sites;
         for (size_t i = 0; i < texels; ++i) {
-            int64_t c = 0;
-            for (int g = 0; g < L; ++g) c += count[L * i + g];
-            if ((double)count[L * i] >= DM_THIN_GATHER_FLOAT_EXACT) rc = DM_ERR_RANGE;
+            /* the index marks a gathering texel by its first two levels' taps: a run with none
+             * (no site in reach: never on a mesh) gathers nothing */
+            if (count[L * i] + (L > 1 ? count[L * i + 1] : 0) == 0)
+                for (int g = 0; g < L; ++g) count[L * i + g] = 0;
+            int64_t c = L > 2 && count[L * i] + count[L * i + 1] > 0 ? DM_THIN_GATHER_COUNT_TAPS : 0;
+            for (int g = 0; g < L; ++g) {
+                c += count[L * i + g];
+                if ((double)count[L * i + g] >= DM_THIN_GATHER_FLOAT_EXACT) rc = DM_ERR_RANGE;
+            }
             first[i + 1] = first[i] + c;
         }
         out->tap_count = first[texels];
         if (rc != DM_OK) rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: a texel has 2^24 taps or more", n, n);
-        else if (out->tap_count - sites > DM_THIN_GATHER_TAPS_MAX)
-            rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: %lld taps, more than %d", n, n,
-                         (long long)(out->tap_count - sites), DM_THIN_GATHER_TAPS_MAX);
+        else if (out->tap_count - sites <= taps_max) break;
+        else if (opt->block || block >= DM_THIN_GATHER_BLOCK_MAX)
+            rc = dm_fail(err, DM_ERR_RANGE, "thin gather %dx%d: %lld taps in blocks of %d x %d, more than %lld", n, n,
+                         (long long)(out->tap_count - sites), block, block, (long long)taps_max);
+        else block *= 2;
     }
     if (rc == DM_OK) {
         out->taps_rows = (int)((out->tap_count + DM_THIN_GATHER_TAPS_WIDTH - 1) / DM_THIN_GATHER_TAPS_WIDTH);
@@ -357,8 +447,8 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
         if (!out->taps) rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather: %lld taps: out of memory", (long long)out->tap_count);
     }
     if (rc == DM_OK) {
-        j.first = first, j.taps = out->taps, j.fill = true;
-        dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 2: the taps */
+        j.first = first, j.taps = out->taps, j.pass = 3;
+        dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 3: the taps */
         out->taps[0] = (float)opt->first_level, out->taps[1] = (float)L;
         out->taps[2] = (float)DM_THIN_GATHER_FORMAT, out->taps[3] = (float)(sites - DM_THIN_GATHER_HEADER_TAPS);
         for (int g = 0; g < L; ++g) {
@@ -368,18 +458,19 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
         double most = 0;
         int64_t gathering = 0;
         for (size_t i = 0; i < texels; ++i) {
-            if (first[i + 1] == first[i]) continue;
+            size_t l = lead[i] >= 0 ? (size_t)lead[i] : i; /* its group's run */
+            if (first[l + 1] == first[l]) continue;
             float *o = out->index + 4 * i;
-            o[0] = (float)(first[i] / DM_THIN_GATHER_TAPS_WIDTH), o[3] = (float)(first[i] % DM_THIN_GATHER_TAPS_WIDTH);
-            o[1] = (float)count[L * i], o[2] = L > 1 ? (float)count[L * i + 1] : 0.0f;
-            ++gathering, most = fmax(most, (double)(first[i + 1] - first[i]));
+            o[0] = (float)(first[l] / DM_THIN_GATHER_TAPS_WIDTH), o[3] = (float)(first[l] % DM_THIN_GATHER_TAPS_WIDTH);
+            o[1] = (float)count[L * l], o[2] = L > 1 ? (float)count[L * l + 1] : 0.0f;
+            ++gathering, most = fmax(most, (double)(first[l + 1] - first[l]));
             if (stats) stats->thin_texels += why[i] == 1, stats->seam_texels += why[i] == 2;
         }
-        out->size = n, out->first_level = opt->first_level, out->level_count = L;
+        out->size = n, out->first_level = opt->first_level, out->level_count = L, out->block = block;
         if (stats) {
             stats->covered_texels = (int64_t)covered, stats->gathering_texels = gathering;
             stats->taps = out->tap_count - sites, stats->texel_mm = h, stats->max_taps = most;
-            stats->dropped_mm2 = j.s[L - 1].dropped_mm2;
+            stats->dropped_mm2 = j.s[L - 1].dropped_mm2, stats->block = block;
             for (int g = 0; g < L; ++g) stats->cell[g] = out->cell[g], stats->sites[g] = out->sites[g];
         }
     }
@@ -389,6 +480,7 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
     }
     grid_free(&j.seam);
     free(tri), free(p), free(nrm), free(area), free(sides), free(count), free(why), free(first), free(seam);
+    free(gathers), free(lead), free(next), free(radius);
     if (rc != DM_OK) dm_thin_gather_free(out);
     return rc;
 }
@@ -410,6 +502,13 @@ void dm_thin_gather_stats_prov(const dm_thin_gather_stats *s, dm_provenance *p)
     dm_prov_add_int(p, "gather_sites1", s->sites[1]);
     dm_prov_add_int(p, "gather_cell0", s->cell[0]);
     dm_prov_add_int(p, "gather_cell1", s->cell[1]);
+    for (int g = 2; g < DM_THIN_GATHER_LEVELS; ++g) /* only with a third or fourth gathered level */
+        if (s->sites[g] > 0) {
+            char key[32];
+            snprintf(key, sizeof key, "gather_sites%d", g), dm_prov_add_int(p, key, s->sites[g]);
+            snprintf(key, sizeof key, "gather_cell%d", g), dm_prov_add_int(p, key, s->cell[g]);
+        }
+    if (s->block > 1) dm_prov_add_int(p, "gather_block", s->block); /* absent: every texel alone */
     dm_prov_add_double(p, "gather_texel_mm", s->texel_mm);
     dm_prov_add_double(p, "gather_dropped_mm2", s->dropped_mm2);
 }

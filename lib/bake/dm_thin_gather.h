@@ -34,19 +34,38 @@
  *     their squashed rims, as the surface next door (docs/seam-map.md), and the widest levels
  *     carry nearly all of the seam region's error.
  *
+ * Which levels: every level with σ_k ≥ 1 mm, the widest DM_THIN_GATHER_LEVELS of them (the
+ * narrower ones the atlas carries within a texel or two). A fit with more Gaussians splits the
+ * same wide light over more levels (skin1 with 8: 1.6, 4.5, 13 and 40 mm²), and a gather that
+ * took only the widest two left the first two to the atlas blur: in the frame the fits ranked 5
+ * Gaussians above 6, 7 and 8 (issue #27).
+ *
  * Storage (pack entries "gather.index" and "gather.taps", rows bottom-up):
  *   index: N × N RGBA32F per texel (the row of its first tap, taps of gathered level 0, taps of
  *          gathered level 1, the column of its first tap: the tap t = row · 4096 + column); a
- *          texel gathers when its tap counts are not 0;
+ *          texel gathers when its first two levels' tap counts are not both 0;
  *   taps:  DM_THIN_GATHER_TAPS_WIDTH × rows RG32F, 2 floats a tap. Taps 0 and 1 are the header:
  *          (first gathered level, gathered levels) and (DM_THIN_GATHER_FORMAT, sites). Then the
- *          sites, one a tap: (u, v), level 0's sites then level 1's. Then each gathering texel's
- *          taps, level 0's then level 1's: (the site's tap index, weight).
+ *          sites, one a tap: (u, v), level 0's sites, level 1's, and so on. Then each gathering
+ *          texel's run: with 3 or 4 gathered levels first a count tap (taps of gathered level 2,
+ *          of level 3 or 0), then level 0's taps, level 1's, ...: (the site's tap index, weight).
  * Float indices and counts are exact below 2^24: the bake refuses more sites (DM_ERR_RANGE); the
- * taps themselves are addressed by row and column, and the bake refuses more than
- * DM_THIN_GATHER_TAPS_MAX (DM_ERR_RANGE: a pack leaves the gather out).
- * Deterministic: the same bytes for any thread count (texels in parallel, each alone; the
- * offsets a prefix sum in texel order; the sites built in one thread). */
+ * taps themselves are addressed by row and column, and the bake refuses more than taps_max
+ * (DM_THIN_GATHER_TAPS_MAX; DM_ERR_RANGE: a pack leaves the gather out).
+ *
+ * Blocks: where one run of taps per texel would pass taps_max (the head at 2048², or at 1024² for
+ * a fit whose widest level reaches 20 mm), texels share runs in blocks of B × B (B = 2, then 4):
+ * in each block a covered texel leads a group of the block's other covered texels within 2·B·h
+ * of it in 3-D (a block across a chart's edge gives two groups), the group gathers when a member
+ * would, and each of its taps weighs the members' mean weight for that site (a member's split and
+ * reach its own: a site near one member and coarse for another gives both taps), so a member's sum
+ * is the mean of the group's exact sums: the exact sum box-filtered over about B texels, whose
+ * error is second order in B·h/σ (at 2048² with B = 2, h 0.24 mm, on a σ of 1.4 mm: ~1 % of that
+ * level's variance). B = 1 is every texel alone, byte for byte the bake without blocks. Index
+ * entries of a group point at the same run; the format is the same.
+ *
+ * Deterministic: the same bytes for any thread count (texels in parallel, each alone; groups made
+ * in one thread; the offsets a prefix sum in texel order; the sites built in one thread). */
 #ifndef DM_THIN_GATHER_H
 #define DM_THIN_GATHER_H
 
@@ -62,11 +81,13 @@ extern "C" {
 #endif
 
 enum {
-    DM_THIN_GATHER_LEVELS = 2,         /* the profile's widest levels it gathers, at most */
+    DM_THIN_GATHER_LEVELS = DM_LEVEL_SUM_GATHER_LEVELS, /* the profile's widest levels it gathers, at most */
+    DM_THIN_GATHER_COUNT_TAPS = DM_LEVEL_SUM_COUNT_TAPS, /* a run's count tap, with 3 or 4 levels */
     DM_THIN_GATHER_TAPS_WIDTH = DM_LEVEL_SUM_TAPS_WIDTH, /* the taps texture's width */
     DM_THIN_GATHER_HEADER_TAPS = DM_LEVEL_SUM_HEADER_TAPS,
     DM_THIN_GATHER_SIZE_MAX = 4096,
     DM_THIN_GATHER_TAPS_MAX = 1 << 25, /* taps (8 bytes each) a gather may have: 256 MiB */
+    DM_THIN_GATHER_BLOCK_MAX = 4,      /* the widest blocks of texels that share their taps */
     DM_THIN_GATHER_FORMAT = DM_LEVEL_SUM_GATHER_FORMAT /* the header's mark of this layout */
 };
 #define DM_THIN_GATHER_FLOAT_EXACT 16777216.0 /* 2^24: sites and counts a float counts exactly */
@@ -86,20 +107,23 @@ typedef struct dm_thin_gather_options {
     double near_mm;                                /* > 0: a site facing away this near makes a texel gather */
     double seam_mm;                                /* ≥ 0: a seam edge this near makes a texel gather (0: none) */
     int threads;                                   /* 0: all cores; the result does not depend on it */
+    int block;        /* texels share taps in blocks of block × block: 1, 2 or 4; 0: the smallest that fits taps_max */
+    int64_t taps_max; /* the most taps (0: DM_THIN_GATHER_TAPS_MAX); more: DM_ERR_RANGE */
 } dm_thin_gather_options;
 
 typedef struct dm_thin_gather_stats {
     int64_t covered_texels, gathering_texels, taps;
     int64_t thin_texels, seam_texels;   /* gathering for a surface facing away, for a seam (both: thin) */
-    int64_t sites[DM_THIN_GATHER_LEVELS];
+    int64_t sites[DM_THIN_GATHER_LEVELS]; /* per gathered level, 0 past the last */
     int cell[DM_THIN_GATHER_LEVELS];    /* C per gathered level */
     double texel_mm;                    /* h, the median texel side */
-    double max_taps;                    /* the most taps one texel has (both levels) */
+    double max_taps;                    /* the most taps one texel has (every level) */
     double dropped_mm2;                 /* sites' area with no covered texel near (widest level) */
+    int block;                          /* the blocks' side */
 } dm_thin_gather_stats;
 
 typedef struct dm_thin_gather {
-    int size, first_level, level_count;
+    int size, first_level, level_count, block;
     int cell[DM_THIN_GATHER_LEVELS];
     int64_t sites[DM_THIN_GATHER_LEVELS];
     float *index;      /* N × N × 4 */
@@ -109,7 +133,8 @@ typedef struct dm_thin_gather {
 } dm_thin_gather;
 
 /* The options for a profile's widest levels (up to DM_THIN_GATHER_LEVELS, only those with
- * σ_k ≥ 1 mm: narrower ones the atlas carries) with near_mm = 2 σ and seam_mm = 1.1 σ of the widest;
+ * σ_k ≥ 1 mm: narrower ones the atlas carries) with near_mm = 2 σ and seam_mm = 1.1 σ of the widest,
+ * block 0 (the smallest that fits DM_THIN_GATHER_TAPS_MAX);
  * level_count 0 when none qualifies. variance_mm2: the profile's count variances, ascending. */
 void dm_thin_gather_options_for(const double *variance_mm2, int count, int size, double mm_per_unit,
                                 dm_thin_gather_options *opt);

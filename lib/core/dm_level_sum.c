@@ -23,11 +23,11 @@ static dm_v4 level_at(const dm_level_sum_pass *p, float u, float v)
     return t[3] > 1e-4f ? t / t[3] : zero;
 }
 
-/* Gathering texel j's sum of gathered level g: even and odd taps in two sums (the adds are not
- * one chain), then added, as diffusion.glsl's dm_gathered. */
-static dm_v4 gathered(const dm_level_sum_gather *G, size_t j, int g)
+/* Run r's sum of gathered level g: even and odd taps in two sums (the adds are not one chain),
+ * then added, as diffusion.glsl's dm_gathered. */
+static dm_v4 gathered(const dm_level_sum_gather *G, size_t r, int g)
 {
-    const int32_t *f = G->first + (G->gathering + 1) * (size_t)g + j;
+    const int32_t *f = G->first + (G->run_count + 1) * (size_t)g + r;
     const dm_level_sum_tap *t = G->taps + f[0], *end = G->taps + f[1];
     const float *value = G->value;
     dm_v4 s0 = {0, 0, 0, 0}, s1 = s0;
@@ -39,6 +39,14 @@ static dm_v4 gathered(const dm_level_sum_gather *G, size_t j, int g)
     s0 = s0 + s1;
     s0[3] = 0.0f;
     return s0;
+}
+
+/* This level's sum of each run with taps of it; each alone. */
+static void run_values(void *ctx, size_t begin, size_t end)
+{
+    const dm_level_sum_pass *p = ctx;
+    const dm_level_sum_gather *G = p->gather;
+    for (size_t r = begin; r < end; ++r) dm_v4_store(G->run_value + 4 * r, gathered(G, r, p->level_index - G->first_level));
 }
 
 /* Level 0 at each slot's UV (level_at: the sampler's read); each alone. */
@@ -76,10 +84,11 @@ static void rows(void *ctx, size_t begin, size_t end)
             dm_v4 v = a > 1e-4f ? l / a : zero;
             bool gathering = gj < gend && G->x[gj] == x, candidates = tj < tend && th->x[tj] == x;
             size_t here = gathering ? gj++ : 0, cands = candidates ? tj++ : 0;
-            const int32_t *gf = gathering ? G->first + (G->gathering + 1) * (size_t)g + here : NULL;
+            const size_t r = gathering ? (size_t)G->run[here] : 0;
+            const int32_t *gf = gathering ? G->first + (G->run_count + 1) * (size_t)g + r : NULL;
             if (gf && gf[1] > gf[0]) {
-                /* a gathered level: its 3-D sum replaces the level and the candidates */
-                dm_v4 gs = gathered(G, here, g);
+                /* a gathered level: its 3-D sum (its run's) replaces the level and the candidates */
+                dm_v4 gs = dm_v4_load(G->run_value + 4 * r);
                 float keep = dm_v4_load(s)[3];
                 sum = dm_v4_load(s) + w * gs;
                 sum[3] = keep;
@@ -115,6 +124,9 @@ bool dm_level_sum_add(const dm_level_sum_pass *p)
     if (p->thin && (p->thin->n != p->n || !(p->variance_mm2 > 0.0f))) return false;
     if (p->gather && (p->gather->n != p->n || (p->first && p->gather->first_level == 0))) return false;
     if (p->gather && p->first) dm_parallel_for(p->gather->slot_count, 256, p->gather->thread_count, values, (void *)p);
+    const int g = p->gather ? p->level_index - p->gather->first_level : -1;
+    if (p->gather && g >= 0 && g < p->gather->level_count)
+        dm_parallel_for(p->gather->run_count, 64, p->gather->thread_count, run_values, (void *)p);
     dm_parallel_for((size_t)p->n, 0, p->thread_count, rows, (void *)p);
     return true;
 }
@@ -163,14 +175,39 @@ static size_t first_tap(const float *ix)
     return (size_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (size_t)ix[3];
 }
 
-/* Texel i's taps of every gathered level, within the taps: false when they lie outside. */
-static bool texel_taps(const float *ix, int count, int64_t sites, int64_t tap_count, size_t *t, size_t *end)
+static bool a_count(float c)
 {
-    if (!(ix[0] >= 0.0f && ix[3] >= 0.0f && ix[3] < DM_LEVEL_SUM_TAPS_WIDTH && ix[1] >= 0.0f && ix[2] >= 0.0f &&
-          ix[1] < 16777216.0f && ix[2] < 16777216.0f))
+    return c >= 0.0f && c < 16777216.0f && c == floorf(c);
+}
+
+/* A gathering texel's run: its first level's first tap *t (past the count tap with 3 or 4
+ * levels) and each level's taps n[l]; false when they lie outside the taps (or a count tap
+ * counts a level there is not). */
+static bool texel_run(const float *ix, const float *taps, int count, int64_t sites, int64_t tap_count, size_t *t,
+                      size_t n[DM_LEVEL_SUM_GATHER_LEVELS])
+{
+    if (!(ix[0] >= 0.0f && ix[3] >= 0.0f && ix[3] < DM_LEVEL_SUM_TAPS_WIDTH && a_count(ix[1]) && a_count(ix[2])))
         return false;
-    *t = first_tap(ix), *end = *t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
-    return *t >= (size_t)(DM_LEVEL_SUM_HEADER_TAPS + sites) && *end <= (size_t)tap_count;
+    *t = first_tap(ix);
+    if (*t < (size_t)(DM_LEVEL_SUM_HEADER_TAPS + sites)) return false;
+    for (int l = 0; l < DM_LEVEL_SUM_GATHER_LEVELS; ++l) n[l] = 0;
+    n[0] = (size_t)ix[1], n[1] = count > 1 ? (size_t)ix[2] : 0;
+    if (count > 2) {
+        if (*t + DM_LEVEL_SUM_COUNT_TAPS > (size_t)tap_count) return false;
+        const float *c = taps + 2 * *t;
+        if (!a_count(c[0]) || !a_count(c[1]) || (count < 4 && c[1] != 0.0f)) return false;
+        n[2] = (size_t)c[0], n[3] = count > 3 ? (size_t)c[1] : 0, *t += DM_LEVEL_SUM_COUNT_TAPS;
+    }
+    size_t end = *t;
+    for (int l = 0; l < count; ++l) end += n[l];
+    return end <= (size_t)tap_count;
+}
+
+static size_t run_taps(const size_t n[DM_LEVEL_SUM_GATHER_LEVELS])
+{
+    size_t total = 0;
+    for (int l = 0; l < DM_LEVEL_SUM_GATHER_LEVELS; ++l) total += n[l];
+    return total;
 }
 
 typedef struct site_key {
@@ -194,15 +231,17 @@ bool dm_level_sum_gather_check(const float *index, int n, const float *taps, int
     if (!index || !taps || n < 1 || tap_count < DM_LEVEL_SUM_HEADER_TAPS) return false;
     int first = (int)taps[0], count = (int)taps[1];
     int64_t sites = (int64_t)taps[3], total = 0;
-    if (taps[2] != (float)DM_LEVEL_SUM_GATHER_FORMAT || first < 1 || count < 1 || count > 2 || first + count > levels ||
+    if (taps[2] != (float)DM_LEVEL_SUM_GATHER_FORMAT || first < 1 || count < 1 || count > DM_LEVEL_SUM_GATHER_LEVELS ||
+        first + count > levels ||
         sites < 1 || DM_LEVEL_SUM_HEADER_TAPS + sites > tap_count)
         return false;
     for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) {
         const float *ix = index + 4 * i;
-        size_t t, end;
+        size_t t, n[DM_LEVEL_SUM_GATHER_LEVELS];
         if (!gathers(ix)) continue;
-        if (!texel_taps(ix, count, sites, tap_count, &t, &end) || (total += (int64_t)(end - t)) >= INT32_MAX) return false;
-        for (; t < end; ++t) {
+        if (!texel_run(ix, taps, count, sites, tap_count, &t, n) || (total += (int64_t)run_taps(n)) >= INT32_MAX)
+            return false;
+        for (size_t end = t + run_taps(n); t < end; ++t) {
             float s = taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS;
             if (!(s >= 0.0f && s < (float)sites)) return false;
         }
@@ -219,62 +258,85 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
     int first, count;
     if (!dm_level_sum_gather_check(index, n, taps, tap_count, levels, &first, &count)) return false;
     int64_t sites = (int64_t)taps[3];
-    size_t nn = (size_t)n * (size_t)n, gathering = 0, total = 0;
-    for (size_t i = 0; i < nn; ++i) {
-        const float *ix = index + 4 * i;
-        if (!gathers(ix)) continue;
-        ++gathering, total += (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0);
+    size_t nn = (size_t)n * (size_t)n, gathering = 0;
+    for (size_t i = 0; i < nn; ++i) gathering += gathers(index + 4 * i);
+    /* texels that share a run (blocks: bake/dm_thin_gather.h) share its sums: one run each, in
+     * the order of the first texel that reads it */
+    site_key *key = malloc(sizeof *key * (gathering ? gathering : 1)); /* (the run's first tap, the texel) */
+    size_t *at = malloc(sizeof *at * (gathering ? gathering : 1)); /* gathering texel → its index texel */
+    int32_t *run = malloc(sizeof(int32_t) * (gathering ? gathering : 1)), *lead = malloc(sizeof(int32_t) * (gathering ? gathering : 1));
+    bool ok = key && at && run && lead;
+    for (size_t i = 0, j = 0; ok && i < nn; ++i)
+        if (gathers(index + 4 * i)) at[j] = i, key[j] = (site_key){(int64_t)first_tap(index + 4 * i), (int64_t)j}, ++j;
+    if (ok) qsort(key, gathering, sizeof *key, cmp_key);
+    for (size_t k = 0; ok && k < gathering; ++k) { /* the first texel of each start leads its run */
+        bool same = k > 0 && key[k].texel == key[k - 1].texel;
+        lead[key[k].site] = same ? lead[key[k - 1].site] : (int32_t)key[k].site;
+        if (same && memcmp(index + 4 * at[key[k].site], index + 4 * at[lead[key[k].site]], sizeof(float) * 4))
+            ok = false; /* one run read with other counts: not a pack this reads */
     }
+    size_t runs = 0, total = 0;
+    for (size_t j = 0; ok && j < gathering; ++j) {
+        if (lead[j] == (int32_t)j) {
+            size_t t, c[DM_LEVEL_SUM_GATHER_LEVELS];
+            texel_run(index + 4 * at[j], taps, count, sites, tap_count, &t, c); /* checked above */
+            total += run_taps(c), run[j] = (int32_t)runs++;
+        } else {
+            run[j] = run[lead[j]];
+        }
+    }
+    free(key);
     dm_level_sum_gather g = {n, first, count, malloc(sizeof(int32_t) * ((size_t)n + 1)),
-                             malloc(sizeof(int32_t) * (gathering ? gathering : 1)),
-                             malloc(sizeof(int32_t) * ((gathering + 1) * (size_t)count)),
-                             malloc(sizeof(dm_level_sum_tap) * (total ? total : 1)), NULL, NULL, gathering, total, 0, 0};
+                             malloc(sizeof(int32_t) * (gathering ? gathering : 1)), run,
+                             malloc(sizeof(int32_t) * ((runs + 1) * (size_t)count)),
+                             malloc(sizeof(dm_level_sum_tap) * (total ? total : 1)), NULL, NULL,
+                             malloc(sizeof(float) * 4 * (runs ? runs : 1)), gathering, runs, total, 0, 0};
     int32_t *slot = malloc(sizeof(int32_t) * (size_t)sites);
-    bool ok = g.row && g.x && g.first && g.taps && slot;
+    ok = ok && g.row && g.x && g.run && g.first && g.taps && g.run_value && slot;
     for (int64_t s = 0; ok && s < sites; ++s) slot[s] = -1;
-    for (size_t i = 0; ok && i < nn; ++i) { /* the sites some tap reads */
-        const float *ix = index + 4 * i;
-        if (!gathers(ix)) continue;
-        for (size_t t = first_tap(ix), e = t + (size_t)ix[1] + (count > 1 ? (size_t)ix[2] : 0); t < e; ++t)
-            slot[(size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS)] = 0;
+    for (size_t j = 0; ok && j < gathering; ++j) { /* the sites some tap reads */
+        size_t t, c[DM_LEVEL_SUM_GATHER_LEVELS];
+        if (lead[j] != (int32_t)j) continue;
+        texel_run(index + 4 * at[j], taps, count, sites, tap_count, &t, c);
+        for (size_t e = t + run_taps(c); t < e; ++t) slot[(size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS)] = 0;
     }
     /* numbered by the texel their UV falls in, row by row (ties: the pack's order), so that the
      * frame's values read level 0 in its own order */
     size_t used = 0;
     for (int64_t s = 0; ok && s < sites; ++s) used += slot[s] == 0;
-    site_key *key = ok ? malloc(sizeof *key * (used ? used : 1)) : NULL;
-    ok = ok && key;
+    site_key *sk = ok ? malloc(sizeof *sk * (used ? used : 1)) : NULL;
+    ok = ok && sk;
     for (int64_t s = 0, u = 0; ok && s < sites; ++s)
         if (slot[s] == 0) {
             const float *uv = taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
             float x = floorf(uv[0] * (float)n), y = floorf(uv[1] * (float)n);
             x = x >= 0.0f ? x < (float)n ? x : (float)n : -1.0f, y = y >= 0.0f ? y < (float)n ? y : (float)n : -1.0f;
-            key[u++] = (site_key){(int64_t)(y + 1.0f) * (n + 2) + (int64_t)(x + 1.0f), s};
+            sk[u++] = (site_key){(int64_t)(y + 1.0f) * (n + 2) + (int64_t)(x + 1.0f), s};
         }
-    if (ok) qsort(key, used, sizeof *key, cmp_key);
-    for (size_t u = 0; ok && u < used; ++u) slot[key[u].site] = (int32_t)u;
+    if (ok) qsort(sk, used, sizeof *sk, cmp_key);
+    for (size_t u = 0; ok && u < used; ++u) slot[sk[u].site] = (int32_t)u;
     g.slot_count = ok ? used : 0;
-    free(key);
+    free(sk);
+    for (size_t j = 0, y = 0; ok && y <= (size_t)n; ++y) { /* the rows' gathering texels */
+        while (j < gathering && at[j] < y * (size_t)n) ++j;
+        g.row[y] = (int32_t)j;
+    }
+    for (size_t j = 0; ok && j < gathering; ++j) g.x[j] = (int32_t)(at[j] % (size_t)n);
     size_t k = 0;
-    for (int l = 0; ok && l < count; ++l) { /* level by level, the texels in order, each one's taps in the pack's order */
-        int32_t *lf = g.first + (gathering + 1) * (size_t)l;
-        size_t j = 0;
-        for (int y = 0; y < n; ++y) {
-            if (l == 0) g.row[y] = (int32_t)j;
-            for (int x = 0; x < n; ++x) {
-                const float *ix = index + 4 * ((size_t)y * (size_t)n + (size_t)x);
-                if (!gathers(ix)) continue;
-                size_t t = first_tap(ix) + (l ? (size_t)ix[1] : 0);
-                if (l == 0) g.x[j] = x;
-                lf[j++] = (int32_t)k;
-                for (size_t e = t + (size_t)ix[1 + l]; t < e; ++t, ++k) {
-                    size_t s = (size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS);
-                    g.taps[k] = (dm_level_sum_tap){slot[s], taps[2 * t + 1]};
-                }
+    for (int l = 0; ok && l < count; ++l) { /* level by level, the runs in order, each one's taps in the pack's order */
+        int32_t *lf = g.first + (runs + 1) * (size_t)l;
+        for (size_t j = 0; j < gathering; ++j) {
+            size_t t, c[DM_LEVEL_SUM_GATHER_LEVELS];
+            if (lead[j] != (int32_t)j) continue;
+            texel_run(index + 4 * at[j], taps, count, sites, tap_count, &t, c);
+            for (int m = 0; m < l; ++m) t += c[m];
+            lf[run[j]] = (int32_t)k;
+            for (size_t e = t + c[l]; t < e; ++t, ++k) {
+                size_t s = (size_t)(taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS);
+                g.taps[k] = (dm_level_sum_tap){slot[s], taps[2 * t + 1]};
             }
         }
-        lf[j] = (int32_t)k;
-        if (l == 0) g.row[n] = (int32_t)j;
+        lf[runs] = (int32_t)k;
     }
     if (ok) {
         g.uv = malloc(sizeof(float) * 2 * (g.slot_count ? g.slot_count : 1));
@@ -286,7 +348,7 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
             const float *uv = taps + 2 * (DM_LEVEL_SUM_HEADER_TAPS + s);
             g.uv[2 * (size_t)slot[s]] = uv[0], g.uv[2 * (size_t)slot[s] + 1] = uv[1];
         }
-    free(slot);
+    free(slot), free(at), free(lead);
     if (!ok) return dm_level_sum_gather_free(&g), false;
     *out = g;
     return true;
@@ -294,6 +356,6 @@ bool dm_level_sum_gather_make(const float *index, int n, const float *taps, int6
 
 void dm_level_sum_gather_free(dm_level_sum_gather *g)
 {
-    free(g->row), free(g->x), free(g->first), free(g->taps), free(g->uv), free(g->value);
+    free(g->row), free(g->x), free(g->run), free(g->first), free(g->taps), free(g->uv), free(g->value), free(g->run_value);
     *g = (dm_level_sum_gather){0};
 }

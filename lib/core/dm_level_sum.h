@@ -37,7 +37,13 @@ extern "C" {
 /* The thin gather's layout (bake/dm_thin_gather.h names them too): its taps texture's width, the
  * header's taps, and the header's mark of this layout (sites read at their UV; first taps by row
  * and column). */
-enum { DM_LEVEL_SUM_TAPS_WIDTH = 4096, DM_LEVEL_SUM_HEADER_TAPS = 2, DM_LEVEL_SUM_GATHER_FORMAT = -2 };
+enum {
+    DM_LEVEL_SUM_TAPS_WIDTH = 4096,
+    DM_LEVEL_SUM_HEADER_TAPS = 2,
+    DM_LEVEL_SUM_GATHER_FORMAT = -2,
+    DM_LEVEL_SUM_GATHER_LEVELS = 4, /* gathered levels, at most */
+    DM_LEVEL_SUM_COUNT_TAPS = 1     /* a run's count tap (levels 2 and 3's taps), with 3 or 4 levels */
+};
 
 /* A thin candidate adds to level k only where d² ≤ DM_LEVEL_SUM_THIN_CUT · v_k: beyond, its
  * weight exp(−d²/2v_k) is below e^−18 = 1.5e-8, under a float's rounding of a sum it shares
@@ -59,10 +65,12 @@ typedef struct dm_level_sum_thin {
 } dm_level_sum_thin;
 
 /* A thin gather as the sums read it, made from the pack's entries (dm_level_sum_gather_make) and
- * owned: the gathering texels row by row (as the thin candidates above), each one's taps per
- * gathered level, a tap (slot, weight); a slot is a site some tap reads, numbered in the order
- * the texels first read them (neighbouring texels read neighbouring slots), its UV and its light
- * this frame. The same weights and sites, in the same order, as the pack's taps. */
+ * owned: the gathering texels row by row (as the thin candidates above), each one's run (texels
+ * in a block share one: bake/dm_thin_gather.h; its sums are made once, before the texels read
+ * them), each run's taps per gathered level, a tap (slot, weight); a slot is a site some tap
+ * reads, numbered in the order the texels first read them (neighbouring texels read neighbouring
+ * slots), its UV and its light this frame. The same weights and sites, in the same order, as the
+ * pack's taps. */
 typedef struct dm_level_sum_tap {
     int32_t slot;
     float weight;
@@ -72,15 +80,17 @@ typedef struct dm_level_sum_gather {
     int n, first_level, level_count;
     int32_t *row;           /* n + 1: row y's gathering texels are [row[y], row[y + 1]) */
     int32_t *x;             /* per gathering texel: its column, ascending within a row */
-    int32_t *first;         /* per gathered level, per gathering texel, + 1: texel j's taps of level g
-                             * are first[g·(gathering + 1) + j] .. first[g·(gathering + 1) + j + 1] − 1:
-                             * a level's taps are one run in texel order, as its pass reads them
+    int32_t *run;           /* per gathering texel: its run, numbered in the order texels first read them */
+    int32_t *first;         /* per gathered level, per run, + 1: run r's taps of level g are
+                             * first[g·(runs + 1) + r] .. first[g·(runs + 1) + r + 1] − 1: a level's
+                             * taps are one stream in run order, as its pass reads them
                              * (interleaved with the other level's, the hardware prefetch lost the
                              * stream: 2.3 ns a tap against 0.5 on the 2-core machine) */
     dm_level_sum_tap *taps;
     float *uv;              /* per slot 2: the site's (u, v) */
     float *value;           /* per slot 4: level 0 at its UV this frame */
-    size_t gathering, tap_count, slot_count;
+    float *run_value;       /* per run 4: the level being added's sum */
+    size_t gathering, run_count, tap_count, slot_count;
     int thread_count;       /* for the values; 0 = every core */
 } dm_level_sum_gather;
 
@@ -112,7 +122,8 @@ void dm_level_sum_thin_free(dm_level_sum_thin *t);
 
 /* Checks a pack's gather entries: index n × n × 4 (first tap's row, taps of gathered level 0, of
  * level 1, first tap's column), taps 2 floats each (the header, the sites' (u, v), the texels'
- * (site, weight)), tap_count of them. False when the header is not this layout's
+ * runs: with 3 or 4 levels a count tap (taps of level 2, of level 3), then (site, weight) level by
+ * level), tap_count of them. False when the header is not this layout's
  * (DM_LEVEL_SUM_GATHER_FORMAT) or does not fit the levels (first_level + level_count ≤ levels), a
  * texel's taps or a tap's site lie outside, or there are 2^31 taps or more; else its first gathered
  * level and their count (either pointer may be NULL). */

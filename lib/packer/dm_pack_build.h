@@ -87,7 +87,9 @@ dm_result dm_pack_build_write(const dm_pack_build *b, const char *path, size_t *
  *   curvature  N² x 16: the map, its mask, the writer's copy (pre-integrated)
  *   write      2 x the pack's N²-sized entries: the blobs and the file read back to verify
  * The pack file itself: about N² (8 L + 1) for the stretch chain, N² x 16 for the seam map,
- * N² x 40 for the thin-part maps at N and N/2 (texture space), N² x 4 for the curvature,
+ * N² x 40 for the thin-part maps at N and N/2 (texture space), N² x 16 and about N² x 160 for
+ * the thin gather at N (up to DM_THIN_GATHER_TAPS_MAX taps of 8 bytes) and a quarter of that at
+ * N/2, N² x 4 for the curvature,
  * and the rest (~27 MiB with the bundled assets). Measured against dermis-pack's peak RSS:
  * 0.9..1.1 from N = 512 to 4096 (docs/dermis-render.md, Memory). */
 #define DM_PACK_BUILD_MEMORY_BASE_SIZE ((uint64_t)176 << 20)

@@ -1,8 +1,9 @@
 /* dm_pack_build_gather.c — the pack's thin gather (bake/dm_thin_gather.h) at the scene's
  * irradiance size: "gather.index" (RGBA32F, N × N) and "gather.taps" (RG32F, 4096 wide), and at
  * half of it ("gather.half.index", "gather.half.taps": a renderer at N/2, as thin.half), for the
- * profile's widest levels with σ ≥ 1 mm; nothing when no level qualifies, or when the taps would
- * pass DM_THIN_GATHER_TAPS_MAX (the head at 2048², a note on stderr). */
+ * profile's widest levels with σ ≥ 1 mm (up to four); texels share their taps in blocks of 2 × 2
+ * or 4 × 4 where one run each would pass DM_THIN_GATHER_TAPS_MAX (the head at 2048²); nothing
+ * when no level qualifies, or when even blocks of 4 × 4 pass it (a note on stderr). */
 #include <stdio.h>
 
 #include "bake/dm_thin_gather.h"
@@ -54,9 +55,10 @@ static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
     }
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
         fprintf(stderr, "thin gather at %d: %lld texels (%lld near a surface facing away, %lld near a seam) gather "
-                "levels %d..%d, %lld taps over %lld + %lld sites\n", g.size, (long long)st.gathering_texels,
+                "levels %d..%d in blocks of %d x %d, %lld taps over %lld sites\n", g.size, (long long)st.gathering_texels,
                 (long long)st.thin_texels, (long long)st.seam_texels, g.first_level, g.first_level + g.level_count - 1,
-                (long long)st.taps, (long long)st.sites[0], (long long)st.sites[1]);
+                g.block, g.block, (long long)st.taps,
+                (long long)(st.sites[0] + st.sites[1] + st.sites[2] + st.sites[3]));
     dm_thin_gather_free(&g);
     return r;
 }

@@ -19,12 +19,15 @@ void dm_pack_build_memory_estimate(const dm_pack_build *b, dm_pack_build_memory 
      * grid, written like the chain */
     if (dm_pack_build_wants(b, "seam")) m->pack_size += n * n * 16;
     if (dm_pack_build_wants(b, "thin")) m->pack_size += n * n * 32 + n * n * 8; /* and thin.half, N/2 × N */
-    /* the thin gather: its index (RGBA32F, N²), sites and taps, about 16 taps and 1.1 sites (137
-     * bytes) a texel on the head at 1024², counted as 160; left out where its taps would pass
-     * DM_THIN_GATHER_TAPS_MAX (dm_pack_build_gather.c) */
-    if (dm_pack_build_wants(b, "gather.index") && n * n * 16 < DM_THIN_GATHER_TAPS_MAX) m->pack_size += n * n * (16 + 160);
-    if (dm_pack_build_wants(b, "gather.half.index") && n * n / 4 * 16 < DM_THIN_GATHER_TAPS_MAX)
-        m->pack_size += n * n / 4 * (16 + 160);
+    /* the thin gather at N and N/2: its index (RGBA32F), sites and taps, about 16 taps and 1.1
+     * sites (137 bytes) a texel on the head at 1024², counted as 160; where that passes
+     * DM_THIN_GATHER_TAPS_MAX texels share taps in blocks (the head at 2048²: 20 M taps), so the
+     * taps are counted up to that (8 bytes each); none past DM_THIN_GATHER_SIZE_MAX */
+    const uint64_t taps_max = (uint64_t)DM_THIN_GATHER_TAPS_MAX * 8;
+    if (dm_pack_build_wants(b, "gather.index") && n <= DM_THIN_GATHER_SIZE_MAX)
+        m->pack_size += n * n * 16 + (n * n * 160 < taps_max ? n * n * 160 : taps_max);
+    if (dm_pack_build_wants(b, "gather.half.index") && n / 2 <= DM_THIN_GATHER_SIZE_MAX)
+        m->pack_size += n * n / 4 * 16 + (n * n / 4 * 160 < taps_max ? n * n / 4 * 160 : taps_max);
     if (dm_pack_build_wants(b, "sss.curvature")) {
         m->curvature_size = n * n * 16;
         m->pack_size += n * n * 4;

@@ -66,8 +66,8 @@ typedef enum dm_view {
                          * chart's edge; the charts grey */
     DM_VIEW_THIN,       /* the thin-part map: the texels with a point across, coloured by its
                          * distance (the nearer of up to two), mm; the rest of the charts grey */
-    DM_VIEW_GATHER,     /* the thin gather: the texels that gather, coloured by their taps (both
-                         * levels); the rest of the charts grey */
+    DM_VIEW_GATHER,     /* the thin gather: the texels that gather, coloured by their taps (the
+                         * first two gathered levels', which the index holds); the rest grey */
     DM_VIEW_COUNT
 } dm_view;
 

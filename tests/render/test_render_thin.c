@@ -31,8 +31,9 @@ typedef struct sheet_pack {
 } sheet_pack;
 
 /* The sheet s mm thick, a directional light straight above, subsurface only (no shadows: the
- * bottom faces away from the light anyway), packed by dermis-pack and opened. */
-static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
+ * bottom faces away from the light anyway) with `profile` (a JSON text; NULL: gems3-skin), packed
+ * by dermis-pack and opened. */
+static void pack_sheet_with(const char *dir, double s_mm, const char *profile, sheet_pack *out)
 {
     dm_mesh m;
     thin_sheet_mesh(s_mm, &m);
@@ -40,14 +41,20 @@ static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
     snprintf(path, sizeof path, "%s/sheet.obj", dir);
     test_write_obj(path, &m);
     dm_mesh_free(&m);
+    FILE *f;
+    if (profile) {
+        snprintf(path, sizeof path, "%s/profile.json", dir);
+        cr_assert((f = fopen(path, "w")));
+        fputs(profile, f), fclose(f);
+    }
     snprintf(path, sizeof path, "%s/sheet.json", dir);
-    FILE *f = fopen(path, "w");
+    f = fopen(path, "w");
     cr_assert(f);
     fprintf(f, "{\"mesh\": {\"path\": \"sheet.obj\", \"mm_per_unit\": 1},\n"
                " \"lights\": [{\"type\": \"directional\", \"direction\": [0, 0, 1]}],\n"
-               " \"effects\": {\"subsurface\": {\"irradiance_size\": %d}},\n"
+               " \"effects\": {\"subsurface\": {\"irradiance_size\": %d%s}},\n"
                " \"camera\": {\"eye\": [20, 20, 80], \"target\": [20, 20, 0]}, \"output\": {\"width\": 64, \"height\": 64}}\n",
-            IRR);
+            IRR, profile ? ", \"profile\": \"profile.json\"" : "");
     fclose(f);
     snprintf(cmd, sizeof cmd, "cd '%s' && " DERMIS_BIN "/dermis-pack sheet.json -o sheet.dpk --threads 1 --quiet", dir);
     snprintf(log, sizeof log, "%s/sheet.log", dir);
@@ -59,6 +66,11 @@ static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
     cr_assert_eq(dm_pack_open(path, &out->pack, &err), DM_OK, "%s", err.detail);
     cr_assert_eq(dm_render_assets_from_pack(&out->pack, &out->scene, &out->profile, &out->assets, &err), DM_OK, "%s",
                  err.detail);
+}
+
+static void pack_sheet(const char *dir, double s_mm, sheet_pack *out)
+{
+    pack_sheet_with(dir, s_mm, NULL, out);
 }
 
 /* A texture view (irr², RGBA) of the assets at irradiance size irr; whether the renderer used
@@ -162,20 +174,21 @@ Test(thin, parallel_sheets_exact_on_the_gl_blur, .timeout = 120) { check_sheet(D
 /* thinner than a texel (0.04 mm against 0.39 mm a texel): as exact */
 Test(thin, a_sheet_thinner_than_a_texel, .timeout = 120) { check_sheet(DM_BLUR_PATH_CPU, 0.04); }
 
-/* The pack's thin gather (bake/dm_thin_gather.h) on the sheet: the two widest levels become the
- * 3-D sum over the sites of both plates. Over the plates' middle the bottom over the top is the
- * closed form Σ_k w_k exp(−s²/2v_k) as with the map alone, and the top is the map alone's: to
- * 0.4 % — the sites' quadrature of a plane (each gathered level's sum within 0.4 % of the
- * truncated closed form, tests/unit/test_thin_gather.c) and what it leaves out beyond 3.5 σ. The
- * GL path gathers the same sums (diffusion.glsl's DM_GATHER): to 1e-4 of the range, as the blur
- * paths agree. */
-Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
+/* The pack's thin gather (bake/dm_thin_gather.h) on the sheet: the widest levels (σ ≥ 1 mm, `levels`
+ * of them) become the 3-D sum over the sites of both plates. Over the plates' middle the bottom
+ * over the top is the closed form Σ_k w_k exp(−s²/2v_k) as with the map alone, and the top is the
+ * map alone's: to 0.4 % — the sites' quadrature of a plane (each gathered level's sum within 0.4 %
+ * of the truncated closed form, tests/unit/test_thin_gather.c) and what it leaves out beyond
+ * 3.5 σ. The GL path gathers the same sums (diffusion.glsl's DM_GATHER): to 1e-4 of the range, as
+ * the blur paths agree. */
+static void check_gather(const char *profile, int levels)
 {
     char dir[64];
     cr_assert(test_tmpdir(dir, sizeof dir));
     sheet_pack sp;
-    pack_sheet(dir, 1.0, &sp);
+    pack_sheet_with(dir, 1.0, profile, &sp);
     cr_assert(sp.assets.gather_index.texels && sp.assets.gather_taps.texels, "dermis-pack baked the gather");
+    cr_assert_eq((int)((const float *)sp.assets.gather_taps.texels)[1], levels, "levels gathered");
     float *map = thin_sheet_map(1.0, IRR);
     dm_render_assets a = sp.assets;
     a.thin = (dm_texture){DM_TEX_RGBA32F, IRR, 2 * IRR, map};
@@ -206,6 +219,24 @@ Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180)
     cr_assert_lt(gl_worst, 1e-4 * range);
     free(gathered), free(alone), free(gl), free(gl_alone), free(map);
     dm_pack_close(&sp.pack);
+}
+
+Test(thin, the_gather_is_the_sheets_closed_form_on_both_paths, .timeout = 180) { check_gather(NULL, 2); }
+
+/* A profile with four levels of σ ≥ 1 mm (a fit with many Gaussians splits the wide light so):
+ * all four gathered, their runs with a count tap. Their variances keep the sites' cells at most
+ * 0.6 σ, as gems3-skin's (tests/unit/test_thin_gather.c: at 0.7–1 σ a level's quadrature is off
+ * by up to 0.8 %), and the widest (σ 2.8 mm) reaches 9.9 mm, inside the plates' middle's 10 mm. */
+Test(thin, four_gathered_levels_are_the_closed_form_on_both_paths, .timeout = 180)
+{
+    check_gather("{\"format\": \"dermis-profile\", \"version\": 1, \"name\": \"four-wide\", \"gaussians\": [\n"
+                 " {\"variance_mm2\": 0.05, \"weights\": [0.05, 0.20, 0.40]},\n"
+                 " {\"variance_mm2\": 0.3, \"weights\": [0.10, 0.20, 0.30]},\n"
+                 " {\"variance_mm2\": 1.8, \"weights\": [0.20, 0.25, 0.15]},\n"
+                 " {\"variance_mm2\": 2.2, \"weights\": [0.25, 0.15, 0.10]},\n"
+                 " {\"variance_mm2\": 7.0, \"weights\": [0.20, 0.12, 0.04]},\n"
+                 " {\"variance_mm2\": 8.0, \"weights\": [0.20, 0.08, 0.01]}]}\n",
+                 4);
 }
 
 /* The pack holds the gather at the scene's size and at half of it ("gather.half.*", what a

@@ -199,19 +199,21 @@ Test(level_sum, thin_candidates_match_the_formula_in_double)
     free(map), free(sum), free(plain), free(many);
 }
 
-/* With a thin gather (first gathered level 2, two levels, 300 sites at random UVs, some at the
- * image's edge): a quarter of the texels gather, with taps on random sites and random weights, the
- * taps placed past 4096 so that the index's row and column both count. The gathered levels of a
- * gathering texel are, in double, w_k Σ_t weight_t I(uv_s(t)), I level 0 read as the sampler reads
- * it (level_at above); every other term is the plain sum's, and a texel that does not gather is
- * the plain sum bit for bit. */
-Test(level_sum, gathered_levels_match_the_formula_in_double)
+/* With a thin gather (the last `count` levels gathered, 300 sites at random UVs, some at the
+ * image's edge): a quarter of the texels gather, with taps on random sites and random weights
+ * (3 to 7 a level; with 3 levels each run behind its count tap; a third of them read the run
+ * before, as a block's texels share one), the taps placed past 4096 so that the index's row and
+ * column both count. The gathered levels of a gathering texel are, in double,
+ * w_k Σ_t weight_t I(uv_s(t)), I level 0 read as the sampler reads it (level_at above); every
+ * other term is the plain sum's, and a texel that does not gather is the plain sum bit for bit. */
+static void check_gathered(int count)
 {
     float *buf[LEVELS], *px[LEVELS];
     for (int k = 0; k < LEVELS; ++k) buf[k] = make_level(k, &px[k]);
-    enum { SITES = 300, PER = 5, FIRST = 2 + SITES + 5000 };
-    float *index = calloc((size_t)4 * N * N, sizeof(float)), *taps = calloc((size_t)2 * (FIRST + 2 * PER * N * N), sizeof(float));
-    taps[0] = 2, taps[1] = 2, taps[2] = (float)DM_LEVEL_SUM_GATHER_FORMAT, taps[3] = (float)SITES;
+    enum { SITES = 300, PER = 7, FIRST = 2 + SITES + 5000 };
+    const int first = LEVELS - count;
+    float *index = calloc((size_t)4 * N * N, sizeof(float)), *taps = calloc((size_t)2 * (FIRST + 4 * PER * N * N), sizeof(float));
+    taps[0] = (float)first, taps[1] = (float)count, taps[2] = (float)DM_LEVEL_SUM_GATHER_FORMAT, taps[3] = (float)SITES;
     unsigned seed = 7u;
     for (int s = 0; s < SITES; ++s)
         for (int q = 0; q < 2; ++q) {
@@ -219,13 +221,23 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
             taps[2 * (2 + s) + q] = s % 17 == 0 ? (float)q : (float)(seed >> 8) / 16777216.0f;
         }
     int64_t t = FIRST;
+    int last = -1, shared = 0;
     for (int i = 0; i < N * N; ++i) {
         seed = seed * 1664525u + 1013904223u;
         if ((seed >> 16) % 4) continue;
+        if (last >= 0 && (seed >> 20) % 3 == 0) { /* shares the last run, as a block's texels do */
+            memcpy(index + 4 * i, index + 4 * last, sizeof(float) * 4), ++shared;
+            continue;
+        }
+        last = i;
         index[4 * i] = (float)(t / DM_LEVEL_SUM_TAPS_WIDTH), index[4 * i + 3] = (float)(t % DM_LEVEL_SUM_TAPS_WIDTH);
-        for (int g = 0; g < 2; ++g) {
-            index[4 * i + 1 + g] = (float)PER;
-            for (int k = 0; k < PER; ++k, ++t) {
+        float *counts = count > 2 ? taps + 2 * t : NULL;
+        t += count > 2 ? DM_LEVEL_SUM_COUNT_TAPS : 0;
+        for (int g = 0; g < count; ++g) {
+            int per = 3 + (int)((unsigned)(i + g) % 5u);
+            if (g < 2) index[4 * i + 1 + g] = (float)per;
+            else counts[g - 2] = (float)per;
+            for (int k = 0; k < per; ++k, ++t) {
                 seed = seed * 1664525u + 1013904223u;
                 taps[2 * t] = (float)(2 + (seed >> 8) % SITES);
                 seed = seed * 1664525u + 1013904223u;
@@ -241,6 +253,8 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
     memset(index_copy, 0xff, sizeof(float) * 4 * N * N), memset(taps_copy, 0xff, sizeof(float) * 2 * (size_t)t);
     free(index_copy), free(taps_copy);
     cr_assert(g.slot_count > SITES * 9 / 10 && g.slot_count <= SITES);
+    cr_assert(shared > 20 && g.run_count + (size_t)shared == g.gathering, "%d texels share a run: %zu runs for %zu texels",
+              shared, g.run_count, g.gathering);
     float *sum = malloc(sizeof(float) * 4 * N * N), *plain = malloc(sizeof(float) * 4 * N * N);
     for (int k = 0; k < LEVELS; ++k)
         cr_assert(dm_level_sum_add(&(dm_level_sum_pass){sum, px[k], dm_level_blur_stride(N), N,
@@ -260,18 +274,20 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
             gathering += cov > 0;
             for (int c = 0; c < 3; ++c) {
                 double e = 0;
-                for (int k = 0; k < 2; ++k) { /* the levels not gathered */
+                for (int k = 0; k < first; ++k) { /* the levels not gathered */
                     const float *q = px[k] + y * stride + 4 * x;
                     e += weight[k][c] * (q[3] > 1e-4f ? (double)q[c] / q[3] : 0.0);
                 }
                 int64_t tt = (int64_t)ix[0] * DM_LEVEL_SUM_TAPS_WIDTH + (int64_t)ix[3];
-                for (int l = 0; l < 2; ++l) {
+                const float per[3] = {ix[1], ix[2], count > 2 ? taps[2 * tt] : 0};
+                tt += count > 2 ? 1 : 0;
+                for (int l = 0; l < count; ++l) {
                     double gs = 0;
-                    for (int k = 0; k < (int)ix[1 + l]; ++k, ++tt) {
+                    for (int k = 0; k < (int)per[l]; ++k, ++tt) {
                         const float *uv = taps + 2 * (int64_t)taps[2 * tt];
                         gs += taps[2 * tt + 1] * level_at(px[0], c, uv[0], uv[1]);
                     }
-                    e += weight[2 + l][c] * gs;
+                    e += weight[first + l][c] * gs;
                 }
                 e *= cov;
                 cr_assert(fabs(s[c] - e) <= 2e-6 * fmax(1.0, fabs(e)), "texel %d, %d channel %d: %.8g, expected %.8g", x,
@@ -286,13 +302,26 @@ Test(level_sum, gathered_levels_match_the_formula_in_double)
     cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
     taps[2] = (float)DM_LEVEL_SUM_GATHER_FORMAT;
     cr_expect(!dm_level_sum_gather_make(index, N, taps, t - 1, LEVELS, &bad));
+    const float last_tap = taps[2 * (t - 1)];
     taps[2 * (t - 1)] = (float)(2 + SITES);
     cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
     cr_expect(bad.value == NULL && bad.taps == NULL);
+    taps[2 * (t - 1)] = last_tap;
+    cr_assert(dm_level_sum_gather_check(index, N, taps, t, LEVELS, NULL, NULL));
+    if (count > 2) { /* a count tap that counts a fourth level of three */
+        int64_t c0 = -1;
+        for (int i = 0; i < N * N && c0 < 0; ++i)
+            if (index[4 * i + 1] > 0) c0 = (int64_t)index[4 * i] * DM_LEVEL_SUM_TAPS_WIDTH + (int64_t)index[4 * i + 3];
+        taps[2 * c0 + 1] = 1.0f;
+        cr_expect(!dm_level_sum_gather_make(index, N, taps, t, LEVELS, &bad));
+    }
     dm_level_sum_gather_free(&g);
     free(sum), free(plain), free(index), free(taps);
     for (int k = 0; k < LEVELS; ++k) free(buf[k]);
 }
+
+Test(level_sum, gathered_levels_match_the_formula_in_double) { check_gathered(2); }
+Test(level_sum, three_gathered_levels_read_their_count_taps) { check_gathered(3); }
 
 /* The thin candidates' cut (DM_LEVEL_SUM_THIN_CUT): a candidate adds to a level only where its
  * weight exp(−d²/2v) ≥ e^−18, i.e. d² ≤ 36 v (the value written out here, not the constant). One dark texel with one candidate on a texel of light 1e6: just inside the cut it

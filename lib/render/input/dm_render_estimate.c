@@ -176,7 +176,8 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         if (in->diffusion_sum && dm_render_assets_gather(a, s->irr_edge, &gt) && gt->texels) {
             /* the sums' compact copy (core/dm_level_sum.h): 8 bytes a tap, a UV and a value (24
              * bytes) a site read (the header's site count, bake/dm_thin_gather.h, at most), a
-             * gathering texel's column and first taps */
+             * gathering texel's column and run, and a run's (at most one a texel) first taps per
+             * level and sum */
             const float *h = gt->texels;
             uint64_t all = texels(gt->width, gt->height), sites = all >= 2 && h[3] > 0.0f ? (uint64_t)h[3] : 0;
             sites = sites < all ? sites : all;
@@ -184,7 +185,9 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
             const dm_texture *gi = dm_render_assets_gather(a, s->irr_edge, &gt);
             const float *ix = gi->texels;
             for (uint64_t i = 0; ix && i < N2; ++i) gathering += ix[4 * i + 1] > 0.0f || ix[4 * i + 2] > 0.0f;
-            m->cpu_blur_size += (all - sites) * 8 + sites * 24 + gathering * 12 + ((uint64_t)s->irr_edge + 1) * 4;
+            uint64_t levels = all >= 2 && h[1] >= 1.0f && h[1] <= 4.0f ? (uint64_t)h[1] : 4;
+            m->cpu_blur_size += (all - sites) * 8 + sites * 24 + gathering * (8 + 4 * levels + 16) +
+                                ((uint64_t)s->irr_edge + 1) * 4;
         }
     }
     if (p->effects[DM_EFFECT_GLOW] && in->cpu_glow) m->cpu_blur_size += glow_px * 32;
