@@ -24,7 +24,7 @@
  *     map, no shadows; normalised by the no-subsurface frame where subsurface shows), then
  *     with the surface terms and with shadows; a no-subsurface row is the floor. The 2048
  *     row renders the scene packed at irradiance 2048 (its maps baked for that size; its
- *     thin gather, more taps than a pack carries, left out).
+ *     thin gather in blocks of 2 x 2 texels, bake/dm_thin_gather.h).
  * References are computed once by the dermis-reference tool and cached under
  * BUILD/cache/accuracy/ by pack hash, truth and size, reused when their provenance matches.
  * DERMIS_BENCH_QUICK=1: irradiance 256 only, fewer Gaussian rows, 5 frames.

@@ -166,10 +166,11 @@ static int pack_preint(const char *bin, const char *dir, const char *hash, char 
                       "preint", pack_path, size);
 }
 
-/* The scene packed at irradiance 2048: its seam and thin-part maps baked for that size (the
- * renderer uploads them at the size they were baked for and leaves them out at any other: the
- * 2048 row rendered from the 1024 pack has none of them). Its thin gather is left out by
- * dermis-pack all the same: on the head at 2048² it has more taps than a pack carries. */
+/* The scene packed at irradiance 2048: its seam and thin-part maps and its thin gather baked
+ * for that size (the renderer uploads them at the size they were baked for and leaves them out
+ * at any other: the 2048 row rendered from the 1024 pack has none of them). On the head at 2048²
+ * the gather's texels share their taps in blocks of 2 × 2 (one run each would pass what a pack
+ * carries). */
 static int pack_2048(const char *bin, const char *dir, const char *hash, char *pack_path, size_t size)
 {
     return pack_keyed(bin, dir, hash, "\"irradiance_size\": 1024", "\"irradiance_size\": 2048", "i2048", pack_path, size);

@@ -178,7 +178,7 @@ static void plot(const char *outdir, const char *dir, const row *rows)
                "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle%s\n",
             front, dat,
             frames ? ", '' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame transport vs --frame, "
-                     "normalised (right axis; no subsurface = 100, off the axis)', "
+                     "normalised (right axis; 100 = no better than leaving subsurface out)', "
                      "'' using 1:3:5 axes x1y2 with labels offset 0.6,-0.4 left rotate by -30 font ',8' tc rgb '#d62728' notitle"
                    : "");
     if (pclose(g) == 0) printf("accuracy bench: wrote %s\n", png);
@@ -393,7 +393,10 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "light, not how much of it the skin returns. Screen-space rows (Jimenez's separable SSS, the kernel fitted from the profile at create) have no texture-space diffusion: "
                 "frame error only, against the same frame references (they do not depend on the technique). The "
                 "no-subsurface row is the renderer with subsurface off (Lambert × albedo): the floor. The 2048 row "
-                "is measured on the frame only (its texture-space reference takes 15+ min). "
+                "is measured on the frame only (its texture-space reference takes 15+ min), from the scene packed at "
+                "2048 (its maps and thin gather baked at that size; the gather's texels share their taps in blocks of "
+                "2 × 2). The fits' packs gather every level of σ ≥ 1 mm (up to four; in blocks of 2 × 2 where one run "
+                "a texel would pass 2^25 taps). "
                 "Translucency rows add light through thin parts (from the shadow map's thickness), which the reference "
                 "carries by its 3-D convolution instead: their error shows what that adds. References are cached under `BUILD/cache/accuracy/` by pack hash and "
                 "size (`DERMIS_BENCH_LARGE=1` adds 2048, whose reference takes 15+ min on 2 cores; "
