@@ -225,12 +225,13 @@ static void rows(void *ctx, size_t begin, size_t end)
 
 /* The groups of `block` × `block` texels that share one run of taps: in each block, in row order,
  * a covered texel not yet taken leads a group of the block's untaken covered texels within
- * 2 · block · h of it in 3-D (a block across a chart's edge gives two groups); a group gathers
- * when one of its members does. block 1: every texel alone. */
+ * DM_THIN_GATHER_JOIN · block · h of it in 3-D (a block across a chart's edge, or a squashed
+ * chart's texels, give groups of their own); a group gathers when one of its members does.
+ * block 1: every texel alone. */
 static void group(job *j, int block, double h)
 {
     const int n = j->n;
-    const double join2 = (2.0 * block * h) * (2.0 * block * h);
+    const double join2 = (DM_THIN_GATHER_JOIN * block * h) * (DM_THIN_GATHER_JOIN * block * h);
     for (size_t i = 0; i < (size_t)n * n; ++i) j->lead[i] = -1, j->next[i] = -1, j->radius[i] = 0, j->gathers[i] = 0;
     for (int by = 0; by < n; by += block)
         for (int bx = 0; bx < n; bx += block)
