@@ -237,11 +237,11 @@ bool dm_level_sum_gather_check(const float *index, int n, const float *taps, int
         return false;
     for (size_t i = 0; i < (size_t)n * (size_t)n; ++i) {
         const float *ix = index + 4 * i;
-        size_t t, n[DM_LEVEL_SUM_GATHER_LEVELS];
+        size_t t, c[DM_LEVEL_SUM_GATHER_LEVELS];
         if (!gathers(ix)) continue;
-        if (!texel_run(ix, taps, count, sites, tap_count, &t, n) || (total += (int64_t)run_taps(n)) >= INT32_MAX)
+        if (!texel_run(ix, taps, count, sites, tap_count, &t, c) || (total += (int64_t)run_taps(c)) >= INT32_MAX)
             return false;
-        for (size_t end = t + run_taps(n); t < end; ++t) {
+        for (size_t end = t + run_taps(c); t < end; ++t) {
             float s = taps[2 * t] - (float)DM_LEVEL_SUM_HEADER_TAPS;
             if (!(s >= 0.0f && s < (float)sites)) return false;
         }
