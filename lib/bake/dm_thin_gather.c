@@ -2,6 +2,7 @@
 #include "bake/dm_thin_gather.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,6 +44,7 @@ typedef struct job {
     const int64_t *first; /* per texel: first tap (pass 3) */
     float *taps;
     int pass;             /* 1 which texels gather, 2 how many taps, 3 the taps */
+    atomic_int out_of_memory; /* a worker's scratch could not be had (passes 2 and 3) */
 } job;
 
 static double dist2(const double *a, const double *b)
@@ -190,7 +192,11 @@ static void rows(void *ctx, size_t begin, size_t end)
     const int L = j->o->level_count;
     double *fine = j->pass > 1 ? malloc(sizeof *fine * (size_t)(j->most_children + 1)) : NULL;
     uint8_t *used = j->pass > 1 ? malloc((size_t)(j->most_children + 1)) : NULL;
-    if (j->pass > 1 && (!fine || !used)) abort(); /* a few kB */
+    if (j->pass > 1 && (!fine || !used)) { /* the bake fails with DM_ERR_OUT_OF_MEMORY */
+        atomic_store(&j->out_of_memory, 1);
+        free(fine), free(used);
+        return;
+    }
     for (size_t y = begin; y < end; ++y)
         for (int x = 0; x < j->n; ++x) {
             size_t i = y * (size_t)j->n + (size_t)x;
@@ -421,6 +427,10 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
         memset(count, 0, sizeof *count * (size_t)L * texels);
         j.pass = 2;
         dm_parallel_for((size_t)n, 1, opt->threads, rows, &j);
+        if (atomic_load(&j.out_of_memory)) {
+            rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather %dx%d: scratch: out of memory", n, n);
+            break;
+        }
         first[0] = sites;
         for (size_t i = 0; i < texels; ++i) {
             /* the index marks a gathering texel by its first two levels' taps: a run with none
@@ -450,6 +460,10 @@ dm_result dm_thin_gather_bake(const dm_mesh *m, const dm_thin_gather_options *op
     if (rc == DM_OK) {
         j.first = first, j.taps = out->taps, j.pass = 3;
         dm_parallel_for((size_t)n, 1, opt->threads, rows, &j); /* pass 3: the taps */
+        if (atomic_load(&j.out_of_memory))
+            rc = dm_fail(err, DM_ERR_OUT_OF_MEMORY, "thin gather %dx%d: scratch: out of memory", n, n);
+    }
+    if (rc == DM_OK) {
         out->taps[0] = (float)opt->first_level, out->taps[1] = (float)L;
         out->taps[2] = (float)DM_THIN_GATHER_FORMAT, out->taps[3] = (float)(sites - DM_THIN_GATHER_HEADER_TAPS);
         for (int g = 0; g < L; ++g) {

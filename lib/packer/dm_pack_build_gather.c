@@ -53,12 +53,13 @@ static dm_result gather_at(dm_pack_build *j, int half, dm_error *err)
         r = dmpb_add(j, &d, g.taps, sizeof *g.taps * 2 * (size_t)DM_THIN_GATHER_TAPS_WIDTH * (size_t)g.taps_rows, &p,
                      src, err);
     }
+    long long sites = 0;
+    for (int k = 0; k < g.level_count; ++k) sites += (long long)st.sites[k];
     if (r == DM_OK && !j->opt->quiet && j->opt->verbose)
         fprintf(stderr, "thin gather at %d: %lld texels (%lld near a surface facing away, %lld near a seam) gather "
                 "levels %d..%d in blocks of %d x %d, %lld taps over %lld sites\n", g.size, (long long)st.gathering_texels,
                 (long long)st.thin_texels, (long long)st.seam_texels, g.first_level, g.first_level + g.level_count - 1,
-                g.block, g.block, (long long)st.taps,
-                (long long)(st.sites[0] + st.sites[1] + st.sites[2] + st.sites[3]));
+                g.block, g.block, (long long)st.taps, sites);
     dm_thin_gather_free(&g);
     return r;
 }

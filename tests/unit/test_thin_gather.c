@@ -215,11 +215,16 @@ Test(thin_gather, zero_uv_area_triangles_leave_nothing_nan)
         for (int c = 0; c < 3; ++c) m.uvs[(3 * t + c) * 2] = m.uvs[6 * t], m.uvs[(3 * t + c) * 2 + 1] = m.uvs[6 * t + 1];
     dm_thin_gather g;
     dm_thin_gather_stats st;
-    bake(&m, 0, &g, &st);
-    cr_assert_gt(st.gathering_texels, 10000);
-    for (size_t i = 0; i < 4 * (size_t)N * N; ++i) cr_assert(isfinite(g.index[i]));
-    for (int64_t t = 0; t < g.tap_count; ++t) cr_assert(isfinite(g.taps[2 * t + 1]) && g.taps[2 * t + 1] >= 0);
-    dm_thin_gather_free(&g), dm_mesh_free(&m);
+    dm_thin_gather_options o = options(0);
+    for (o.block = 1; o.block <= 2; ++o.block) { /* alone and in blocks: a group never takes a texel of no area */
+        dm_error err = {0};
+        cr_assert_eq(dm_thin_gather_bake(&m, &o, &g, &st, &err), DM_OK, "%s", err.detail);
+        cr_assert_gt(st.gathering_texels, 10000);
+        for (size_t i = 0; i < 4 * (size_t)N * N; ++i) cr_assert(isfinite(g.index[i]));
+        for (int64_t t = 0; t < g.tap_count; ++t) cr_assert(isfinite(g.taps[2 * t + 1]) && g.taps[2 * t + 1] >= 0);
+        dm_thin_gather_free(&g);
+    }
+    dm_mesh_free(&m);
 }
 
 Test(thin_gather, options_for_a_profile_and_bad_ones)
