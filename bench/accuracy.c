@@ -114,13 +114,12 @@ static void add_rows(bool quick, bool large, int B)
         else snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", B, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
         add(B, 0, g, false, (dm_render_desc){0}, n, w);
     }
-    /* the seam map beside the gather (issue #29 point 1; by default the renderer leaves it out
-     * there: the gather carries the widest levels across seams); the thin-part map left out
-     * (point 2): no light from across thin parts and folds */
+    /* the seam map left out (issue #29 point 1): beside the gather, the gather alone carries the
+     * widest levels across seams (the default before 2026-12-02; at 512 there is no map at that
+     * size); the thin-part map left out (point 2): no light from across thin parts and folds */
+    if (!quick) add(1024, 0, 0, false, (dm_render_desc){0}, "1024 no seam map",
+                    "1024, without the seam map (--no-seam-map: the gather alone across seams)")->no_seam = true;
     for (int N = 512; N <= 1024 && !quick; N *= 2) {
-        snprintf(n, sizeof n, "%d seam map too", N);
-        snprintf(w, sizeof w, "%d, the seam map beside the gather too (--seam-map-with-gather)", N);
-        add(N, 0, 0, false, (dm_render_desc){.seam_map_with_gather = true}, n, w);
         snprintf(n, sizeof n, "%d no thin", N), snprintf(w, sizeof w, "%d, without the thin-part map (no light across thin parts)", N);
         add(N, 0, 0, false, (dm_render_desc){0}, n, w)->no_thin = true;
     }

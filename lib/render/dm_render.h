@@ -231,11 +231,6 @@ typedef struct dm_render_desc {
                                * exceeds it; 0 = what the machine has available now
                                * (core/dm_memory.h: DERMIS_MEM_AVAILABLE_MB, a cgroup's limit,
                                * MemAvailable); UINT64_MAX = no check */
-    bool seam_map_with_gather; /* the pack's seam map also where its thin gather is used (the
-                               * gather carries the widest levels across seams in 3-D): off by
-                               * default, since beside the gather the seam map measured no better
-                               * against the ground truth and cost 10–20 % of the frame
-                               * (bench/results/accuracy.md, docs/seam-map.md) */
     bool reuse_texture_space; /* skip shadow maps, irradiance and the blur chain when nothing
                                * they depend on (the scene: dm_renderer_set_scene; the light
                                * rotation; blur and roughness scales) changed since the last

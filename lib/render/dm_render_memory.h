@@ -27,7 +27,7 @@
  *               glow's two images W/2 x H/2 x 32; with the thin-part map its candidates
  *               (16 each, 8 a texel that has any, (N+1) x 4), with the gather its compact copy
  *               (8 a tap, 24 a site, 12 a gathering texel, (N+1) x 4: core/dm_level_sum.h);
- *               with the seam map (used: not beside the gather) its points and cuts N² x 24
+ *               with the seam map (used at the size it was baked for) its points and cuts N² x 24
  *   read-back   one read of the output at full precision by the caller and the renderer:
  *               W x H x (16 + 16 + 4 + 4), and a texture view's W_v x H_v x 16
  * Not counted: a texture view's target and its read-back (2 x 16 bytes a texel of the texture

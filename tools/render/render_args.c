@@ -74,10 +74,10 @@ void render_usage(FILE *f)
             "                       instead of the diffusion pass's per-texel sum (slower; differs\n"
             "                       in the texel ring along chart edges)\n"
             "  --no-seam-map        leave the pack's seam map out: the blurs stop at UV seams, as\n"
-            "                       before dermis baked one (to see what it changes)\n"
-            "  --seam-map-with-gather  use the seam map beside the thin gather too (by default\n"
-            "                       the gather carries the widest levels across seams and the\n"
-            "                       seam map is left out: no better beside it, 10-20 %% of the frame)\n"
+            "                       before dermis baked one (to see what it changes); beside the\n"
+            "                       thin gather, the gather alone carries the widest levels across\n"
+            "                       them (the default before 2026-12-02, when the map is used\n"
+            "                       beside it too; --seam-map-with-gather is still accepted)\n"
             "  --no-thin-map        leave the pack's thin-part map out: no light from across thin\n"
             "                       parts and folds (ears, lips, eyelids), as before dermis baked one\n"
             "  --no-thin-gather     leave the pack's thin gather out: the widest levels come from the\n"
@@ -155,8 +155,7 @@ int render_parse(int argc, char **argv, render_args *o)
             o->speed.diffusion_per_pixel = true;
         } else if (!strcmp(a, "--no-seam-map")) {
             o->no_seam_map = true;
-        } else if (!strcmp(a, "--seam-map-with-gather")) {
-            o->speed.seam_map_with_gather = true;
+        } else if (!strcmp(a, "--seam-map-with-gather")) { /* the default since 2026-12-02 */
         } else if (!strcmp(a, "--no-thin-map")) {
             o->no_thin_map = true;
         } else if (!strcmp(a, "--no-thin-gather")) {

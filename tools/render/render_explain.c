@@ -9,11 +9,8 @@ void render_explain_maps(const dm_renderer *r, const dm_render_assets *a, int ir
            dm_renderer_seam_map(r) ? "the pack's: the irradiance pass also lights the gutter texels a blur reaches, "
                                      "where the surface continues across the UV seam, and the blurs leave out "
                                      "taps that jump to another place of the surface"
-           : dm_render_assets_seam_map(a, irradiance_size) && dm_renderer_thin_gather(r)
-               ? "the pack's is not used: the thin gather carries the widest levels across seams, and beside it the "
-                 "seam map measured no better (--seam-map-with-gather uses both); the blurs stop at UV seams"
            : a->seam.texels ? "the pack's is for another irradiance size: not used, the blurs stop at UV seams"
-                            : "none in the pack: the blurs stop at UV seams");
+                            : "none in the pack (or left out: --no-seam-map): the blurs stop at UV seams");
     /* docs/thin-map.md */
     printf("thin-part map: %s\n",
            dm_renderer_thin_map(r) ? "the pack's: the diffusion pass adds the light from across thin parts and "

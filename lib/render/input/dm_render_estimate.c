@@ -42,14 +42,6 @@ bool dmr_gather_wanted(const dm_render_assets *a, int n, bool diffusion_sum)
            h[2] == (float)DM_LEVEL_SUM_GATHER_FORMAT;
 }
 
-const dm_texture *dmr_seam_map_used(const dm_render_assets *a, const dm_render_desc *d, int n, bool diffusion_sum)
-{
-    /* beside the gather the seam map measured no better on the head (bench/results/accuracy.md:
-     * seam region 0.69 % red without it, 0.70 % with) and cost 10–20 % of the frame */
-    if (!d->seam_map_with_gather && dmr_gather_wanted(a, n, diffusion_sum)) return NULL;
-    return dm_render_assets_seam_map(a, n);
-}
-
 static uint64_t texels(int w, int h)
 {
     return (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 0);
@@ -102,7 +94,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
             count_upload(m, &a->stretch[k], false);
         count_upload(m, &a->stretch_mask, false);
         /* the seam and thin-part maps, uploaded at the size they were baked for (dm_pass_tsd.c) */
-        const dm_texture *seam = dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum),
+        const dm_texture *seam = dm_render_assets_seam_map(a, s->irr_edge),
                          *thin = dm_render_assets_thin_map(a, s->irr_edge);
         if (seam) count_upload(m, seam, false);
         if (seam) m->uploads_size += texels(s->irr_edge, s->irr_edge) * 8; /* its cuts (RGBA16I, dm_pass_tsd.c) */
@@ -136,7 +128,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
         }
         if (in->diffusion_sum) m->texture_space_size += N2 * 16;
         m->texture_space_size += N2 * (4 * 16 + 4); /* the surface G-buffer and its depth */
-        if (dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum))
+        if (dm_render_assets_seam_map(a, s->irr_edge))
             m->texture_space_size += N2 * 16; /* the seam points */
     }
 
@@ -155,7 +147,7 @@ void dmr_memory_count(const dmr_memory_in *in, dm_render_memory *m)
     m->driver_size = in->software_gl ? DM_RENDER_MEMORY_DRIVER_SIZE : 0;
 
     /* the CPU's share: blur buffers, read-back (the seam points and their cuts, read back once) */
-    if (p->texture_space && dmr_seam_map_used(a, in->desc, s->irr_edge, in->diffusion_sum)) m->cpu_blur_size += N2 * (16 + 8);
+    if (p->texture_space && dm_render_assets_seam_map(a, s->irr_edge)) m->cpu_blur_size += N2 * (16 + 8);
     if (p->texture_space && in->cpu_blur) {
         const int *e = s->level_edge;
         m->cpu_blur_size += 3 * (uint64_t)dm_level_blur_floats(s->irr_edge, s->irr_edge) * 4;

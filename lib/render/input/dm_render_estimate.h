@@ -27,9 +27,6 @@ bool dmr_diffusion_summed(const dm_render_plan *p, const dm_render_desc *d);
  * thin-part map and a gather baked for n, its header of this layout (create checks the rest:
  * core/dm_level_sum.h). */
 bool dmr_gather_wanted(const dm_render_assets *a, int n, bool diffusion_sum);
-/* The seam map used at irradiance size n: the pack's for n, but not beside the thin gather
- * unless desc->seam_map_with_gather (dm_render_desc). NULL: none. */
-const dm_texture *dmr_seam_map_used(const dm_render_assets *a, const dm_render_desc *d, int n, bool diffusion_sum);
 /* What the estimate counts, as create resolved it. */
 typedef struct dmr_memory_in {
     const dm_render_assets *a;

@@ -67,9 +67,10 @@ dm_result dmr_tsd_upload(dmr_frame *f, void *st, const dm_render_assets *a, dm_e
     /* the seam map, read at texel centres (nearest): the irradiance pass lights the gutter
      * texels it continues (DM_SEAM; dm_renderer_seam_map). Only at the size it was baked for:
      * at another the gutters are other texels, and its continuations (a texel centre's, half a
-     * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). Not
-     * beside the gather unless asked (dm_render_desc.seam_map_with_gather, dmr_seam_map_used). */
-    const dm_texture *seam = f->gather_ok && !f->desc.seam_map_with_gather ? NULL : dm_render_assets_seam_map(a, f->irr_edge);
+     * texel off) measured worse than none (head, 1024² map at 512²: seam p95 26 -> 63 %). Also
+     * beside the thin gather, which takes only the widest levels (docs/seam-map.md: the frame
+     * truth's seam region 67 -> 31 % at 1024², along the bust's cut). */
+    const dm_texture *seam = dm_render_assets_seam_map(a, f->irr_edge);
     if (rc == DM_OK && seam) rc = dmr_upload(f, seam, "seam", false, GL_NEAREST, &f->tex_seam, err);
     /* the thin-part map, read at texel centres (nearest) by the diffusion pass (DM_THIN;
      * dm_renderer_thin_map): only at the size it was baked for, and only where the levels are
