@@ -69,11 +69,25 @@ static setting *add(int size, int taps, int g, bool flat, dm_render_desc knobs, 
     snprintf(key, sizeof key, ",%s,", name);
     snprintf(list, sizeof list, ",%s,", only ? only : "");
     if (only && !strstr(list, key)) return &skipped;
+    if (nrows == MAX_ROWS) {
+        fprintf(stderr, "error: more than %d rows (MAX_ROWS)\n", MAX_ROWS);
+        exit(3);
+    }
     setting *s = &rows_s[nrows++];
     *s = (setting){.size = size, .taps = taps, .gaussians = g, .flat_stretch = flat, .knobs = knobs};
     snprintf(s->name, sizeof s->name, "%s", name);
     snprintf(s->what, sizeof s->what, "%s", what);
     return s;
+}
+
+/* The row of g Gaussians fitted to the truth (the dipole, or gems3-skin), at irradiance N. */
+static void add_fit(int N, int g)
+{
+    char n[40], w[160];
+    snprintf(n, sizeof n, "%d G%d", N, g);
+    if (dipole) snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to the %s dipole", N, g, g > 1 ? "s" : "", dipole);
+    else snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", N, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
+    add(N, 0, g, false, (dm_render_desc){0}, n, w);
 }
 
 /* The rows; B is the size the knobs are measured at. */
@@ -107,13 +121,11 @@ static void add_rows(bool quick, bool large, int B)
         snprintf(n, sizeof n, "%d taps %d", B, t), snprintf(w, sizeof w, "irradiance %d, %d taps", B, t);
         add(B, t, 0, false, (dm_render_desc){0}, n, w);
     }
-    for (int g = 1; g <= MAX_G; ++g) {
-        if (quick && g != 1 && g != 3) continue;
-        snprintf(n, sizeof n, "%d G%d", B, g);
-        if (dipole) snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to the %s dipole", B, g, g > 1 ? "s" : "", dipole);
-        else snprintf(w, sizeof w, "%d, %d Gaussian%s fitted to gems3-skin%s", B, g, g > 1 ? "s" : "", g == 6 ? " (its own six)" : "");
-        add(B, 0, g, false, (dm_render_desc){0}, n, w);
-    }
+    /* the fits at the scene's irradiance size, where every map the pack bakes applies; the last
+     * two again at B, not a check (the pack's half-size maps, no seam map at that size) */
+    for (int g = 1; g <= MAX_G; ++g)
+        if (!quick || g == 1 || g == 3) add_fit(quick ? B : 1024, g);
+    for (int g = MAX_G - 1; g <= MAX_G && !quick; ++g) add_fit(B, g);
     /* the seam map left out (issue #29 point 1): beside the gather, the gather alone carries the
      * widest levels across seams (the default before 2026-12-02; at 512 there is no map at that
      * size); the thin-part map left out (point 2): no light from across thin parts and folds */
@@ -194,8 +206,12 @@ static int row_pack(const setting *s)
                                                               : s->gaussians;
 }
 
+/* The reference of truth dip (NULL: the pack's profile) at texture-space size N, or (N 0) the
+ * frame without `without`; coarse (frames only) -1 for the bench's settings, else one step
+ * back (FT_COARSE_*): the rays without --refine, or the atlas at half (2048, its samples
+ * doubled: the same irradiance points). Cached under dir by pack hash and settings. */
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
-                     const char *without, dm_refcmp_ref *ref)
+                     const char *without, int coarse, dm_refcmp_ref *ref)
 {
     const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
     char path[2048], cmd[8192], truth[64] = "", opt[200] = "", wo[64] = "";
@@ -216,10 +232,11 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
     }
     /* the scene profile's transport runs (white albedo: the transport and its flat) refined,
      * where the rankings are read; not the dipole's (FRAME_REFINE: twelve times the time) */
-    int refine = !dip && without && strstr(without, "albedo") ? FRAME_REFINE : 0;
+    int refine = !dip && without && strstr(without, "albedo") && coarse != FT_COARSE_RAYS ? FRAME_REFINE : 0;
+    int atlas = coarse == FT_COARSE_ATLAS ? FRAME_ATLAS / 2 : FRAME_ATLAS, as = coarse == FT_COARSE_ATLAS ? 2 * FRAME_AS : FRAME_AS;
     if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
-    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d-r%d%s.exr", dir, hex, truth, FW, FH, FRAME_ATLAS,
-                  FRAME_AS, FRAME_PS, refine, wo);
+    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d-r%d%s.exr", dir, hex, truth, FW, FH, atlas, as,
+                  FRAME_PS, refine, wo);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
@@ -235,8 +252,9 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
                             : dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) && !sk
                                   : !dp && !bp && !sk;
             const dm_param *rf = dm_prov_find(&ref->prov, "refine_samples");
+            const dm_param *at = dm_prov_find(&ref->prov, "atlas"), *sa = dm_prov_find(&ref->prov, "atlas_samples");
             bool frame_ok = ps && ps->i == FRAME_PS && (refine ? rf && rf->i == refine : !rf) && df && !strcmp(df->s, "pixel") && wt &&
-                            !strcmp(wt->s, without ? without : "");
+                            !strcmp(wt->s, without ? without : "") && at && at->i == atlas && sa && sa->i == as;
             /* texture space: the renderer's irradiance at this build's shadow map size */
             char shadow[48];
             snprintf(shadow, sizeof shadow, ", shadow map %d (", DM_RENDER_SHADOW_SIZE_DEFAULT);
@@ -256,7 +274,7 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
             snprintf(cmd, sizeof cmd,
                      "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d%s%s -o %s "
                      "--quiet",
-                     bin, pack, FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_PS, rk, opt, path);
+                     bin, pack, FW, FH, atlas, as, FRAME_PS, rk, opt, path);
         }
         if (run(cmd) != 0) break;
     }
@@ -435,7 +453,7 @@ int main(int argc, char **argv)
             return 3;
         }
         z[nz].N = rows_s[c].size, z[nz].dipole = truth;
-        if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, NULL, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz]))
+        if (!reference(bin, pack_path, hash, dir, z[nz].N, truth, NULL, -1, &z[nz].ref) || !label_atlas(rg, &surf->mesh, &z[nz]))
             return 3;
         ++nz;
     }
@@ -445,10 +463,17 @@ int main(int argc, char **argv)
     for (int t = 0; t < (texture_only ? 0 : 1 + (dipole != NULL)); ++t) {
         const char *truth = t ? dipole : NULL;
         for (int v = 0; v < (t ? 1 : FV_COUNT); ++v) {
-            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[v], &ft[t].ref[v])) return 3;
+            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[v], -1, &ft[t].ref[v])) return 3;
             ft[t].have[v] = true;
         }
-        if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, &ft[t].flat)) return 3;
+        if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, -1, &ft[t].flat)) return 3;
+        /* the scene profile's transport a step back in rays and in atlas: the margins' own bars
+         * (not the dipole's: its frame is not refined, and a coarser one takes most of an hour) */
+        for (int k = 0; !t && k < FT_COARSE_COUNT; ++k)
+            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[FV_TRANSPORT], k, &ft[t].coarse[k][0]) ||
+                !reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, k, &ft[t].coarse[k][1]))
+                return 3;
+        ft[t].have_coarse = !t;
     }
     uint8_t *plabel = malloc((size_t)FW * FH);
     if (!plabel || (!texture_only && dm_ref_frame_labels(surf, rg, FW, FH, 0, plabel, &err) != DM_OK)) {

@@ -30,10 +30,19 @@ static const char *const FV_NAME[FV_COUNT] = {"transport", "surface", "full"};
 /* the transport run without subsurface: the reference of "no subsurface at all" */
 static const char *const FV_FLAT = "albedo,normal-map,shadows,subsurface";
 
-/* The ground truth of one profile for the frame: a reference per run and the flat one. */
+/* The coarser transport references a ranking's margin is also measured against, each one
+ * discretisation a step back from the bench's (bench/accuracy.c, reference()): the rays (no
+ * --refine) and the atlas (half, its samples doubled); how far the margin moves there bounds
+ * how far it can still be from the converged truth's. */
+enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_COARSE_COUNT };
+
+/* The ground truth of one profile for the frame: a reference per run and the flat one; for
+ * the scene's profile also the coarser transport and flat pairs (have_coarse). */
 typedef struct frame_truth {
     dm_refcmp_ref ref[FV_COUNT], flat;
     bool have[FV_COUNT];
+    dm_refcmp_ref coarse[FT_COARSE_COUNT][2]; /* transport, flat */
+    bool have_coarse;
 } frame_truth;
 
 /* Per-row frame results. */
@@ -42,6 +51,8 @@ typedef struct frame_result {
     bool trok[DM_REF_REGION_COUNT + 1];
     dm_ref_error_stats run[FV_COUNT]; /* mean relative error over the interior pixels */
     bool runok[FV_COUNT];
+    double coarse[FT_COARSE_COUNT]; /* the transport's normalised error (all skin, all channels) */
+    bool coarseok;                  /* against the truth's coarser pairs */
 } frame_result;
 
 /* The assets and scene of run v: the transport run drops the albedo and normal maps and
@@ -92,6 +103,13 @@ static void frame_measure(const dm_render_assets *a, const dm_scene *scene, dm_r
         for (int g = 0; v == FV_TRANSPORT && g <= DM_REF_REGION_COUNT; ++g)
             fr->trok[g] = dm_ref_transport_compute(t->ref[v].rgba, t->flat.rgba, px, wt, label,
                                                    g < DM_REF_REGION_COUNT ? g : -1, n, 0, &fr->tr[g], &err) == DM_OK;
+        if (v == FV_TRANSPORT) fr->coarseok = t->have_coarse;
+        for (int k = 0; v == FV_TRANSPORT && fr->coarseok && k < FT_COARSE_COUNT; ++k) {
+            dm_ref_transport_stats s;
+            fr->coarseok = dm_ref_transport_compute(t->coarse[k][0].rgba, t->coarse[k][1].rgba, px, wt, NULL, -1, n, 0,
+                                                    &s, &err) == DM_OK;
+            fr->coarse[k] = s.normalised_rgb;
+        }
         if (v == FV_FULL && keep) *keep = px;
         else free(px);
     }
