@@ -596,6 +596,7 @@ int main(int argc, char **argv)
     for (int t = 0; t < 2; ++t) {
         for (int v = 0; v < FV_COUNT; ++v) dm_refcmp_ref_free(&ft[t].ref[v]);
         dm_refcmp_ref_free(&ft[t].flat);
+        for (int k = 0; k < FT_COARSE_COUNT; ++k) dm_refcmp_ref_free(&ft[t].coarse[k][0]), dm_refcmp_ref_free(&ft[t].coarse[k][1]);
     }
     free(plabel);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf);
