@@ -8,7 +8,9 @@
  * against --cut 6 --spacing 0.15), the sub-pixel rays (1², 2², 3², 4² for the surface terms)
  * and where the diffusion is taken (the pixel centre against each sub-pixel ray's hit); at
  * 640x360 (cheaper) the rays with D at each, 2², 3², 6², and 3² refined to 6² where a pixel
- * needs it (--refine 6) against 6² everywhere. Each
+ * needs it (--refine 6) against 6² everywhere; in texture space (per region: smooth, seams,
+ * thin parts) the quadrature at 256², and the irradiance's own resolution — the renderer's I
+ * at 256² and 1024² against I at twice that, D read at the coarse texels' centres. Each
  * step is reported in the unit the accuracy bench uses for that run: the transport run as
  * Σ|a − b| / Σ|no-subsurface − b| over the signal pixels (dm_ref_frame_compare.h; so it reads
  * directly against the bench's normalised column), the full run as the mean relative
@@ -29,44 +31,47 @@
 #include "pack/dm_pack.h"
 #include "render/dm_render_refcmp.h"
 
-enum { FW = 1280, FH = 720, QW = 640, QH = 360, TS = 256 };
+enum { FW = 1280, FH = 720, QW = 640, QH = 360 };
 static const char *SCENE = "assets/scenes/lps-sss.json";
 static const char *TRANSPORT = "--without albedo,normal-map,shadows";
 
 typedef struct frame {
-    const char *name, *options; /* options after --frame --size, or after --texture-space TS */
+    const char *name, *options; /* options after --frame --size, or after --texture-space ts */
     bool transport;
-    bool texture_space;
+    int ts;       /* texture space at ts² (--texture-space ts), else 0: a frame */
     bool quarter; /* at QW x QH (the rays' convergence, cheaper) */
 } frame;
 
 static const frame frames[] = {
-    {"T-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, false, false},
-    {"T-a512-s4-p1c", "--atlas 512 --atlas-samples 4 --pixel-samples 1", true, false, false},
-    {"T-a1024-s4-p1c", "--atlas 1024 --atlas-samples 4 --pixel-samples 1", true, false, false},
-    {"T-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", true, false, false},
-    {"T-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", true, false, false},
-    {"T-a1024-s2-p1c", "--atlas 1024 --atlas-samples 2 --pixel-samples 1", true, false, false},
-    {"T-a1024-s8-p1c", "--atlas 1024 --atlas-samples 8 --pixel-samples 1", true, false, false},
-    {"T-a4096-s1-p1c", "--atlas 4096 --atlas-samples 1 --pixel-samples 1", true, false, false},
-    {"T-a8192-s1-p1c", "--atlas 8192 --atlas-samples 1 --pixel-samples 1", true, false, false},
-    {"T-a1024-s4-p1c-q", "--atlas 1024 --atlas-samples 4 --pixel-samples 1 --cut 6 --spacing 0.15", true, false, false},
-    {"T-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", true, false, false},
-    {"T-a4096-s2-p2p", "--atlas 4096 --atlas-samples 2 --pixel-samples 2", true, false, false},
-    {"T-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", true, false, false},
-    {"F-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", false, false, false},
-    {"F-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", false, false, false},
-    {"F-a4096-s2-p2c", "--atlas 4096 --atlas-samples 2 --pixel-samples 2 --diffusion-at-centre", false, false, false},
-    {"F-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", false, false, false},
-    {"F-a4096-s2-p4c", "--atlas 4096 --atlas-samples 2 --pixel-samples 4 --diffusion-at-centre", false, false, false},
-    {"F-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", false, false, false},
-    {"Q-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, false, true},
-    {"Q-a1024-s2-p2p", "--atlas 1024 --atlas-samples 2 --pixel-samples 2", true, false, true},
-    {"Q-a1024-s2-p3p", "--atlas 1024 --atlas-samples 2 --pixel-samples 3", true, false, true},
-    {"Q-a1024-s2-p6p", "--atlas 1024 --atlas-samples 2 --pixel-samples 6", true, false, true},
-    {"Q-a1024-s2-p3r6", "--atlas 1024 --atlas-samples 2 --pixel-samples 3 --refine 6", true, false, true},
-    {"TS-256", "", false, true, false},
-    {"TS-256-q", "--cut 6 --spacing 0.15", false, true, false},
+    {"T-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, 0, false},
+    {"T-a512-s4-p1c", "--atlas 512 --atlas-samples 4 --pixel-samples 1", true, 0, false},
+    {"T-a1024-s4-p1c", "--atlas 1024 --atlas-samples 4 --pixel-samples 1", true, 0, false},
+    {"T-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", true, 0, false},
+    {"T-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", true, 0, false},
+    {"T-a1024-s2-p1c", "--atlas 1024 --atlas-samples 2 --pixel-samples 1", true, 0, false},
+    {"T-a1024-s8-p1c", "--atlas 1024 --atlas-samples 8 --pixel-samples 1", true, 0, false},
+    {"T-a4096-s1-p1c", "--atlas 4096 --atlas-samples 1 --pixel-samples 1", true, 0, false},
+    {"T-a8192-s1-p1c", "--atlas 8192 --atlas-samples 1 --pixel-samples 1", true, 0, false},
+    {"T-a1024-s4-p1c-q", "--atlas 1024 --atlas-samples 4 --pixel-samples 1 --cut 6 --spacing 0.15", true, 0, false},
+    {"T-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", true, 0, false},
+    {"T-a4096-s2-p2p", "--atlas 4096 --atlas-samples 2 --pixel-samples 2", true, 0, false},
+    {"T-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", true, 0, false},
+    {"F-a2048-s4-p1c", "--atlas 2048 --atlas-samples 4 --pixel-samples 1", false, 0, false},
+    {"F-a4096-s2-p1c", "--atlas 4096 --atlas-samples 2 --pixel-samples 1", false, 0, false},
+    {"F-a4096-s2-p2c", "--atlas 4096 --atlas-samples 2 --pixel-samples 2 --diffusion-at-centre", false, 0, false},
+    {"F-a4096-s2-p3c", "--atlas 4096 --atlas-samples 2 --pixel-samples 3 --diffusion-at-centre", false, 0, false},
+    {"F-a4096-s2-p4c", "--atlas 4096 --atlas-samples 2 --pixel-samples 4 --diffusion-at-centre", false, 0, false},
+    {"F-a4096-s2-p3p", "--atlas 4096 --atlas-samples 2 --pixel-samples 3", false, 0, false},
+    {"Q-flat", "--without albedo,normal-map,shadows,subsurface --atlas 1024 --pixel-samples 1", true, 0, true},
+    {"Q-a1024-s2-p2p", "--atlas 1024 --atlas-samples 2 --pixel-samples 2", true, 0, true},
+    {"Q-a1024-s2-p3p", "--atlas 1024 --atlas-samples 2 --pixel-samples 3", true, 0, true},
+    {"Q-a1024-s2-p6p", "--atlas 1024 --atlas-samples 2 --pixel-samples 6", true, 0, true},
+    {"Q-a1024-s2-p3r6", "--atlas 1024 --atlas-samples 2 --pixel-samples 3 --refine 6", true, 0, true},
+    {"TS-256", "", false, 256, false},
+    {"TS-256-q", "--cut 6 --spacing 0.15", false, 256, false},
+    {"TS-512", "", false, 512, false},
+    {"TS-1024", "", false, 1024, false},
+    {"TS-2048", "", false, 2048, false},
 };
 enum { NF = sizeof frames / sizeof frames[0] };
 static dm_refcmp_ref refs[NF];
@@ -95,6 +100,8 @@ static const step steps[] = {
     {"F-a4096-s2-p3c", "F-a4096-s2-p4c", "full: 3² → 4² sub-pixel rays (diffusion at the centre)"},
     {"F-a4096-s2-p3c", "F-a4096-s2-p3p", "full: 3² rays, diffusion at the centre → at each ray"},
     {"TS-256", "TS-256-q", "texture space 256: quadrature cut 4 σ, spacing 0.3 σ → 6 σ, 0.15 σ"},
+    {"TS-256", "TS-512", "texture space 256: irradiance 256² → 512² (D read at 256's texel centres)"},
+    {"TS-1024", "TS-2048", "texture space 1024: irradiance 1024² → 2048² (D read at 1024's texel centres)"},
 };
 enum { NS = sizeof steps / sizeof steps[0] };
 
@@ -112,7 +119,7 @@ static bool load(const char *bin, const char *dir, const char *pack, const char 
     snprintf(path, sizeof path, "%s/%s.exr", dir, f->name);
     dm_error err = {0};
     for (int attempt = 0; attempt < 2; ++attempt) {
-        int w = f->texture_space ? TS : f->quarter ? QW : FW, h = f->texture_space ? TS : f->quarter ? QH : FH;
+        int w = f->ts ? f->ts : f->quarter ? QW : FW, h = f->ts ? f->ts : f->quarter ? QH : FH;
         if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance && !strcmp(ref->prov.input_hash, hash) &&
             ref->width == w && ref->height == h) {
             fprintf(stderr, "ref_convergence: %s (%s)\n", path, attempt ? "computed" : "cached");
@@ -120,8 +127,8 @@ static bool load(const char *bin, const char *dir, const char *pack, const char 
         }
         dm_refcmp_ref_free(ref);
         if (attempt || getenv("DERMIS_BENCH_CACHED")) break;
-        if (f->texture_space)
-            snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d %s -o %s --quiet", bin, pack, TS,
+        if (f->ts)
+            snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d %s -o %s --quiet", bin, pack, f->ts,
                      f->options, path);
         else
             snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --frame --size %dx%d %s %s -o %s --quiet", bin, pack, w,
@@ -133,8 +140,31 @@ static bool load(const char *bin, const char *dir, const char *pack, const char 
     return false;
 }
 
+/* fine (N² RGBA) read at the texel centres of an M² atlas (M < N, bilinear): out (M² RGBA),
+ * alpha 0 where a read would take in a texel fine does not cover. */
+static void read_at(const float *fine, int N, int M, float *out)
+{
+    for (int j = 0; j < M; ++j)
+        for (int i = 0; i < M; ++i) {
+            double x = (i + 0.5) * N / M - 0.5, y = (j + 0.5) * N / M - 0.5;
+            int x0 = (int)floor(x), y0 = (int)floor(y);
+            double fx = x - x0, fy = y - y0, v[4] = {0};
+            bool ok = x0 >= 0 && y0 >= 0 && x0 + 1 < N && y0 + 1 < N;
+            for (int k = 0; ok && k < 4; ++k) {
+                const float *t = fine + 4 * ((size_t)(y0 + k / 2) * N + x0 + k % 2);
+                double w = (k % 2 ? fx : 1 - fx) * (k / 2 ? fy : 1 - fy);
+                ok = t[3] >= 0.5f;
+                for (int c = 0; c < 3; ++c) v[c] += w * t[c];
+            }
+            float *o = out + 4 * ((size_t)j * M + i);
+            for (int c = 0; c < 3; ++c) o[c] = ok ? (float)v[c] : 0.0f;
+            o[3] = ok ? 1.0f : 0.0f;
+        }
+}
+
 /* The texture-space steps per region: area-weighted mean |coarse − fine| / fine over the
- * texels of each label (dm_ref_regions.h), as accuracy.md's region table weighs them. */
+ * texels of each label (dm_ref_regions.h) at the coarse step's size, as accuracy.md's region
+ * table weighs them; a finer irradiance's D is read at the coarse texels' centres. */
 static int texture_space_table(FILE *md, const char *pack_path)
 {
     dm_pack pack;
@@ -151,29 +181,33 @@ static int texture_space_table(FILE *md, const char *pack_path)
         fprintf(stderr, "error: regions: %s\n", err.detail);
         return 0;
     }
-    uint8_t *label = NULL;
-    float *area = NULL;
-    long count[DM_REF_REGION_COUNT] = {0};
-    double area_mm2[DM_REF_REGION_COUNT] = {0};
-    int ok = refs[named("TS-256")].rgba &&
-             atlas_regions(rg, &surf->mesh, TS, refs[named("TS-256")].rgba, &label, &area, count, area_mm2);
-    fprintf(md, "\nThe texture-space reference at %d² (`--texture-space %d`), area-weighted mean |coarse − fine| / fine "
-                "per region (the labels and areas of accuracy.md's region table), %%, R / G / B:\n\n"
-                "| refinement | smooth | seam | thin |\n|---|---:|---:|---:|\n", TS, TS);
+    fprintf(md, "\nThe texture-space reference (`--texture-space N`), area-weighted mean |coarse − fine| / fine "
+                "per region at the coarse size (the labels and areas of accuracy.md's region table), %%, R / G / B:\n\n"
+                "| refinement | smooth | seam | thin |\n|---|---:|---:|---:|\n");
+    int ok = 1;
     for (int s = 0; ok && s < NS; ++s) {
-        if (!frames[named(steps[s].fine)].texture_space) continue;
+        const frame *fa = &frames[named(steps[s].coarse)], *fb = &frames[named(steps[s].fine)];
         const dm_refcmp_ref *a = &refs[named(steps[s].coarse)], *b = &refs[named(steps[s].fine)];
-        if (!a->rgba || !b->rgba) continue;
-        fprintf(md, "| %s |", steps[s].what);
-        for (int g = 0; g < DM_REF_REGION_COUNT; ++g) {
+        if (!fb->ts || !a->rgba || !b->rgba) continue;
+        uint8_t *label = NULL;
+        float *area = NULL, *fine = b->rgba;
+        long count[DM_REF_REGION_COUNT] = {0};
+        double area_mm2[DM_REF_REGION_COUNT] = {0};
+        size_t n = (size_t)fa->ts * fa->ts;
+        ok = atlas_regions(rg, &surf->mesh, fa->ts, a->rgba, &label, &area, count, area_mm2);
+        if (ok && fb->ts != fa->ts) ok = (fine = malloc(sizeof *fine * 4 * n)) != NULL;
+        if (ok && fb->ts != fa->ts) read_at(b->rgba, fb->ts, fa->ts, fine);
+        if (ok) fprintf(md, "| %s |", steps[s].what);
+        for (int g = 0; ok && g < DM_REF_REGION_COUNT; ++g) {
             dm_ref_error_stats st;
-            if (dm_ref_error_stats_compute(b->rgba, a->rgba, area, label, g, (size_t)TS * TS, &st, &err) == DM_OK)
+            if (dm_ref_error_stats_compute(fine, a->rgba, area, label, g, n, &st, &err) == DM_OK)
                 fprintf(md, " %.3f / %.3f / %.3f |", 100 * st.mean[0], 100 * st.mean[1], 100 * st.mean[2]);
             else fprintf(md, " – |");
         }
-        fprintf(md, "\n");
+        if (ok) fprintf(md, "\n");
+        if (fine != b->rgba) free(fine);
+        free(label), free(area);
     }
-    free(label), free(area);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf), dm_pack_close(&pack);
     return ok;
 }
@@ -220,7 +254,7 @@ int main(int argc, char **argv)
         bool quarter = frames[named(steps[s].fine)].quarter;
         const dm_refcmp_ref *flat = &refs[named(quarter ? "Q-flat" : "T-flat")];
         size_t n = quarter ? (size_t)QW * QH : (size_t)FW * FH;
-        if (frames[named(steps[s].fine)].texture_space || !a->rgba || !b->rgba || !flat->rgba) continue;
+        if (frames[named(steps[s].fine)].ts || !a->rgba || !b->rgba || !flat->rgba) continue;
         dm_ref_frame_interior(b->rgba, a->rgba, quarter ? QW : FW, quarter ? QH : FH, w);
         double v[3], all = -1;
         long count;
