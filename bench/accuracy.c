@@ -57,6 +57,7 @@
 
 #include "common/accuracy_report.h"
 #include "common/accuracy_packs.h"
+#include "common/accuracy_refs.h"
 #include "common/atlas_regions.h"
 
 static bool texture_only; /* DERMIS_BENCH_TEXTURE_ONLY=1: no frame references, no frame error */
@@ -185,13 +186,6 @@ static void add_rows(bool quick, bool large, int B)
     s->technique = DM_SSS_SCREEN_SPACE, s->screen_taps = 17, s->translucency = s->technique_row = true;
 }
 
-/* The cached reference (texture space at N, or the frame when N = 0), computed by
- * dermis-reference when missing or stale. */
-static const char *truth_kind(const char *spec)
-{
-    return !spec ? NULL : spec == BURLEY ? "burley" : spec == SKIN ? "skin" : "dipole";
-}
-
 /* The truth a row is compared with (NULL: the pack's own profile) and the pack it renders. */
 static const char *row_truth(const setting *s)
 {
@@ -204,82 +198,6 @@ static int row_pack(const setting *s)
            : s->translucency                                 ? PACK_TRANSL
            : s->size == 2048 && !s->gaussians                ? PACK_2048
                                                               : s->gaussians;
-}
-
-/* The reference of truth dip (NULL: the pack's profile) at texture-space size N, or (N 0) the
- * frame without `without`; coarse (frames only) -1 for the bench's settings, else one step
- * back (FT_COARSE_*): the rays without --refine, or the atlas at half (2048, its samples
- * doubled: the same irradiance points). Cached under dir by pack hash and settings. */
-static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
-                     const char *without, int coarse, dm_refcmp_ref *ref)
-{
-    const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
-    char path[2048], cmd[8192], truth[64] = "", opt[200] = "", wo[64] = "";
-    char spec[DM_PROV_STRING_SIZE] = "";
-    if (dip == SKIN && !skin_spec(spec, sizeof spec)) return 0;
-    if (dip == SKIN) /* the preset by name, its representation's size in the file name */
-        snprintf(truth, sizeof truth, "skin-%s-g%d-", SKIN, SKIN_RADIAL),
-            snprintf(opt, sizeof opt, " --skin-preset %s --radial-gaussians %d", SKIN, SKIN_RADIAL);
-    else if (dip) {
-        snprintf(truth, sizeof truth, "%s-%s-", kind, dip), snprintf(opt, sizeof opt, " --%s %s", kind, dip);
-        for (char *t = truth; *t; ++t) /* the spec's '/', ',' and '.' out of the file name */
-            if (!((*t >= 'a' && *t <= 'z') || (*t >= '0' && *t <= '9') || *t == '-')) *t = '_';
-    }
-    if (without) { /* the frame's runs: "-without-albedo_normal-map_shadows" */
-        snprintf(wo, sizeof wo, "-without-%s", without);
-        for (char *t = wo; *t; ++t) *t = *t == ',' ? '_' : *t;
-        snprintf(opt + strlen(opt), sizeof opt - strlen(opt), " --without %s", without);
-    }
-    /* the scene profile's transport runs (white albedo: the transport and its flat) refined,
-     * where the rankings are read; not the dipole's (FRAME_REFINE: twelve times the time) */
-    int refine = !dip && without && strstr(without, "albedo") && coarse != FT_COARSE_RAYS ? FRAME_REFINE : 0;
-    int atlas = coarse == FT_COARSE_ATLAS ? FRAME_ATLAS / 2 : FRAME_ATLAS, as = coarse == FT_COARSE_ATLAS ? 2 * FRAME_AS : FRAME_AS;
-    if (N) snprintf(path, sizeof path, "%s/ref-%.16s-%s%d.exr", dir, hex, truth, N);
-    else snprintf(path, sizeof path, "%s/frame-%.16s-%s%dx%d-%d-%d-%d-r%d%s.exr", dir, hex, truth, FW, FH, atlas, as,
-                  FRAME_PS, refine, wo);
-    dm_error err = {0};
-    for (int attempt = 0; attempt < 2; ++attempt) {
-        if (dm_refcmp_load(path, ref, &err) == DM_OK && ref->has_provenance &&
-            !strcmp(ref->prov.tool, "dermis-reference") && !strcmp(ref->prov.input_hash, hash) &&
-            ref->mode == (N ? DM_REFCMP_TEXTURE_SPACE : DM_REFCMP_FRAME) &&
-            (N ? ref->width == N : ref->width == FW && ref->height == FH)) {
-            const dm_param *tc = dm_prov_find(&ref->prov, "tile_count"), *dp = dm_prov_find(&ref->prov, "dipole");
-            const dm_param *bp = dm_prov_find(&ref->prov, "burley"), *mine = dip == BURLEY ? bp : dp;
-            const dm_param *sk = dm_prov_find(&ref->prov, "skin"), *rg = dm_prov_find(&ref->prov, "radial_gaussians");
-            const dm_param *ps = dm_prov_find(&ref->prov, "pixel_samples"); /* frames: anti-aliased */
-            const dm_param *df = dm_prov_find(&ref->prov, "diffusion"), *wt = dm_prov_find(&ref->prov, "without");
-            bool truth_ok = dip == SKIN ? sk && !strcmp(sk->s, spec) && rg && rg->i == SKIN_RADIAL && !dp && !bp
-                            : dip ? mine && !strcmp(mine->s, dip) && !(dip == BURLEY ? dp : bp) && !sk
-                                  : !dp && !bp && !sk;
-            const dm_param *rf = dm_prov_find(&ref->prov, "refine_samples");
-            const dm_param *at = dm_prov_find(&ref->prov, "atlas"), *sa = dm_prov_find(&ref->prov, "atlas_samples");
-            bool frame_ok = ps && ps->i == FRAME_PS && (refine ? rf && rf->i == refine : !rf) && df && !strcmp(df->s, "pixel") && wt &&
-                            !strcmp(wt->s, without ? without : "") && at && at->i == atlas && sa && sa->i == as;
-            /* texture space: the renderer's irradiance at this build's shadow map size */
-            char shadow[48];
-            snprintf(shadow, sizeof shadow, ", shadow map %d (", DM_RENDER_SHADOW_SIZE_DEFAULT);
-            const dm_param *ir = dm_prov_find(&ref->prov, "irradiance");
-            bool irr_ok = !N || (ir && strstr(ir->s, shadow));
-            if ((!tc || tc->i == 1) && truth_ok && (N || frame_ok) && irr_ok) {
-                fprintf(stderr, "accuracy bench: reference %s (%s)\n", path, attempt ? "computed" : "cached");
-                return 1;
-            }
-        }
-        dm_refcmp_ref_free(ref);
-        if (attempt) break;
-        if (N) snprintf(cmd, sizeof cmd, "%s/bin/dermis-reference %s --texture-space %d%s -o %s --quiet", bin, pack, N, opt, path);
-        else {
-            char rk[32] = "";
-            if (refine) snprintf(rk, sizeof rk, " --refine %d", refine);
-            snprintf(cmd, sizeof cmd,
-                     "%s/bin/dermis-reference %s --frame --size %dx%d --atlas %d --atlas-samples %d --pixel-samples %d%s%s -o %s "
-                     "--quiet",
-                     bin, pack, FW, FH, atlas, as, FRAME_PS, rk, opt, path);
-        }
-        if (run(cmd) != 0) break;
-    }
-    fprintf(stderr, "error: no usable reference %s: %s\n", path, err.detail);
-    return 0;
 }
 
 /* The signed bias per region and channel, Σ a (render − ref) / Σ a ref over the texels both
@@ -467,13 +385,14 @@ int main(int argc, char **argv)
             ft[t].have[v] = true;
         }
         if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, -1, &ft[t].flat)) return 3;
-        /* the scene profile's transport a step back in rays and in atlas: the margins' own bars
-         * (not the dipole's: its frame is not refined, and a coarser one takes most of an hour) */
-        for (int k = 0; !t && k < FT_COARSE_COUNT; ++k)
+        /* each transport's steps: the margins' own bars (frame_truth.h, frame_rankings.h) */
+        for (int k = 0; k < FT_COARSE_COUNT; ++k)
             if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[FV_TRANSPORT], k, &ft[t].coarse[k][0]) ||
                 !reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, k, &ft[t].coarse[k][1]))
                 return 3;
-        ft[t].have_coarse = !t;
+        ft[t].have_coarse = true;
+        ft[t].rays_left = t ? MARGIN_RAYS_LEFT_DIPOLE : MARGIN_RAYS_LEFT, ft[t].atlas_left = MARGIN_ATLAS_LEFT;
+        ft[t].fixed = t ? 0 : MARGIN_FIXED;
     }
     uint8_t *plabel = malloc((size_t)FW * FH);
     if (!plabel || (!texture_only && dm_ref_frame_labels(surf, rg, FW, FH, 0, plabel, &err) != DM_OK)) {

@@ -10,7 +10,7 @@
  * each of the fuller runs as the mean relative error over the interior skin pixels, so a
  * row shows what the surface terms and the shadows add. A no-subsurface row (the renderer's
  * Lambert) is the floor every technique must beat. Header-only like bench_util.h; included
- * by accuracy_report.h. */
+ * by accuracy_rows.h. */
 #ifndef BENCH_FRAME_TRUTH_H
 #define BENCH_FRAME_TRUTH_H
 
@@ -30,19 +30,25 @@ static const char *const FV_NAME[FV_COUNT] = {"transport", "surface", "full"};
 /* the transport run without subsurface: the reference of "no subsurface at all" */
 static const char *const FV_FLAT = "albedo,normal-map,shadows,subsurface";
 
-/* The coarser transport references a ranking's margin is also measured against, each one
- * discretisation a step back from the bench's (bench/accuracy.c, reference()): the rays (no
- * --refine) and the atlas (half, its samples doubled); how far the margin moves there bounds
- * how far it can still be from the converged truth's. */
-enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_COARSE_COUNT };
+/* The other transport references a ranking's margin is also measured against (bench/accuracy.c,
+ * reference()): one discretisation a step back from the bench's in each of its two large terms —
+ * the rays (the scene profile's without --refine; the dipole's, never refined, at 2² instead of
+ * 3²) and the atlas (half, its samples doubled: the same irradiance points) — and the
+ * quadrature's step as the convergence table measures it (atlas 1024 with 4² samples, one ray at
+ * the pixel centre; the default cut 4 sigma, spacing 0.3 sigma, then 6 sigma, 0.15 sigma). How
+ * far the margin moves over each step bounds how far it can still be from the converged truth's. */
+enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_COARSE_COUNT };
 
-/* The ground truth of one profile for the frame: a reference per run and the flat one; for
- * the scene's profile also the coarser transport and flat pairs (have_coarse). */
+/* The ground truth of one profile for the frame: a reference per run and the flat one, and
+ * the transport and flat pairs of each step (have_coarse); what is left of the rays' and the
+ * atlas's steps at the bench's settings per unit of the step (frame_rankings.h, margin_bar),
+ * and what a margin's bar adds unmeasured (fixed). */
 typedef struct frame_truth {
     dm_refcmp_ref ref[FV_COUNT], flat;
     bool have[FV_COUNT];
     dm_refcmp_ref coarse[FT_COARSE_COUNT][2]; /* transport, flat */
     bool have_coarse;
+    double rays_left, atlas_left, fixed;
 } frame_truth;
 
 /* Per-row frame results. */
