@@ -386,11 +386,13 @@ int main(int argc, char **argv)
         }
         if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, -1, &ft[t].flat)) return 3;
         /* each transport's steps: the margins' own bars (frame_truth.h, frame_rankings.h) */
-        for (int k = 0; k < FT_COARSE_COUNT; ++k)
-            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[FV_TRANSPORT], k, &ft[t].coarse[k][0]) ||
-                !reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, k, &ft[t].coarse[k][1]))
+        for (int k = 0; k < FT_STEP_COUNT; ++k) { /* not the dipole's finer atlas: hours at 3² */
+            if (k == FT_FINE_ATLAS && t) continue;
+            if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[FV_TRANSPORT], k, &ft[t].step[k][0]) ||
+                !reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, k, &ft[t].step[k][1]))
                 return 3;
-        ft[t].have_coarse = true;
+            ft[t].have_step[k] = true;
+        }
         ft[t].rays_left = t ? MARGIN_RAYS_LEFT_DIPOLE : MARGIN_RAYS_LEFT, ft[t].atlas_left = MARGIN_ATLAS_LEFT;
         ft[t].fixed = t ? 0 : MARGIN_FIXED;
     }
@@ -515,7 +517,7 @@ int main(int argc, char **argv)
     for (int t = 0; t < 2; ++t) {
         for (int v = 0; v < FV_COUNT; ++v) dm_refcmp_ref_free(&ft[t].ref[v]);
         dm_refcmp_ref_free(&ft[t].flat);
-        for (int k = 0; k < FT_COARSE_COUNT; ++k) dm_refcmp_ref_free(&ft[t].coarse[k][0]), dm_refcmp_ref_free(&ft[t].coarse[k][1]);
+        for (int k = 0; k < FT_STEP_COUNT; ++k) dm_refcmp_ref_free(&ft[t].step[k][0]), dm_refcmp_ref_free(&ft[t].step[k][1]);
     }
     free(plabel);
     dm_ref_regions_destroy(rg), dm_ref_surface_destroy(surf);

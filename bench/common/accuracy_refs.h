@@ -22,13 +22,13 @@ static const char *truth_kind(const char *spec)
 }
 
 /* The reference of truth dip (NULL: the pack's profile) at texture-space size N, or (N 0) the
- * frame without `without`; coarse (frames only) -1 for the bench's settings, else a margin's step
- * (frame_truth.h, FT_COARSE_*): the rays a step back (the scene profile's without --refine, the
- * dipole's at 2²), the atlas at half (2048, its samples doubled: the same irradiance points), or
- * the quadrature's pair (atlas 1024 × 4², one ray, the default quadrature, then cut 6 σ and
- * spacing 0.15 σ). Cached under dir by pack hash and settings. */
+ * frame without `without`; step (frames only) -1 for the bench's settings, else a margin's step
+ * (frame_truth.h, FT_*): the rays a step back (the scene profile's without --refine, the
+ * dipole's at 2²), the atlas at half (2048, its samples doubled: the same irradiance points) or
+ * twice (8192, one sample a texel), or the quadrature's pair (atlas 1024 × 4², one ray, the
+ * default quadrature, then cut 6 σ and spacing 0.15 σ). Cached under dir by pack hash and settings. */
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
-                     const char *without, int coarse, dm_refcmp_ref *ref)
+                     const char *without, int step, dm_refcmp_ref *ref)
 {
     const char *hex = strchr(hash, ':') ? strchr(hash, ':') + 1 : hash, *kind = truth_kind(dip);
     char path[2048], cmd[8192], truth[64] = "", opt[200] = "", wo[64] = "";
@@ -49,11 +49,11 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
     }
     /* the scene profile's transport runs (white albedo: the transport and its flat) refined,
      * where the rankings are read; not the dipole's (FRAME_REFINE: twelve times the time) */
-    bool quad = coarse == FT_QUAD_BASE || coarse == FT_QUAD_FINE, fine = coarse == FT_QUAD_FINE;
-    int refine = !dip && without && strstr(without, "albedo") && coarse != FT_COARSE_RAYS && !quad ? FRAME_REFINE : 0;
-    int atlas = coarse == FT_COARSE_ATLAS ? FRAME_ATLAS / 2 : quad ? QUAD_ATLAS : FRAME_ATLAS;
-    int as = coarse == FT_COARSE_ATLAS ? 2 * FRAME_AS : quad ? QUAD_AS : FRAME_AS;
-    int ps = quad ? 1 : dip && coarse == FT_COARSE_RAYS ? FRAME_PS - 1 : FRAME_PS;
+    bool quad = step == FT_QUAD_BASE || step == FT_QUAD_FINE, fine = step == FT_QUAD_FINE;
+    int refine = !dip && without && strstr(without, "albedo") && step != FT_COARSE_RAYS && !quad ? FRAME_REFINE : 0;
+    int atlas = step == FT_COARSE_ATLAS ? FRAME_ATLAS / 2 : step == FT_FINE_ATLAS ? 2 * FRAME_ATLAS : quad ? QUAD_ATLAS : FRAME_ATLAS;
+    int as = step == FT_COARSE_ATLAS ? 2 * FRAME_AS : step == FT_FINE_ATLAS ? FRAME_AS / 2 : quad ? QUAD_AS : FRAME_AS;
+    int ps = quad ? 1 : dip && step == FT_COARSE_RAYS ? FRAME_PS - 1 : FRAME_PS;
     double cut = fine ? QUAD_CUT : 4, spacing = fine ? QUAD_SPACING : 0.3;
     char q[40] = "";
     if (fine) snprintf(q, sizeof q, "-q%g-%g", cut, spacing);

@@ -29,13 +29,16 @@
 /* A ranking's margin has a bar of its own: two rows measured against the same reference share
  * most of its error (a reference that is too bright somewhere raises both rows' errors there),
  * so the margin moves far less than either score. Each term of the bar above, for the margin:
- * how far the margin moves over a step of that term (frame_truth.h, FT_COARSE_*), times what is
+ * how far the margin moves over a step of that term (frame_truth.h, FT_*), times what is
  * left of the term at the bench's settings per unit of the step, as the scores' own bounds
  * give it —
  *   rays, the scene profile's: 3² without --refine was ~8 % and is 1.4 % with --refine 8, so
  *     what is left is 1.4 per 6.6 of the step;
  *   rays, the dipole's (never refined): the 2² -> 3² step, of which 3² leaves 0.8 as 1/k²;
- *   atlas: the 2048 -> 4096 step was 5.0 % and 1.5 % is left at 4096 (second order);
+ *   atlas: where the truth has the finer atlas (8192, the scene's profile), 4/3 of the 4096 ->
+ *     8192 step (second order: what is left at 4096 is e, the step 3e/4), as the scores' bar
+ *     takes its atlas term from that step (1.1 % -> 1.5 %); else 0.3 of the 2048 -> 4096 step
+ *     (5.0 %, of which 1.5 % is left at 4096);
  *   quadrature: the whole step (cut 4 -> 6 sigma, spacing 0.3 -> 0.15 sigma), as the scores'
  *     bar takes it, measured at QUAD_ATLAS x QUAD_AS² with one ray at the pixel centre (the
  *     convergence table's setting for it: the step is the convolution's, not the atlas's);
@@ -44,6 +47,7 @@
 #define MARGIN_RAYS_LEFT (1.4 / 6.6)
 #define MARGIN_RAYS_LEFT_DIPOLE ((1.0 / 9) / (1.0 / 4 - 1.0 / 9))
 #define MARGIN_ATLAS_LEFT (1.5 / 5.0)
+#define MARGIN_ATLAS_FINE_LEFT (4.0 / 3.0)
 #define MARGIN_FIXED (2 * 0.0001)
 /* A margin against an error bar: "resolved" (at least the bar), "resolved five times over"
  * (the issue's standard: the bar at most a fifth of it) or "*not resolved*". */
@@ -52,16 +56,27 @@ static const char *margin_word(double m, double bar)
     return m >= 5 * bar ? "resolved five times over" : m >= bar ? "resolved (under five times the bar)" : "*not resolved*";
 }
 
+/* Whether rows a and b were both measured against their truth's pair of step k. */
+static bool both_step(const row *a, const row *b, int k)
+{
+    return a->fr.stepok[k] && b->fr.stepok[k];
+}
+
 /* The bar of the margin between rows a and b (normalised units): its own where both were
- * measured against the coarser references too (MARGIN_*), else the scores' bar `bar`. */
+ * measured against the references of every step but the finer atlas (MARGIN_*), else the
+ * scores' bar `bar`. */
 static double margin_bar(const row *a, const row *b, double bar)
 {
-    if (!a->fr.coarseok || !b->fr.coarseok || a->ft != b->ft) return bar;
-    const double *ca = a->fr.coarse, *cb = b->fr.coarse;
+    for (int k = 0; k < FT_FINE_ATLAS; ++k)
+        if (!both_step(a, b, k)) return bar;
+    if (a->ft != b->ft) return bar;
+    const double *ca = a->fr.step, *cb = b->fr.step;
     double m = a->fr.tr[REG_ALL].normalised_rgb - b->fr.tr[REG_ALL].normalised_rgb;
-    double rays = ca[FT_COARSE_RAYS] - cb[FT_COARSE_RAYS] - m, atlas = ca[FT_COARSE_ATLAS] - cb[FT_COARSE_ATLAS] - m;
+    double rays = ca[FT_COARSE_RAYS] - cb[FT_COARSE_RAYS] - m;
+    double atlas = both_step(a, b, FT_FINE_ATLAS) ? MARGIN_ATLAS_FINE_LEFT * fabs(ca[FT_FINE_ATLAS] - cb[FT_FINE_ATLAS] - m)
+                                                  : a->ft->atlas_left * fabs(ca[FT_COARSE_ATLAS] - cb[FT_COARSE_ATLAS] - m);
     double quad = (ca[FT_QUAD_FINE] - cb[FT_QUAD_FINE]) - (ca[FT_QUAD_BASE] - cb[FT_QUAD_BASE]);
-    return a->ft->rays_left * fabs(rays) + a->ft->atlas_left * fabs(atlas) + fabs(quad) + a->ft->fixed;
+    return a->ft->rays_left * fabs(rays) + atlas + fabs(quad) + a->ft->fixed;
 }
 
 /* The margins checked, for the table of close ones (margins_table). */
@@ -86,21 +101,26 @@ static void margin_text(FILE *md, const row *a, const row *b, double bar)
  * moves over each step, which is what its own bar is made of. */
 static void margins_table(FILE *md)
 {
-    static const char *const step[FT_COARSE_COUNT] = {"rays a step back", "atlas a step back", "quadrature: default",
-                                                      "quadrature: finer"};
+    static const char *const step[FT_STEP_COUNT] = {"rays a step back", "atlas a step back", "quadrature: default",
+                                                    "quadrature: finer", "atlas a step finer"};
     fprintf(md, "\nThe close margins (under ten times the scores' bar) against each transport reference: the second "
                 "row's score minus the first's, points (the bench's reference; the rays a step back: the scene "
                 "profile's without `--refine`, the dipole's at %d²; the atlas at %d × %d²; the quadrature's pair at atlas "
-                "%d × %d², one ray at the pixel centre, cut 4 σ and spacing 0.3 σ, then %g σ and %g σ):\n\n"
-                "| rows | the bench's |", FRAME_PS - 1, FRAME_ATLAS / 2, 2 * FRAME_AS, QUAD_ATLAS, QUAD_AS, QUAD_CUT, QUAD_SPACING);
-    for (int k = 0; k < FT_COARSE_COUNT; ++k) fprintf(md, " %s |", step[k]);
-    fprintf(md, " its own bar |\n|---|---:|---:|---:|---:|---:|---:|\n");
+                "%d × %d², one ray at the pixel centre, cut 4 σ and spacing 0.3 σ, then %g σ and %g σ; the atlas a "
+                "step finer at %d × %d², the scene profile's only):\n\n"
+                "| rows | the bench's |",
+            FRAME_PS - 1, FRAME_ATLAS / 2, 2 * FRAME_AS, QUAD_ATLAS, QUAD_AS, QUAD_CUT, QUAD_SPACING, 2 * FRAME_ATLAS,
+            FRAME_AS / 2);
+    for (int k = 0; k < FT_STEP_COUNT; ++k) fprintf(md, " %s |", step[k]);
+    fprintf(md, " its own bar |\n|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (int i = 0; i < nmargins; ++i) {
         const row *a = margins[i].a, *b = margins[i].b;
         double m = b->fr.tr[REG_ALL].normalised_rgb - a->fr.tr[REG_ALL].normalised_rgb;
-        if (fabs(m) >= 10 * margins[i].bar || !a->fr.coarseok || !b->fr.coarseok || a->ft != b->ft) continue;
+        if (fabs(m) >= 10 * margins[i].bar || margin_bar(a, b, margins[i].bar) == margins[i].bar) continue;
         fprintf(md, "| %s, %s | %.3f |", a->s.name, b->s.name, 100 * m);
-        for (int k = 0; k < FT_COARSE_COUNT; ++k) fprintf(md, " %.3f |", 100 * (b->fr.coarse[k] - a->fr.coarse[k]));
+        for (int k = 0; k < FT_STEP_COUNT; ++k)
+            if (both_step(a, b, k)) fprintf(md, " %.3f |", 100 * (b->fr.step[k] - a->fr.step[k]));
+            else fprintf(md, " – |");
         fprintf(md, " %.3f |\n", 100 * margin_bar(a, b, margins[i].bar));
     }
 }
@@ -119,16 +139,17 @@ static void frame_rankings(FILE *md, const row *rows)
                 "(`docs/dermis-reference.md`, Convergence: %dx%d rays with `--refine %d`, atlas %d, quadrature). "
                 "A margin between two rows has a bar of its own, since both are measured against the same "
                 "reference and share most of its error: the margin is measured again against transport references "
-                "a step back in rays (no `--refine`) and in atlas (%d, %d² samples), each term being what is left of "
-                "that step at the bench's settings (%.2f of the rays' step, %.2f of the atlas's), plus the whole "
+                "a step back in rays (no `--refine`) and in atlas (%d, %d² samples) and a step finer in atlas (%d, one "
+                "sample a texel), each term being what is left of that step at the bench's settings (%.2f of the rays' "
+                "step; %.2f of the finer atlas's, or where a truth has none %.2f of the coarser's), plus the whole "
                 "quadrature step (cut 4 → %g σ, spacing 0.3 → %g σ, at atlas %d × %d² and the pixel centre, as the "
                 "convergence table measures it) and `--refine`'s bound for each row (%.2f points in all). Each "
                 "margin is given in points and against its own bar (else the scores'): *not resolved* below it, "
                 "*resolved* above it, *resolved five times over* where the bar is at most a fifth of it (the "
                 "issue's standard).\n\n",
             100 * FRAME_ERROR_BAR_RGB, 100 * FRAME_ERROR_BAR_RED, FRAME_PS, FRAME_PS, FRAME_REFINE, FRAME_ATLAS,
-            FRAME_ATLAS / 2, 2 * FRAME_AS, MARGIN_RAYS_LEFT, MARGIN_ATLAS_LEFT, QUAD_CUT, QUAD_SPACING, QUAD_ATLAS,
-            QUAD_AS, 100 * MARGIN_FIXED);
+            FRAME_ATLAS / 2, 2 * FRAME_AS, 2 * FRAME_ATLAS, MARGIN_RAYS_LEFT, MARGIN_ATLAS_FINE_LEFT, MARGIN_ATLAS_LEFT,
+            QUAD_CUT, QUAD_SPACING, QUAD_ATLAS, QUAD_AS, 100 * MARGIN_FIXED);
     double f = flat ? frame_norm3(&flat->fr.tr[REG_ALL]) : 0;
     for (int pass = 0; flat && pass < 2; ++pass) {
         fprintf(md, pass ? "\nThe other settings against the floor (what the metric says of them; not a check):\n\n"

@@ -33,21 +33,23 @@ static const char *const FV_FLAT = "albedo,normal-map,shadows,subsurface";
 /* The other transport references a ranking's margin is also measured against (bench/accuracy.c,
  * reference()): one discretisation a step back from the bench's in each of its two large terms —
  * the rays (the scene profile's without --refine; the dipole's, never refined, at 2² instead of
- * 3²) and the atlas (half, its samples doubled: the same irradiance points) — and the
- * quadrature's step as the convergence table measures it (atlas 1024 with 4² samples, one ray at
- * the pixel centre; the default cut 4 sigma, spacing 0.3 sigma, then 6 sigma, 0.15 sigma). How
- * far the margin moves over each step bounds how far it can still be from the converged truth's. */
-enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_COARSE_COUNT };
+ * 3²) and the atlas (half, its samples doubled: the same irradiance points) — the quadrature's
+ * step as the convergence table measures it (atlas 1024 with 4² samples, one ray at the pixel
+ * centre; the default cut 4 sigma, spacing 0.3 sigma, then 6 sigma, 0.15 sigma), and, for the
+ * scene's profile, the atlas a step finer (twice, one sample a texel: the same irradiance
+ * points). How far the margin moves over each step bounds how far it can still be from the
+ * converged truth's. */
+enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_FINE_ATLAS, FT_STEP_COUNT };
 
 /* The ground truth of one profile for the frame: a reference per run and the flat one, and
- * the transport and flat pairs of each step (have_coarse); what is left of the rays' and the
- * atlas's steps at the bench's settings per unit of the step (frame_rankings.h, margin_bar),
- * and what a margin's bar adds unmeasured (fixed). */
+ * the transport and flat pairs of each step it has (have_step: all but FT_FINE_ATLAS at
+ * least); what is left of the rays' and the atlas's steps at the bench's settings per unit of
+ * the step (frame_rankings.h, margin_bar), and what a margin's bar adds unmeasured (fixed). */
 typedef struct frame_truth {
     dm_refcmp_ref ref[FV_COUNT], flat;
     bool have[FV_COUNT];
-    dm_refcmp_ref coarse[FT_COARSE_COUNT][2]; /* transport, flat */
-    bool have_coarse;
+    dm_refcmp_ref step[FT_STEP_COUNT][2]; /* transport, flat */
+    bool have_step[FT_STEP_COUNT];
     double rays_left, atlas_left, fixed;
 } frame_truth;
 
@@ -57,8 +59,8 @@ typedef struct frame_result {
     bool trok[DM_REF_REGION_COUNT + 1];
     dm_ref_error_stats run[FV_COUNT]; /* mean relative error over the interior pixels */
     bool runok[FV_COUNT];
-    double coarse[FT_COARSE_COUNT]; /* the transport's normalised error (all skin, all channels) */
-    bool coarseok;                  /* against the truth's coarser pairs */
+    double step[FT_STEP_COUNT]; /* the transport's normalised error (all skin, all channels) */
+    bool stepok[FT_STEP_COUNT];  /* against the truth's pair of that step */
 } frame_result;
 
 /* The assets and scene of run v: the transport run drops the albedo and normal maps and
@@ -109,12 +111,11 @@ static void frame_measure(const dm_render_assets *a, const dm_scene *scene, dm_r
         for (int g = 0; v == FV_TRANSPORT && g <= DM_REF_REGION_COUNT; ++g)
             fr->trok[g] = dm_ref_transport_compute(t->ref[v].rgba, t->flat.rgba, px, wt, label,
                                                    g < DM_REF_REGION_COUNT ? g : -1, n, 0, &fr->tr[g], &err) == DM_OK;
-        if (v == FV_TRANSPORT) fr->coarseok = t->have_coarse;
-        for (int k = 0; v == FV_TRANSPORT && fr->coarseok && k < FT_COARSE_COUNT; ++k) {
+        for (int k = 0; v == FV_TRANSPORT && k < FT_STEP_COUNT; ++k) {
             dm_ref_transport_stats s;
-            fr->coarseok = dm_ref_transport_compute(t->coarse[k][0].rgba, t->coarse[k][1].rgba, px, wt, NULL, -1, n, 0,
-                                                    &s, &err) == DM_OK;
-            fr->coarse[k] = s.normalised_rgb;
+            fr->stepok[k] = t->have_step[k] && dm_ref_transport_compute(t->step[k][0].rgba, t->step[k][1].rgba, px, wt, NULL,
+                                                                         -1, n, 0, &s, &err) == DM_OK;
+            fr->step[k] = fr->stepok[k] ? s.normalised_rgb : 0;
         }
         if (v == FV_FULL && keep) *keep = px;
         else free(px);
