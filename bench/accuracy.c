@@ -393,7 +393,7 @@ int main(int argc, char **argv)
                 return 3;
             ft[t].have_step[k] = true;
         }
-        ft[t].rays_left = t ? MARGIN_RAYS_LEFT_DIPOLE : MARGIN_RAYS_LEFT, ft[t].atlas_left = MARGIN_ATLAS_LEFT;
+        ft[t].rays_left = t ? MARGIN_RAYS_LEFT_DIPOLE : MARGIN_RAYS_LEFT;
         ft[t].fixed = t ? 0 : MARGIN_FIXED;
     }
     uint8_t *plabel = malloc((size_t)FW * FH);

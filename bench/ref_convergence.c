@@ -148,7 +148,7 @@ static void read_at(const float *fine, int N, int M, float *out)
         for (int i = 0; i < M; ++i) {
             double x = (i + 0.5) * N / M - 0.5, y = (j + 0.5) * N / M - 0.5;
             int x0 = (int)floor(x), y0 = (int)floor(y);
-            double fx = x - x0, fy = y - y0, v[4] = {0};
+            double fx = x - x0, fy = y - y0, v[3] = {0};
             bool ok = x0 >= 0 && y0 >= 0 && x0 + 1 < N && y0 + 1 < N;
             for (int k = 0; ok && k < 4; ++k) {
                 const float *t = fine + 4 * ((size_t)(y0 + k / 2) * N + x0 + k % 2);

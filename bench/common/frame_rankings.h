@@ -74,7 +74,7 @@ static double margin_bar(const row *a, const row *b, double bar)
     double m = a->fr.tr[REG_ALL].normalised_rgb - b->fr.tr[REG_ALL].normalised_rgb;
     double rays = ca[FT_COARSE_RAYS] - cb[FT_COARSE_RAYS] - m;
     double atlas = both_step(a, b, FT_FINE_ATLAS) ? MARGIN_ATLAS_FINE_LEFT * fabs(ca[FT_FINE_ATLAS] - cb[FT_FINE_ATLAS] - m)
-                                                  : a->ft->atlas_left * fabs(ca[FT_COARSE_ATLAS] - cb[FT_COARSE_ATLAS] - m);
+                                                  : MARGIN_ATLAS_LEFT * fabs(ca[FT_COARSE_ATLAS] - cb[FT_COARSE_ATLAS] - m);
     double quad = (ca[FT_QUAD_FINE] - cb[FT_QUAD_FINE]) - (ca[FT_QUAD_BASE] - cb[FT_QUAD_BASE]);
     return a->ft->rays_left * fabs(rays) + atlas + fabs(quad) + a->ft->fixed;
 }

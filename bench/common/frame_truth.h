@@ -43,14 +43,14 @@ enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_FINE_ATLA
 
 /* The ground truth of one profile for the frame: a reference per run and the flat one, and
  * the transport and flat pairs of each step it has (have_step: all but FT_FINE_ATLAS at
- * least); what is left of the rays' and the atlas's steps at the bench's settings per unit of
- * the step (frame_rankings.h, margin_bar), and what a margin's bar adds unmeasured (fixed). */
+ * least); what is left of the rays' step at the bench's settings per unit of the step
+ * (frame_rankings.h, margin_bar), and what a margin's bar adds unmeasured (fixed). */
 typedef struct frame_truth {
     dm_refcmp_ref ref[FV_COUNT], flat;
     bool have[FV_COUNT];
     dm_refcmp_ref step[FT_STEP_COUNT][2]; /* transport, flat */
     bool have_step[FT_STEP_COUNT];
-    double rays_left, atlas_left, fixed;
+    double rays_left, fixed;
 } frame_truth;
 
 /* Per-row frame results. */
