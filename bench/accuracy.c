@@ -31,7 +31,9 @@
  * DERMIS_BENCH_TEXTURE_ONLY=1: the texture-space columns only (no frame reference is computed
  * or read; the frame columns say –), to measure a texture-space change quickly.
  * DERMIS_BENCH_ROWS=a,b,...: only the rows of those short names (the region table's first
- * column, e.g. "1024,1024 reduce5"), to measure a change quickly; write to another OUTDIR.
+ * column, e.g. "1024,1024 reduce5") and only the truths and packs they need (without a
+ * Gaussian-count row, not the dipole's frames: hours), to measure a change quickly; write to
+ * another OUTDIR (a results file from such a run says so under its title).
  * Writes OUTDIR/accuracy.md, accuracy.png (Pareto plot, gnuplot), accuracy-frame.png
  * (reference | default render | error, the frame), accuracy-regions.png (the labels) and
  * accuracy-seam-error.png, accuracy-thin-error.png (the default row's signed red error in those regions)
@@ -320,7 +322,7 @@ int main(int argc, char **argv)
     for (int c = 0; c < nrows; ++c) {
         int g = rows_s[c].gaussians;
         char p[2048];
-        if (g && !rows_s[c].burley && !rows_s[c].skin && !packs[g].open &&
+        if (fit_row(&rows_s[c]) && !packs[g].open &&
             (!pack_fit(bin, dir, hash, g, p, sizeof p) || !open_pack(p, &packs[g])))
             return 3;
         if (rows_s[c].burley && !packs[PACK_BURLEY].open &&
@@ -376,9 +378,12 @@ int main(int argc, char **argv)
         ++nz;
     }
     /* the frame's truths: the scene's profile in every run, the dipole (Gaussian-count rows)
-     * in the transport run; each with its flat (no-subsurface) transport frame */
+     * in the transport run where a row is compared with it; each with its flat (no-subsurface)
+     * transport frame */
     static frame_truth ft[2];
-    for (int t = 0; t < (texture_only ? 0 : 1 + (dipole != NULL)); ++t) {
+    bool fits = false;
+    for (int c = 0; c < nrows; ++c) fits |= dipole && fit_row(&rows_s[c]);
+    for (int t = 0; t < (texture_only ? 0 : 1 + fits); ++t) {
         const char *truth = t ? dipole : NULL;
         for (int v = 0; v < (t ? 1 : FV_COUNT); ++v) {
             if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[v], -1, &ft[t].ref[v])) return 3;
@@ -386,14 +391,14 @@ int main(int argc, char **argv)
         }
         if (!reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, -1, &ft[t].flat)) return 3;
         /* each transport's steps: the margins' own bars (frame_truth.h, frame_rankings.h) */
-        for (int k = 0; k < FT_STEP_COUNT; ++k) { /* not the dipole's finer atlas: hours at 3² */
-            if (k == FT_FINE_ATLAS && t) continue;
+        for (int k = 0; k < FT_STEP_COUNT; ++k) {
             if (!reference(bin, pack_path, hash, dir, 0, truth, FV_WITHOUT[FV_TRANSPORT], k, &ft[t].step[k][0]) ||
                 !reference(bin, pack_path, hash, dir, 0, truth, FV_FLAT, k, &ft[t].step[k][1]))
                 return 3;
             ft[t].have_step[k] = true;
         }
         ft[t].rays_left = t ? MARGIN_RAYS_LEFT_DIPOLE : MARGIN_RAYS_LEFT;
+        ft[t].atlas_left = t ? MARGIN_ATLAS_LEFT_DIPOLE : MARGIN_ATLAS_LEFT;
         ft[t].fixed = t ? 0 : MARGIN_FIXED;
     }
     uint8_t *plabel = malloc((size_t)FW * FH);

@@ -24,9 +24,9 @@ static const char *truth_kind(const char *spec)
 /* The reference of truth dip (NULL: the pack's profile) at texture-space size N, or (N 0) the
  * frame without `without`; step (frames only) -1 for the bench's settings, else a margin's step
  * (frame_truth.h, FT_*): the rays a step back (the scene profile's without --refine, the
- * dipole's at 2²), the atlas at half (2048, its samples doubled: the same irradiance points) or
- * twice (8192, one sample a texel), or the quadrature's pair (atlas 1024 × 4², one ray, the
- * default quadrature, then cut 6 σ and spacing 0.15 σ). Cached under dir by pack hash and settings. */
+ * dipole's at 2²), the atlas at half (its samples doubled: the same irradiance points), or the
+ * quadrature's pair (atlas 1024 × 4², one ray, the default quadrature, then cut 6 σ and spacing
+ * 0.15 σ). Cached under dir by pack hash and settings. */
 static int reference(const char *bin, const char *pack, const char *hash, const char *dir, int N, const char *dip,
                      const char *without, int step, dm_refcmp_ref *ref)
 {
@@ -47,12 +47,14 @@ static int reference(const char *bin, const char *pack, const char *hash, const 
         for (char *t = wo; *t; ++t) *t = *t == ',' ? '_' : *t;
         snprintf(opt + strlen(opt), sizeof opt - strlen(opt), " --without %s", without);
     }
-    /* the scene profile's transport runs (white albedo: the transport and its flat) refined,
-     * where the rankings are read; not the dipole's (FRAME_REFINE: twelve times the time) */
+    /* the scene profile's transport runs (white albedo: the transport and its flat) refined and
+     * at the finer atlas, where the rankings are read; not the dipole's (twelve times the time) */
     bool quad = step == FT_QUAD_BASE || step == FT_QUAD_FINE, fine = step == FT_QUAD_FINE;
-    int refine = !dip && without && strstr(without, "albedo") && step != FT_COARSE_RAYS && !quad ? FRAME_REFINE : 0;
-    int atlas = step == FT_COARSE_ATLAS ? FRAME_ATLAS / 2 : step == FT_FINE_ATLAS ? 2 * FRAME_ATLAS : quad ? QUAD_ATLAS : FRAME_ATLAS;
-    int as = step == FT_COARSE_ATLAS ? 2 * FRAME_AS : step == FT_FINE_ATLAS ? FRAME_AS / 2 : quad ? QUAD_AS : FRAME_AS;
+    bool transport = !dip && without && strstr(without, "albedo");
+    int refine = transport && step != FT_COARSE_RAYS && !quad ? FRAME_REFINE : 0;
+    int atlas = transport ? TRANSPORT_ATLAS : FRAME_ATLAS, as = transport ? TRANSPORT_AS : FRAME_AS;
+    if (step == FT_COARSE_ATLAS) atlas /= 2, as *= 2;
+    if (quad) atlas = QUAD_ATLAS, as = QUAD_AS;
     int ps = quad ? 1 : dip && step == FT_COARSE_RAYS ? FRAME_PS - 1 : FRAME_PS;
     double cut = fine ? QUAD_CUT : 4, spacing = fine ? QUAD_SPACING : 0.3;
     char q[40] = "";

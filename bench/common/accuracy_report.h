@@ -29,6 +29,7 @@ static void plot(const char *outdir, const char *dir, const row *rows)
     int order[MAX_ROWS], n = 0;
     double fmax_ = 1;
     bool frames = false; /* the right axis only when some row has a frame point (DERMIS_BENCH_TEXTURE_ONLY has none) */
+    bool fits = false;   /* the dipole fits' series in the key only when it has points (DERMIS_BENCH_ROWS) */
     for (int c = 0; c < nrows; ++c) {
         /* another truth, never on the front: 1 the dipole fits (their own series), 2 Burley's and
          * the skin's fits (drawn with the texture-space points, labelled) */
@@ -37,6 +38,7 @@ static void plot(const char *outdir, const char *dir, const row *rows)
         char tsd[32] = "?", fr_[32] = "?";
         if (rows[c].ok[REG_ALL]) snprintf(tsd, sizeof tsd, "%.6f", 100 * mean3(rows[c].st[REG_ALL].mean));
         if (rows[c].ok[REG_ALL] && !fit) order[n++] = c;
+        fits |= fit == 1;
         double tr = 100 * frame_norm3(&rows[c].fr.tr[REG_ALL]);
         if (rows[c].fok) snprintf(fr_, sizeof fr_, "%.6f", tr), fmax_ = fmax(fmax_, tr), frames = true;
         fprintf(f, "%.3f %s %s \"%s\" \"%s\" %d\n", rows[c].frame_ms, tsd, fr_, rows[c].ok[REG_ALL] ? rows[c].s.name : "",
@@ -68,9 +70,9 @@ static void plot(const char *outdir, const char *dir, const row *rows)
                "set datafile missing '?'\nset yrange [0:*]\nset offsets graph 0.02, graph 0.25, graph 0.15, graph 0.05\n"
                "plot '%s' using 1:2 with lines lw 2 lc rgb '#999999' title 'Pareto front of the texture-space error (full frames)', "
                "'%s' using 1:($6 == 1 ? 1/0 : $2) with points pt 7 ps 1.4 lc rgb '#1f77b4' title 'texture space vs --texture-space N (gems3-skin), whole skin', "
-               "'' using 1:($6 == 1 ? $2 : 1/0) with points pt 9 ps 1.4 lc rgb '#2ca02c' title 'N Gaussians fitted to the skin1 dipole, vs its reference', "
+               "'' using 1:($6 == 1 ? $2 : 1/0) with points pt 9 ps 1.4 lc rgb '#2ca02c' %s, "
                "'' using 1:2:4 with labels offset 0.6,0.4 left rotate by 40 font ',8' notitle%s\n",
-            front, dat,
+            front, dat, fits ? "title 'N Gaussians fitted to the skin1 dipole, vs its reference'" : "notitle",
             frames ? ", '' using 1:3 axes x1y2 with points pt 5 ps 0.9 lc rgb '#d62728' title 'frame transport vs --frame, "
                      "normalised (right axis; 100 = no better than leaving subsurface out)', "
                      "'' using 1:3:5 axes x1y2 with labels offset 0.6,-0.4 left rotate by -30 font ',8' tc rgb '#d62728' notitle"
@@ -134,6 +136,10 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "median of %d final frames at %dx%d after one warm-up (llvmpipe, CPU clock around glFinish; every "
                 "row's renderer alive, frames round robin; load average %.2f at the end: compare rows, not runs).\n\n",
             SCENE, tris, frames, W, H, load);
+    if (getenv("DERMIS_BENCH_ROWS")) /* a partial run says so */
+        fprintf(md, "**Rows**: only those `DERMIS_BENCH_ROWS` names (%d of them), so only their truths were computed: "
+                    "`%s`.\n\n",
+                nrows, getenv("DERMIS_BENCH_ROWS"));
     fprintf(md, "**Texture space (TSD)**: the renderer's `diffusion` view (Σ_k w_k L_k) at irradiance N against "
                 "`dermis-reference PACK --texture-space N`: the exact surface convolution, with 3-D distances over the "
                 "whole mesh, of the renderer's own level-0 irradiance by the scene's profile (gems3-skin's six "
@@ -145,13 +151,14 @@ static void report(const char *outdir, const row *rows, const sized *z, int nz, 
                 "tonemap) of the *transport run* — white albedo, no normal map, no shadows, in the renderer and in "
                 "`dermis-reference PACK --frame --without albedo,normal-map,shadows` alike (atlas %d, %dx%d samples a "
                 "texel, %dx%d sub-pixel rays a pixel with the diffusion at each, `--refine %d`; the surface and full runs "
-                "without `--refine`) — over the interior skin pixels where "
+                "and the Gaussian-count rows' truth at atlas %d, %dx%d samples, without `--refine`) — over the interior skin pixels where "
                 "subsurface changes the reference by more than 2 %% (against the same reference `--without ...,"
                 "subsurface`): **normalised** = Σ|render − ref| / Σ|no-subsurface − ref| over them (100 %% = no "
                 "better than leaving subsurface out) and the **mean** relative error there "
                 "(`lib/reference/dm_ref_frame_compare.h`). What the surface terms and the shadows add: the next "
                 "section.\n\n",
-            FW, FH, FRAME_ATLAS, FRAME_AS, FRAME_AS, FRAME_PS, FRAME_PS, FRAME_REFINE);
+            FW, FH, TRANSPORT_ATLAS, TRANSPORT_AS, TRANSPORT_AS, FRAME_PS, FRAME_PS, FRAME_REFINE, FRAME_ATLAS, FRAME_AS,
+            FRAME_AS);
     fprintf(md, "| setting | frame ms | TSD mean %% R / G / B | TSD p95 %% | frame transport, normalised %%: all (R / G / B) | frame transport mean %% |\n"
                 "|---|---:|---:|---:|---:|---:|\n");
     for (int c = 0; c < nrows; ++c) {

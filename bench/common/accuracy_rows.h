@@ -16,14 +16,19 @@
 
 /* The frame references: at the frame size, atlas FRAME_ATLAS with FRAME_AS² samples a texel,
  * FRAME_PS² sub-pixel rays a pixel with the diffusion at each (the converged defaults of
- * dermis-reference --frame: docs/dermis-reference.md, Convergence), and in the transport runs
- * (transport and its flat, where the rankings are read) the pixels whose rays spread shaded
- * again from FRAME_REFINE² rays (--refine; issue #27). The surface and full runs stay at
- * FRAME_PS²: there the albedo and normal map's texture spreads nearly every pixel's rays, so
- * --refine would shade nearly all again (over 3x the time), and the rays move their mean error
- * by about 0.1 % (3² -> 4² with D at the centre 0.03 %; the transport's 2² -> 3² step, 12 % of a
- * subsurface signal of about 1 % of the value), a tenth of what they report. */
+ * dermis-reference --frame: docs/dermis-reference.md, Convergence), and in the scene profile's
+ * transport runs (transport and its flat, where the rankings are read) the pixels whose rays
+ * spread shaded again from FRAME_REFINE² rays (--refine; issue #27) and the atlas a step finer,
+ * TRANSPORT_ATLAS with TRANSPORT_AS² samples (the same irradiance points; 39 min on 2 cores):
+ * at 4096 the atlas was the largest term of the TSD 1024 -> 2048 margin's bar. The surface and
+ * full runs stay at FRAME_PS² and FRAME_ATLAS: there the albedo and normal map's texture spreads
+ * nearly every pixel's rays, so --refine would shade nearly all again (over 3x the time), and
+ * the rays move their mean error by about 0.1 % (3² -> 4² with D at the centre 0.03 %; the
+ * transport's 2² -> 3² step, 12 % of a subsurface signal of about 1 % of the value), the atlas
+ * 2048 -> 4096 by 0.1-0.25 %, a tenth of what they report; the dipole's transport (hours at
+ * 3²) stays at FRAME_ATLAS too. */
 enum { W = 1280, H = 720, FW = 1280, FH = 720, FRAME_ATLAS = 4096, FRAME_AS = 2, FRAME_PS = 3, FRAME_REFINE = 8 };
+enum { TRANSPORT_ATLAS = 8192, TRANSPORT_AS = 1 };
 /* The quadrature's step for a margin's bar (frame_truth.h, FT_QUAD_*): at atlas QUAD_ATLAS with
  * QUAD_AS² samples and one ray at the pixel centre (the convergence table's setting for it), the
  * default quadrature (cut 4 sigma, spacing 0.3 sigma) against cut QUAD_CUT, spacing QUAD_SPACING. */
@@ -55,6 +60,12 @@ typedef struct setting {
     bool technique_row; /* a technique at the scene's settings or finer: must beat the floor */
     dm_render_desc knobs;
 } setting;
+
+/* A Gaussian-count row: N Gaussians fitted to the truth (the dipole, or gems3-skin). */
+static bool fit_row(const setting *s)
+{
+    return s->gaussians && !s->burley && !s->skin;
+}
 
 /* The truth the Gaussian-count rows are fitted to and compared with: the skin1 dipole when
  * dermis-reference can convolve it (--dipole), else gems3-skin itself. */

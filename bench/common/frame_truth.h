@@ -33,24 +33,23 @@ static const char *const FV_FLAT = "albedo,normal-map,shadows,subsurface";
 /* The other transport references a ranking's margin is also measured against (bench/accuracy.c,
  * reference()): one discretisation a step back from the bench's in each of its two large terms —
  * the rays (the scene profile's without --refine; the dipole's, never refined, at 2² instead of
- * 3²) and the atlas (half, its samples doubled: the same irradiance points) — the quadrature's
- * step as the convergence table measures it (atlas 1024 with 4² samples, one ray at the pixel
- * centre; the default cut 4 sigma, spacing 0.3 sigma, then 6 sigma, 0.15 sigma), and, for the
- * scene's profile, the atlas a step finer (twice, one sample a texel: the same irradiance
- * points). How far the margin moves over each step bounds how far it can still be from the
- * converged truth's. */
-enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_FINE_ATLAS, FT_STEP_COUNT };
+ * 3²) and the atlas (half, its samples doubled: the same irradiance points; the scene profile's
+ * 4096 x 2² against its 8192 x 1) — and the quadrature's step as the convergence table measures
+ * it (atlas 1024 with 4² samples, one ray at the pixel centre; the default cut 4 sigma, spacing
+ * 0.3 sigma, then 6 sigma, 0.15 sigma). How far the margin moves over each step bounds how far
+ * it can still be from the converged truth's. */
+enum { FT_COARSE_RAYS, FT_COARSE_ATLAS, FT_QUAD_BASE, FT_QUAD_FINE, FT_STEP_COUNT };
 
 /* The ground truth of one profile for the frame: a reference per run and the flat one, and
- * the transport and flat pairs of each step it has (have_step: all but FT_FINE_ATLAS at
- * least); what is left of the rays' step at the bench's settings per unit of the step
- * (frame_rankings.h, margin_bar), and what a margin's bar adds unmeasured (fixed). */
+ * the transport and flat pairs of each step; what is left of the rays' and the atlas's steps
+ * at the bench's settings per unit of the step (frame_rankings.h, margin_bar), and what a
+ * margin's bar adds unmeasured (fixed). */
 typedef struct frame_truth {
     dm_refcmp_ref ref[FV_COUNT], flat;
     bool have[FV_COUNT];
     dm_refcmp_ref step[FT_STEP_COUNT][2]; /* transport, flat */
     bool have_step[FT_STEP_COUNT];
-    double rays_left, fixed;
+    double rays_left, atlas_left, fixed;
 } frame_truth;
 
 /* Per-row frame results. */
